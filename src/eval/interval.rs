@@ -1,0 +1,562 @@
+//! A rigorous interval type: every operation returns an interval that contains the exact
+//! result of the operation on every pair of real numbers in its operands (and, for library
+//! functions, every value the platform's `f64` function returns there).
+//!
+//! * Arithmetic rounds outward: each bound of `+ - * /` and `sqrt` (correctly rounded by IEEE
+//!   754) is moved one ulp out.
+//! * Library functions (`exp`, `sin`, ...) are not correctly rounded; their bounds are moved
+//!   out by [`LIB_ULPS`] ulps, above the documented error of glibc, musl and the Rust `libm`.
+//! * Domain rules follow IEEE 1788's set-based flavour: `sqrt`, `ln`, `asin`, `acos` and real
+//!   `pow` use only the part of the argument inside their domain; an argument wholly outside
+//!   gives the empty interval. Division by an interval containing 0 gives a half-line or the
+//!   whole line; division by exactly [0, 0] is empty.
+//! * Even powers and `x²` are never negative; `sin`/`cos` find their extrema by quadrant.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// How many ulps a library function's bounds are widened.
+pub const LIB_ULPS: u32 = 2;
+
+/// A closed interval [lo, hi] of reals, possibly unbounded, or empty.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interval {
+    lo: f64,
+    hi: f64,
+}
+
+#[inline]
+fn down(x: f64) -> f64 {
+    x.next_down()
+}
+
+#[inline]
+fn up(x: f64) -> f64 {
+    x.next_up()
+}
+
+#[inline]
+fn lib_down(x: f64) -> f64 {
+    let mut x = x;
+    for _ in 0..LIB_ULPS {
+        x = x.next_down();
+    }
+    x
+}
+
+#[inline]
+fn lib_up(x: f64) -> f64 {
+    let mut x = x;
+    for _ in 0..LIB_ULPS {
+        x = x.next_up();
+    }
+    x
+}
+
+/// Moves a value computed with up to `k` roundings down past its true value.
+#[inline]
+fn widen_down(v: f64, k: u32) -> f64 {
+    (v - v.abs() * f64::from(k) * f64::EPSILON - f64::MIN_POSITIVE).next_down()
+}
+
+#[inline]
+fn widen_up(v: f64, k: u32) -> f64 {
+    (v + v.abs() * f64::from(k) * f64::EPSILON + f64::MIN_POSITIVE).next_up()
+}
+
+/// Product in which 0 × ∞ is 0: the bound of a set product, not an IEEE product.
+#[inline]
+fn mul0(a: f64, b: f64) -> f64 {
+    if a == 0.0 || b == 0.0 { 0.0 } else { a * b }
+}
+
+impl Interval {
+    pub const EMPTY: Interval = Interval {
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+    };
+    pub const ENTIRE: Interval = Interval {
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+    pub const ZERO: Interval = Interval { lo: 0.0, hi: 0.0 };
+    pub const ONE: Interval = Interval { lo: 1.0, hi: 1.0 };
+
+    /// [lo, hi]; empty if lo > hi or either bound is NaN.
+    #[inline]
+    pub fn new(lo: f64, hi: f64) -> Self {
+        if lo <= hi {
+            Self { lo, hi }
+        } else {
+            Self::EMPTY
+        }
+    }
+
+    /// The interval holding exactly `v` (empty for NaN, which is no real number).
+    #[inline]
+    pub fn point(v: f64) -> Self {
+        Self::new(v, v)
+    }
+
+    #[inline]
+    pub fn lo(self) -> f64 {
+        self.lo
+    }
+    #[inline]
+    pub fn hi(self) -> f64 {
+        self.hi
+    }
+    #[inline]
+    pub fn is_empty(self) -> bool {
+        !(self.lo <= self.hi)
+    }
+    #[inline]
+    pub fn contains(self, v: f64) -> bool {
+        self.lo <= v && v <= self.hi
+    }
+    #[inline]
+    pub fn contains_zero(self) -> bool {
+        self.lo <= 0.0 && 0.0 <= self.hi
+    }
+    pub fn width(self) -> f64 {
+        if self.is_empty() {
+            0.0
+        } else {
+            self.hi - self.lo
+        }
+    }
+    pub fn midpoint(self) -> f64 {
+        0.5 * self.lo + 0.5 * self.hi
+    }
+    /// The smallest interval holding both.
+    pub fn hull(self, other: Self) -> Self {
+        if self.is_empty() {
+            return other;
+        }
+        if other.is_empty() {
+            return self;
+        }
+        Self::new(self.lo.min(other.lo), self.hi.max(other.hi))
+    }
+    /// The part of `self` inside [lo, hi].
+    pub fn intersect(self, lo: f64, hi: f64) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self::new(self.lo.max(lo), self.hi.min(hi))
+    }
+
+    #[inline]
+    pub fn add(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        let lo = down(self.lo + b.lo);
+        // A sum of non-negative numbers is non-negative: keep x^2 + y^2 ≥ 0 exact.
+        let lo = if self.lo >= 0.0 && b.lo >= 0.0 {
+            lo.max(0.0)
+        } else {
+            lo
+        };
+        Self::new(lo, up(self.hi + b.hi))
+    }
+
+    #[inline]
+    pub fn sub(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        Self::new(down(self.lo - b.hi), up(self.hi - b.lo))
+    }
+
+    #[inline]
+    pub fn neg(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
+    }
+
+    #[inline]
+    pub fn mul(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        let (a, b) = (self, b);
+        if a.lo >= 0.0 && b.lo >= 0.0 {
+            return Self::new(down(mul0(a.lo, b.lo)).max(0.0), up(mul0(a.hi, b.hi)));
+        }
+        let p = [
+            mul0(a.lo, b.lo),
+            mul0(a.lo, b.hi),
+            mul0(a.hi, b.lo),
+            mul0(a.hi, b.hi),
+        ];
+        let lo = p[0].min(p[1]).min(p[2]).min(p[3]);
+        let hi = p[0].max(p[1]).max(p[2]).max(p[3]);
+        Self::new(down(lo), up(hi))
+    }
+
+    pub fn div(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() || (b.lo == 0.0 && b.hi == 0.0) {
+            return Self::EMPTY;
+        }
+        let a = self;
+        if b.contains_zero() {
+            if a.lo == 0.0 && a.hi == 0.0 {
+                return Self::ZERO;
+            }
+            // Only one side of 0 in the divisor: a half-line, when a keeps its sign.
+            if b.lo == 0.0 {
+                if a.lo >= 0.0 {
+                    return Self::new(down(a.lo / b.hi), f64::INFINITY);
+                }
+                if a.hi <= 0.0 {
+                    return Self::new(f64::NEG_INFINITY, up(a.hi / b.hi));
+                }
+            } else if b.hi == 0.0 {
+                if a.lo >= 0.0 {
+                    return Self::new(f64::NEG_INFINITY, up(a.lo / b.lo));
+                }
+                if a.hi <= 0.0 {
+                    return Self::new(down(a.hi / b.lo), f64::INFINITY);
+                }
+            }
+            return Self::ENTIRE;
+        }
+        let q = |x: f64, y: f64| {
+            if x == 0.0 {
+                0.0
+            } else if y.is_infinite() && x.is_infinite() {
+                // ∞/∞ over a set: unbounded, the sign of the quotient.
+                if (x > 0.0) == (y > 0.0) {
+                    f64::INFINITY
+                } else {
+                    f64::NEG_INFINITY
+                }
+            } else {
+                x / y
+            }
+        };
+        let p = [q(a.lo, b.lo), q(a.lo, b.hi), q(a.hi, b.lo), q(a.hi, b.hi)];
+        let lo = p[0].min(p[1]).min(p[2]).min(p[3]);
+        let hi = p[0].max(p[1]).max(p[2]).max(p[3]);
+        if b.lo.is_infinite() || b.hi.is_infinite() {
+            // x/±∞ → 0 bounds the quotient from one side; include 0 to stay sound.
+            return Self::new(down(lo.min(0.0)), up(hi.max(0.0)));
+        }
+        Self::new(down(lo), up(hi))
+    }
+
+    pub fn abs(self) -> Self {
+        if self.is_empty() || self.lo >= 0.0 {
+            self
+        } else if self.hi <= 0.0 {
+            self.neg()
+        } else {
+            Self::new(0.0, (-self.lo).max(self.hi))
+        }
+    }
+
+    /// x^n for an integer n; tight (never negative) for even n.
+    pub fn powi(self, n: i32) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        if n == 0 {
+            return Self::ONE;
+        }
+        if n < 0 {
+            return Self::ONE.div(self.powi(-n));
+        }
+        if n == 1 {
+            return self;
+        }
+        let k = n.unsigned_abs();
+        let p = |x: f64| x.powi(n);
+        if n % 2 == 0 {
+            let m = self.abs();
+            let lo = if m.lo == 0.0 {
+                0.0
+            } else {
+                widen_down(p(m.lo), k).max(0.0)
+            };
+            Self::new(lo, widen_up(p(m.hi), k))
+        } else {
+            let bound_lo = if self.lo.is_infinite() {
+                self.lo
+            } else {
+                widen_down(p(self.lo), k)
+            };
+            let bound_hi = if self.hi.is_infinite() {
+                self.hi
+            } else {
+                widen_up(p(self.hi), k)
+            };
+            Self::new(bound_lo, bound_hi)
+        }
+    }
+
+    pub fn sqrt(self) -> Self {
+        let d = self.intersect(0.0, f64::INFINITY);
+        if d.is_empty() {
+            return d;
+        }
+        Self::new(down(d.lo.sqrt()).max(0.0), up(d.hi.sqrt()))
+    }
+
+    pub fn cbrt(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self::new(lib_down(self.lo.cbrt()), lib_up(self.hi.cbrt()))
+    }
+
+    pub fn exp(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self::new(lib_down(self.lo.exp()).max(0.0), lib_up(self.hi.exp()))
+    }
+
+    pub fn ln(self) -> Self {
+        if self.is_empty() || self.hi <= 0.0 {
+            return Self::EMPTY;
+        }
+        let lo = if self.lo <= 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            lib_down(self.lo.ln())
+        };
+        Self::new(lo, lib_up(self.hi.ln()))
+    }
+
+    /// cos, with its maxima at 2kπ and minima at π + 2kπ found by quadrant.
+    pub fn cos(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        if !(self.hi - self.lo < TAU) {
+            return Self::new(-1.0, 1.0);
+        }
+        let (clo, chi) = (self.lo.cos(), self.hi.cos());
+        let mut lo = lib_down(clo.min(chi));
+        let mut hi = lib_up(clo.max(chi));
+        // PI and TAU are rounded; testing a slightly wider interval keeps the test sound.
+        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        if contains_multiple(self.lo - slack, self.hi + slack, 0.0, TAU) {
+            hi = 1.0;
+        }
+        if contains_multiple(self.lo - slack, self.hi + slack, PI, TAU) {
+            lo = -1.0;
+        }
+        Self::new(lo.max(-1.0), hi.min(1.0))
+    }
+
+    pub fn sin(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        if !(self.hi - self.lo < TAU) {
+            return Self::new(-1.0, 1.0);
+        }
+        let (slo, shi) = (self.lo.sin(), self.hi.sin());
+        let mut lo = lib_down(slo.min(shi));
+        let mut hi = lib_up(slo.max(shi));
+        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        if contains_multiple(self.lo - slack, self.hi + slack, FRAC_PI_2, TAU) {
+            hi = 1.0;
+        }
+        if contains_multiple(self.lo - slack, self.hi + slack, -FRAC_PI_2, TAU) {
+            lo = -1.0;
+        }
+        Self::new(lo.max(-1.0), hi.min(1.0))
+    }
+
+    pub fn tan(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        if !(self.hi - self.lo < PI) {
+            return Self::ENTIRE;
+        }
+        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        if contains_multiple(self.lo - slack, self.hi + slack, FRAC_PI_2, PI) {
+            return Self::ENTIRE;
+        }
+        Self::new(lib_down(self.lo.tan()), lib_up(self.hi.tan()))
+    }
+
+    pub fn asin(self) -> Self {
+        let d = self.intersect(-1.0, 1.0);
+        if d.is_empty() {
+            return d;
+        }
+        let limit = up(FRAC_PI_2);
+        Self::new(
+            lib_down(d.lo.asin()).max(-limit),
+            lib_up(d.hi.asin()).min(limit),
+        )
+    }
+
+    pub fn acos(self) -> Self {
+        let d = self.intersect(-1.0, 1.0);
+        if d.is_empty() {
+            return d;
+        }
+        Self::new(
+            lib_down(d.hi.acos()).max(0.0),
+            lib_up(d.lo.acos()).min(up(PI)),
+        )
+    }
+
+    pub fn atan(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let limit = up(FRAC_PI_2);
+        Self::new(
+            lib_down(self.lo.atan()).max(-limit),
+            lib_up(self.hi.atan()).min(limit),
+        )
+    }
+
+    pub fn sinh(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self::new(lib_down(self.lo.sinh()), lib_up(self.hi.sinh()))
+    }
+
+    pub fn cosh(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let m = self.abs();
+        let lo = if m.lo == 0.0 {
+            1.0
+        } else {
+            lib_down(m.lo.cosh()).max(1.0)
+        };
+        Self::new(lo, lib_up(m.hi.cosh()))
+    }
+
+    pub fn tanh(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        Self::new(
+            lib_down(self.lo.tanh()).max(-1.0),
+            lib_up(self.hi.tanh()).min(1.0),
+        )
+    }
+
+    pub fn sign(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let s = |v: f64| v.signum() * f64::from(u8::from(v != 0.0));
+        Self::new(s(self.lo), s(self.hi))
+    }
+
+    pub fn step(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let s = |v: f64| {
+            if v > 0.0 {
+                1.0
+            } else if v < 0.0 {
+                0.0
+            } else {
+                0.5
+            }
+        };
+        Self::new(s(self.lo), s(self.hi))
+    }
+
+    pub fn min(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        Self::new(self.lo.min(b.lo), self.hi.min(b.hi))
+    }
+
+    pub fn max(self, b: Self) -> Self {
+        if self.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        Self::new(self.lo.max(b.lo), self.hi.max(b.hi))
+    }
+
+    /// Real power a^b = exp(b·ln a) over the part of `a` that is ≥ 0.
+    pub fn pow(self, b: Self) -> Self {
+        let a = self.intersect(0.0, f64::INFINITY);
+        if a.is_empty() || b.is_empty() {
+            return Self::EMPTY;
+        }
+        if a.hi == 0.0 {
+            // 0^b: 0 for b > 0, 1 for b = 0, ∞ for b < 0 (not a real number).
+            let mut r = Self::EMPTY;
+            if b.hi > 0.0 {
+                r = r.hull(Self::ZERO);
+            }
+            if b.contains_zero() {
+                r = r.hull(Self::ONE);
+            }
+            return r;
+        }
+        let ln = if a.lo == 0.0 {
+            Self::new(f64::NEG_INFINITY, lib_up(a.hi.ln()))
+        } else {
+            a.ln()
+        };
+        let mut r = b.mul(ln).exp();
+        if a.lo == 0.0 && b.contains_zero() {
+            r = r.hull(Self::ONE);
+        }
+        r
+    }
+
+    /// atan2(y = self, x), through atan on half-planes where it is continuous.
+    pub fn atan2(self, x: Self) -> Self {
+        let y = self;
+        if y.is_empty() || x.is_empty() {
+            return Self::EMPTY;
+        }
+        let full = Self::new(-up(PI), up(PI));
+        let r = if x.lo > 0.0 {
+            y.div(x).atan()
+        } else if y.lo > 0.0 {
+            Self::point(FRAC_PI_2).sub(x.div(y).atan())
+        } else if y.hi < 0.0 {
+            Self::point(-FRAC_PI_2).sub(x.div(y).atan())
+        } else {
+            full
+        };
+        Self::new(r.lo.max(full.lo), r.hi.min(full.hi))
+    }
+}
+
+/// Whether [lo, hi] contains offset + k·period for some integer k.
+fn contains_multiple(lo: f64, hi: f64, offset: f64, period: f64) -> bool {
+    let k = ((lo - offset) / period).ceil();
+    // The quotient is rounded: try the neighbour too. Callers pass [lo, hi] already widened
+    // by more than the rounding error of `offset + k·period`.
+    [k - 1.0, k].into_iter().any(|k| {
+        let p = offset + k * period;
+        lo <= p && p <= hi
+    })
+}
+
+impl std::fmt::Display for Interval {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.is_empty() {
+            write!(f, "∅")
+        } else {
+            write!(f, "[{}, {}]", self.lo, self.hi)
+        }
+    }
+}

@@ -1,0 +1,11 @@
+//! Stage 3: evaluators of a compiled formula: point (f64) and rigorous interval.
+
+pub mod interval;
+pub mod interval_eval;
+pub mod point;
+pub mod tape;
+
+pub use interval::Interval;
+pub use interval_eval::{Box4, IntervalEvaluator};
+pub use point::PointEvaluator;
+pub use tape::{Instr, Tape};

@@ -1,0 +1,102 @@
+//! A compiled formula: the text, its graph, F and its four partials, and its parameters.
+//! This is what every later stage (evaluators, tree, code generation) takes.
+
+use crate::eval::Tape;
+use crate::expr::{self, ExprGraph, NodeId};
+use crate::syntax::{self, SourceError, Span};
+
+/// A parameter of the formula: any name that is not a variable, constant or function.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    pub name: String,
+    /// Where it first appears in the formula.
+    pub span: Span,
+}
+
+/// A formula ready for evaluation: F = lhs − rhs and ∇F, sharing one graph.
+#[derive(Debug, Clone)]
+pub struct CompiledFormula {
+    pub source: String,
+    pub graph: ExprGraph,
+    pub f: NodeId,
+    pub gradient: [NodeId; 4],
+    pub params: Vec<Parameter>,
+    /// Straight-line program for F alone.
+    pub tape_f: Tape,
+    /// Straight-line program for F and ∇F (outputs in that order).
+    pub tape_all: Tape,
+}
+
+/// Stack for parsing and lowering: formulas up to the size limit can nest thousands deep.
+const FRONT_END_STACK: usize = 256 * 1024 * 1024;
+
+impl CompiledFormula {
+    /// Parses, lowers and differentiates `source`. Errors carry a span into `source`.
+    pub fn compile(source: &str) -> Result<Self, SourceError> {
+        let text = source.to_string();
+        // The syntax tree is recursive; its construction, lowering and drop run on a thread
+        // with a large stack (reserved, not committed) so no accepted input can overflow.
+        let front_end = std::thread::Builder::new()
+            .name("fourfold-parse".into())
+            .stack_size(FRONT_END_STACK)
+            .spawn(move || {
+                let ast = syntax::parse(&text)?;
+                let mut graph = ExprGraph::new();
+                let (root, spans) = expr::lower::lower(&ast, &mut graph)?;
+                Ok::<_, SourceError>((graph, root, spans))
+            });
+        let (mut graph, f, spans) = match front_end {
+            Ok(handle) => handle.join().unwrap_or_else(|_| {
+                Err(SourceError::new(
+                    "internal error while parsing",
+                    0..source.len(),
+                    "here",
+                ))
+            })?,
+            Err(e) => {
+                return Err(SourceError::new(
+                    format!("could not start the parser thread: {e}"),
+                    0..0,
+                    "here",
+                ));
+            }
+        };
+        let gradient = [0u8, 1, 2, 3].map(|axis| expr::derivative(&mut graph, f, axis));
+        let params = graph
+            .params()
+            .iter()
+            .zip(spans.0)
+            .map(|(name, span)| Parameter {
+                name: name.clone(),
+                span,
+            })
+            .collect();
+        let tape_f = Tape::new(&graph, &[f]);
+        let mut outputs = vec![f];
+        outputs.extend(gradient);
+        let tape_all = Tape::new(&graph, &outputs);
+        Ok(Self {
+            source: source.to_string(),
+            graph,
+            f,
+            gradient,
+            params,
+            tape_f,
+            tape_all,
+        })
+    }
+
+    pub fn param_names(&self) -> Vec<&str> {
+        self.params.iter().map(|p| p.name.as_str()).collect()
+    }
+
+    /// F in readable infix.
+    pub fn f_text(&self) -> String {
+        expr::to_infix(&self.graph, self.f)
+    }
+
+    /// ∂F/∂x, ∂F/∂y, ∂F/∂z, ∂F/∂w in readable infix.
+    pub fn gradient_text(&self) -> [String; 4] {
+        self.gradient.map(|g| expr::to_infix(&self.graph, g))
+    }
+}

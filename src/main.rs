@@ -1,0 +1,18 @@
+use clap::Parser;
+use fourfold::cli::{self, Cli, Command};
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Some(Command::Check(input)) => cli::check(input),
+        Some(Command::Grad(input)) => cli::grad(input),
+        _ => Err(cli::Failure::usage("not yet available")),
+    };
+    match result {
+        Ok(text) => println!("{text}"),
+        Err(failure) => {
+            eprintln!("{}", failure.message);
+            std::process::exit(failure.code);
+        }
+    }
+}

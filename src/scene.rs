@@ -1,0 +1,578 @@
+//! Scene files: a TOML document holding everything needed to reproduce a picture (formula,
+//! parameter values, domain, the six angles, tree and render settings). Every field but the
+//! formula has a default. Bad values are reported with the line they are on.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::syntax::SourceError;
+
+/// The largest `max_level` accepted. At level 12 a box is 1/4096 of the domain per axis;
+/// deeper trees only hit the node budget.
+pub const MAX_TREE_LEVEL: u32 = 12;
+/// The most rays per pixel and hits kept per pixel.
+pub const MAX_RAYS: u32 = 1024;
+pub const MAX_HITS: u32 = 16;
+
+/// A whole scene, as stored in a `.toml` file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// F(x, y, z, w), or an equation `lhs = rhs`.
+    pub formula: String,
+    /// One line on what the manifold is (shown by the viewer's presets).
+    #[serde(default)]
+    pub description: String,
+    /// Parameter values by name; a parameter not listed here is 1.0.
+    #[serde(default)]
+    pub params: BTreeMap<String, f64>,
+    #[serde(default)]
+    pub domain: Domain,
+    #[serde(default)]
+    pub view: View,
+    #[serde(default)]
+    pub tree: TreeSettings,
+    #[serde(default)]
+    pub render: RenderSettings,
+}
+
+/// One axis of the domain: lo < hi, both finite.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "[f64; 2]", into = "[f64; 2]")]
+pub struct AxisRange {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl TryFrom<[f64; 2]> for AxisRange {
+    type Error = String;
+    fn try_from([lo, hi]: [f64; 2]) -> Result<Self, String> {
+        if !lo.is_finite() || !hi.is_finite() {
+            return Err(format!(
+                "domain bounds must be finite numbers, got [{lo}, {hi}]"
+            ));
+        }
+        if lo >= hi {
+            return Err(format!(
+                "domain bounds [{lo}, {hi}] are reversed or empty: write them as [low, high] with low < high"
+            ));
+        }
+        Ok(Self { lo, hi })
+    }
+}
+
+impl From<AxisRange> for [f64; 2] {
+    fn from(r: AxisRange) -> Self {
+        [r.lo, r.hi]
+    }
+}
+
+impl AxisRange {
+    pub fn new(lo: f64, hi: f64) -> Result<Self, String> {
+        Self::try_from([lo, hi])
+    }
+}
+
+/// The hyperbox H in which M is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    pub x: AxisRange,
+    pub y: AxisRange,
+    pub z: AxisRange,
+    pub w: AxisRange,
+}
+
+impl Default for Domain {
+    fn default() -> Self {
+        let r = AxisRange { lo: -2.0, hi: 2.0 };
+        Self {
+            x: r,
+            y: r,
+            z: r,
+            w: r,
+        }
+    }
+}
+
+impl Domain {
+    pub fn axes(&self) -> [AxisRange; 4] {
+        [self.x, self.y, self.z, self.w]
+    }
+
+    pub fn from_axes(a: [AxisRange; 4]) -> Self {
+        Self {
+            x: a[0],
+            y: a[1],
+            z: a[2],
+            w: a[3],
+        }
+    }
+
+    /// Parses `x0,x1,y0,y1,z0,z1,w0,w1` (the CLI's `--domain`).
+    pub fn parse_list(text: &str) -> Result<Self, String> {
+        let values = text
+            .split(',')
+            .map(|v| {
+                v.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("'{}' is not a number", v.trim()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if values.len() != 8 {
+            return Err(format!(
+                "expected 8 numbers x0,x1,y0,y1,z0,z1,w0,w1, got {}",
+                values.len()
+            ));
+        }
+        let names = ["x", "y", "z", "w"];
+        let mut axes = [AxisRange { lo: 0.0, hi: 1.0 }; 4];
+        for (i, axis) in axes.iter_mut().enumerate() {
+            *axis = AxisRange::new(values[2 * i], values[2 * i + 1])
+                .map_err(|e| format!("axis {}: {e}", names[i]))?;
+        }
+        Ok(Self::from_axes(axes))
+    }
+
+    pub fn center(&self) -> [f64; 4] {
+        self.axes().map(|a| 0.5 * (a.lo + a.hi))
+    }
+
+    /// Half the length of the main diagonal: the radius of the sphere around H.
+    pub fn half_diagonal(&self) -> f64 {
+        0.5 * self
+            .axes()
+            .iter()
+            .map(|a| (a.hi - a.lo).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+/// The view: the six rotation angles (radians) and a zoom factor.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct View {
+    /// θ1..θ6 of SPEC.md §4.
+    pub angles: [f64; 6],
+    /// 1 shows the whole domain; 2 shows half as much, twice as large.
+    #[serde(deserialize_with = "positive")]
+    pub zoom: f64,
+}
+
+impl Default for View {
+    fn default() -> Self {
+        Self {
+            angles: [0.0; 6],
+            zoom: 1.0,
+        }
+    }
+}
+
+/// The 16-tree's criteria.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TreeSettings {
+    #[serde(deserialize_with = "tree_level")]
+    pub max_level: u32,
+    #[serde(deserialize_with = "tree_level")]
+    pub min_level: u32,
+    /// At most this many nodes are kept; refinement stops level by level past it.
+    pub node_budget: u32,
+}
+
+impl Default for TreeSettings {
+    fn default() -> Self {
+        Self {
+            max_level: 6,
+            min_level: 4,
+            node_budget: 2_000_000,
+        }
+    }
+}
+
+/// How rays are spread in the observer plane (SPEC.md §5.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Sampling {
+    /// The chapter's: directions from two uniform random numbers.
+    Random,
+    /// Evenly spread angles with a per-pixel offset (default).
+    #[default]
+    Stratified,
+}
+
+/// An sRGB colour, written `"#rrggbb"` in scene files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct Color(pub [u8; 3]);
+
+impl TryFrom<String> for Color {
+    type Error = String;
+    fn try_from(text: String) -> Result<Self, String> {
+        Color::parse(&text)
+    }
+}
+
+impl From<Color> for String {
+    fn from(c: Color) -> Self {
+        c.to_hex()
+    }
+}
+
+impl Color {
+    /// Parses `#rrggbb` or `rrggbb`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let hex = text.trim().trim_start_matches('#');
+        if hex.len() != 6 || !hex.chars().all(|c| c.is_ascii_hexdigit()) {
+            return Err(format!(
+                "'{text}' is not a colour: write six hex digits, as in \"#1a2b3c\""
+            ));
+        }
+        let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).expect("checked hex");
+        Ok(Self([byte(0), byte(2), byte(4)]))
+    }
+
+    pub fn to_hex(self) -> String {
+        format!("#{:02x}{:02x}{:02x}", self.0[0], self.0[1], self.0[2])
+    }
+
+    /// Linear-free 0..1 components, as the shader takes them.
+    pub fn to_f32(self) -> [f32; 3] {
+        self.0.map(|c| f32::from(c) / 255.0)
+    }
+}
+
+/// Phong lighting (SPEC.md §5.5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Lighting {
+    /// Off: flat surface colour, so the highlights can be seen alone (fig. 3.12's panels).
+    pub enabled: bool,
+    /// Light direction in the camera frame: coefficients of v1, v2, n1, n2.
+    pub direction: [f64; 4],
+    #[serde(deserialize_with = "unit")]
+    pub ambient: f64,
+    #[serde(deserialize_with = "unit")]
+    pub diffuse: f64,
+    #[serde(deserialize_with = "unit")]
+    pub specular: f64,
+    #[serde(deserialize_with = "positive")]
+    pub shininess: f64,
+    pub color: Color,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            direction: [0.4, 0.6, -0.6, -0.35],
+            ambient: 0.12,
+            diffuse: 0.75,
+            specular: 0.35,
+            shininess: 24.0,
+            color: Color([222, 178, 92]),
+        }
+    }
+}
+
+/// A switchable highlight with a tolerance (silhouette: ε_s; border: τ, in domain units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Highlight {
+    pub enabled: bool,
+    #[serde(deserialize_with = "non_negative")]
+    pub tolerance: f64,
+    pub color: Color,
+}
+
+/// How the ray caster runs and shades (SPEC.md §5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSettings {
+    /// Rays per pixel, n.
+    #[serde(deserialize_with = "ray_count")]
+    pub rays: u32,
+    /// Hits kept per pixel, K.
+    #[serde(deserialize_with = "hit_count")]
+    pub hits: u32,
+    /// Blending weight of the nearer hit.
+    #[serde(deserialize_with = "unit")]
+    pub alpha: f64,
+    pub sampling: Sampling,
+    /// Steps m of the composite interval method per leaf span.
+    #[serde(deserialize_with = "step_count")]
+    pub steps: u32,
+    /// Bisection iterations per sign change.
+    #[serde(deserialize_with = "step_count")]
+    pub bisection_iters: u32,
+    /// Bisection stops once |F| is below this.
+    #[serde(deserialize_with = "non_negative")]
+    pub approximation: f64,
+    pub background: Color,
+    pub lighting: Lighting,
+    pub silhouette: Highlight,
+    pub border: Highlight,
+    /// Seed of the random sampling (and of the stratified offsets).
+    pub seed: u32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            rays: 16,
+            hits: 4,
+            alpha: 0.7,
+            sampling: Sampling::Stratified,
+            steps: 8,
+            bisection_iters: 24,
+            approximation: 1e-6,
+            background: Color([20, 22, 30]),
+            lighting: Lighting::default(),
+            silhouette: Highlight {
+                enabled: true,
+                tolerance: 0.12,
+                color: Color([250, 250, 250]),
+            },
+            border: Highlight {
+                enabled: true,
+                tolerance: 0.02,
+                color: Color([70, 160, 255]),
+            },
+            seed: 1,
+        }
+    }
+}
+
+fn tree_level<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let v = i64::deserialize(d)?;
+    if !(0..=i64::from(MAX_TREE_LEVEL)).contains(&v) {
+        return Err(serde::de::Error::custom(format!(
+            "a tree level must be between 0 and {MAX_TREE_LEVEL}, got {v}"
+        )));
+    }
+    Ok(v as u32)
+}
+
+fn ranged<'de, D: serde::Deserializer<'de>>(
+    d: D,
+    what: &str,
+    lo: i64,
+    hi: i64,
+) -> Result<u32, D::Error> {
+    let v = i64::deserialize(d)?;
+    if !(lo..=hi).contains(&v) {
+        return Err(serde::de::Error::custom(format!(
+            "{what} must be between {lo} and {hi}, got {v}"
+        )));
+    }
+    Ok(v as u32)
+}
+
+fn ray_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    ranged(d, "the number of rays", 1, i64::from(MAX_RAYS))
+}
+
+fn hit_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    ranged(d, "the number of hits kept", 1, i64::from(MAX_HITS))
+}
+
+fn step_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    ranged(d, "a step count", 1, 256)
+}
+
+fn float_in<'de, D: serde::Deserializer<'de>>(
+    d: D,
+    ok: fn(f64) -> bool,
+    what: &str,
+) -> Result<f64, D::Error> {
+    let v = f64::deserialize(d)?;
+    if !ok(v) {
+        return Err(serde::de::Error::custom(format!(
+            "expected {what}, got {v}"
+        )));
+    }
+    Ok(v)
+}
+
+fn unit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    float_in(d, |v| (0.0..=1.0).contains(&v), "a number between 0 and 1")
+}
+
+fn positive<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    float_in(d, |v| v.is_finite() && v > 0.0, "a positive number")
+}
+
+fn non_negative<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    float_in(d, |v| v.is_finite() && v >= 0.0, "a number ≥ 0")
+}
+
+/// A scene file that could not be read, with its text for rendering the error.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("cannot read scene file {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{}", .error.render(.path, .text))]
+    Invalid {
+        path: String,
+        text: String,
+        error: SourceError,
+    },
+}
+
+impl Scene {
+    /// A scene with default settings around `formula`.
+    pub fn from_formula(formula: &str) -> Self {
+        Self {
+            formula: formula.to_string(),
+            description: String::new(),
+            params: BTreeMap::new(),
+            domain: Domain::default(),
+            view: View::default(),
+            tree: TreeSettings::default(),
+            render: RenderSettings::default(),
+        }
+    }
+
+    /// Parses scene text; `path` names it in errors.
+    pub fn parse(text: &str, path: &str) -> Result<Self, SceneError> {
+        let invalid = |error: SourceError| SceneError::Invalid {
+            path: path.to_string(),
+            text: text.to_string(),
+            error,
+        };
+        let scene: Scene = toml::from_str(text).map_err(|e| {
+            let span = e.span().unwrap_or(0..0);
+            let message = e.message().to_string();
+            let hint = if message.contains("unknown field") {
+                Some("check the spelling; `fourfold scene --help` lists every key")
+            } else if message.contains("missing field `formula`") {
+                Some("add a line such as formula = \"x^2 + y^2 + z^2 + w^2 = 1\"")
+            } else {
+                None
+            };
+            let mut error = SourceError::new(message, span, "here");
+            if let Some(h) = hint {
+                error = error.with_hint(h);
+            }
+            invalid(error)
+        })?;
+        scene.validate().map_err(|(message, key)| {
+            let span = find_key(text, key);
+            invalid(SourceError::new(message, span, "here"))
+        })?;
+        Ok(scene)
+    }
+
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a scene always serialises")
+    }
+
+    /// Checks that go across fields; returns the message and the key to point at.
+    pub fn validate(&self) -> Result<(), (String, &'static str)> {
+        if self.tree.min_level > self.tree.max_level {
+            return Err((
+                format!(
+                    "min_level ({}) is above max_level ({}): lower min_level or raise max_level",
+                    self.tree.min_level, self.tree.max_level
+                ),
+                "min_level",
+            ));
+        }
+        if self.tree.node_budget < 16 {
+            return Err(("node_budget must be at least 16".to_string(), "node_budget"));
+        }
+        if let Some((name, _)) = self.params.iter().find(|(_, v)| !v.is_finite()) {
+            return Err((
+                format!("parameter {name} must be a finite number"),
+                "params",
+            ));
+        }
+        if self.view.angles.iter().any(|a| !a.is_finite()) {
+            return Err(("angles must be finite numbers".to_string(), "angles"));
+        }
+        if self.render.lighting.direction.iter().all(|c| *c == 0.0)
+            || self
+                .render
+                .lighting
+                .direction
+                .iter()
+                .any(|c| !c.is_finite())
+        {
+            return Err((
+                "the light direction must be finite and not all zero".to_string(),
+                "direction",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Parameter values in the order of `names` (1.0 where the scene has none).
+    pub fn param_values(&self, names: &[&str]) -> Vec<f64> {
+        names
+            .iter()
+            .map(|n| self.params.get(*n).copied().unwrap_or(1.0))
+            .collect()
+    }
+}
+
+/// The span of the first line that sets `key`, for errors found after parsing.
+fn find_key(text: &str, key: &str) -> std::ops::Range<usize> {
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with(key) && trimmed[key.len()..].trim_start().starts_with(['=', ']'])
+            || trimmed.starts_with(&format!("[{key}"))
+        {
+            let start = offset + (line.len() - trimmed.len());
+            return start..offset + line.trim_end().len();
+        }
+        offset += line.len();
+    }
+    0..0
+}
+
+/// The example scenes shipped with fourfold (also embedded in the viewer).
+pub const EXAMPLES: &[(&str, &str)] = &[
+    ("glome", include_str!("../examples/scenes/glome.toml")),
+    (
+        "fig-3-9-left",
+        include_str!("../examples/scenes/fig-3-9-left.toml"),
+    ),
+    (
+        "fig-3-9-right",
+        include_str!("../examples/scenes/fig-3-9-right.toml"),
+    ),
+    ("fig-3-11", include_str!("../examples/scenes/fig-3-11.toml")),
+    ("fig-3-12", include_str!("../examples/scenes/fig-3-12.toml")),
+    (
+        "spheritorus",
+        include_str!("../examples/scenes/spheritorus.toml"),
+    ),
+    ("tiger", include_str!("../examples/scenes/tiger.toml")),
+    (
+        "fermat-quartic",
+        include_str!("../examples/scenes/fermat-quartic.toml"),
+    ),
+    (
+        "hyperplane",
+        include_str!("../examples/scenes/hyperplane.toml"),
+    ),
+    (
+        "duocylinder",
+        include_str!("../examples/scenes/duocylinder.toml"),
+    ),
+];

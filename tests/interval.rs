@@ -1,0 +1,177 @@
+//! Interval soundness (property test) and tightness on known cases.
+
+mod common;
+
+use fourfold::CompiledFormula;
+use fourfold::eval::{Box4, Interval, IntervalEvaluator, PointEvaluator};
+use proptest::prelude::*;
+
+/// Random formulas over x, y, z, w, two parameters and every operation of the language.
+fn formula_text() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        Just("x".to_string()),
+        Just("y".to_string()),
+        Just("z".to_string()),
+        Just("w".to_string()),
+        Just("a".to_string()),
+        (-30i32..30).prop_map(|n| format!("{}", n as f64 / 4.0)),
+    ];
+    leaf.prop_recursive(5, 40, 2, |inner| {
+        let unary = [
+            "-", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "ln",
+            "sqrt", "cbrt", "abs", "sign", "step",
+        ];
+        let binary = ["+", "-", "*", "/", "^", "min", "max", "pow", "atan2"];
+        prop_oneof![
+            (prop::sample::select(unary.to_vec()), inner.clone()).prop_map(|(f, a)| {
+                if f == "-" {
+                    format!("-({a})")
+                } else {
+                    format!("{f}({a})")
+                }
+            }),
+            (
+                prop::sample::select(binary.to_vec()),
+                inner.clone(),
+                inner.clone()
+            )
+                .prop_map(|(op, a, b)| match op {
+                    "min" | "max" | "pow" | "atan2" => format!("{op}({a}, {b})"),
+                    _ => format!("({a}) {op} ({b})"),
+                }),
+            (inner.clone(), -4i32..6).prop_map(|(a, n)| format!("({a})^{n}")),
+        ]
+    })
+}
+
+fn a_box() -> impl Strategy<Value = ([f64; 4], [f64; 4])> {
+    let axis = (-4.0f64..4.0, 0.0f64..3.0);
+    (axis.clone(), axis.clone(), axis.clone(), axis).prop_map(|(a, b, c, d)| {
+        let lo = [a.0, b.0, c.0, d.0];
+        let width = [a.1, b.1, c.1, d.1];
+        (lo, width)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 600, ..ProptestConfig::default() })]
+    #[test]
+    fn point_values_lie_in_the_interval_values(
+        text in formula_text(),
+        (lo, width) in a_box(),
+        samples in prop::collection::vec([0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0], 8),
+        a in -2.0f64..2.0,
+    ) {
+        let formula = CompiledFormula::compile(&text).unwrap();
+        let params = vec![a; formula.params.len()];
+        let bx: Box4 = std::array::from_fn(|i| Interval::new(lo[i], lo[i] + width[i]));
+        let mut enclosure = [Interval::EMPTY; 5];
+        IntervalEvaluator::new().eval_into(&formula.tape_all, &bx, &params, &mut enclosure);
+        let mut point = PointEvaluator::new();
+        // The corners are the hardest points; add them to the random ones.
+        let corners = (0..16).map(|c| std::array::from_fn(|i| ((c >> i) & 1) as f64));
+        for t in samples.into_iter().chain(corners) {
+            let p: [f64; 4] = std::array::from_fn(|i| lo[i] + t[i] * width[i]);
+            let mut values = [0.0; 5];
+            point.eval_into(&formula.tape_all, p, &params, &mut values);
+            for (k, v) in values.iter().enumerate() {
+                if !v.is_finite() {
+                    continue; // undefined (NaN) or a pole (±∞): no real value to enclose
+                }
+                prop_assert!(
+                    enclosure[k].contains(*v),
+                    "output {k} of {text}: {v} at {p:?} not in {}", enclosure[k]
+                );
+            }
+        }
+    }
+}
+
+fn range_of(text: &str, bx: [(f64, f64); 4]) -> Interval {
+    let f = CompiledFormula::compile(text).unwrap();
+    let bx: Box4 = bx.map(|(lo, hi)| Interval::new(lo, hi));
+    IntervalEvaluator::new().eval(&f.tape_f, &bx, &[])
+}
+
+fn close(i: Interval, lo: f64, hi: f64) {
+    let slack = |v: f64| 1e-12 * (1.0 + v.abs());
+    assert!(
+        i.contains(lo) && i.contains(hi),
+        "{i} does not hold [{lo}, {hi}]"
+    );
+    assert!(
+        i.lo() >= lo - slack(lo) && i.hi() <= hi + slack(hi),
+        "{i} is looser than [{lo}, {hi}]"
+    );
+}
+
+#[test]
+fn tight_on_known_cases() {
+    let unit = (0.0, 0.0);
+    close(range_of("x^2", [(-1.0, 2.0), unit, unit, unit]), 0.0, 4.0);
+    assert_eq!(range_of("x^2", [(-1.0, 2.0), unit, unit, unit]).lo(), 0.0);
+    assert!(range_of("x^4 + y^2", [(-1.0, 1.0), (-3.0, 2.0), unit, unit]).lo() >= 0.0);
+    close(range_of("x*x", [(-1.0, 2.0), unit, unit, unit]), 0.0, 4.0);
+    close(range_of("x^3", [(-1.0, 2.0), unit, unit, unit]), -1.0, 8.0);
+    close(range_of("sin(x)", [(0.0, 3.0), unit, unit, unit]), 0.0, 1.0);
+    close(
+        range_of("cos(x)", [(-1.0, 4.0), unit, unit, unit]),
+        -1.0,
+        1.0,
+    );
+    close(
+        range_of("cos(x)", [(0.5, 1.0), unit, unit, unit]),
+        1f64.cos(),
+        0.5f64.cos(),
+    );
+    close(
+        range_of("sin(x)", [(4.0, 5.0), unit, unit, unit]),
+        -1.0,
+        4f64.sin(),
+    );
+    close(range_of("|x|", [(-3.0, 2.0), unit, unit, unit]), 0.0, 3.0);
+    close(
+        range_of("exp(x)", [(0.0, 1.0), unit, unit, unit]),
+        1.0,
+        std::f64::consts::E,
+    );
+}
+
+#[test]
+fn domain_rules() {
+    let unit = (0.0, 0.0);
+    // sqrt and ln use only the part of the box inside their domain.
+    close(
+        range_of("sqrt(x)", [(-4.0, 4.0), unit, unit, unit]),
+        0.0,
+        2.0,
+    );
+    assert!(range_of("sqrt(x)", [(-4.0, -1.0), unit, unit, unit]).is_empty());
+    let ln = range_of("ln(x)", [(-1.0, 1.0), unit, unit, unit]);
+    assert_eq!(ln.lo(), f64::NEG_INFINITY);
+    assert!(ln.hi() >= 0.0 && ln.hi() < 1e-12);
+    assert!(range_of("ln(x)", [(-2.0, -1.0), unit, unit, unit]).is_empty());
+    // Division by an interval holding 0: unbounded, never narrow, never a panic.
+    let q = range_of("1/x", [(-1.0, 1.0), unit, unit, unit]);
+    assert_eq!((q.lo(), q.hi()), (f64::NEG_INFINITY, f64::INFINITY));
+    let half = range_of("1/x", [(0.0, 2.0), unit, unit, unit]);
+    assert!(half.lo() <= 0.5 && half.hi() == f64::INFINITY);
+    assert!(range_of("x/y", [(1.0, 2.0), (0.0, 0.0), unit, unit]).is_empty());
+    // Empty propagates: no point of M where F is undefined.
+    assert!(range_of("sqrt(x) + y", [(-4.0, -1.0), (-1.0, 1.0), unit, unit]).is_empty());
+    // Real powers of negative bases are undefined.
+    assert!(range_of("pow(x, 0.5)", [(-2.0, -1.0), unit, unit, unit]).is_empty());
+    // tan across a pole is unbounded.
+    let t = range_of("tan(x)", [(1.0, 2.0), unit, unit, unit]);
+    assert_eq!((t.lo(), t.hi()), (f64::NEG_INFINITY, f64::INFINITY));
+}
+
+#[test]
+fn outward_rounding_holds_inexact_results() {
+    // 0.1 + 0.2 is not representable; the enclosure must hold the true sum of the two doubles.
+    let a = Interval::point(0.1);
+    let b = Interval::point(0.2);
+    let s = a.add(b);
+    assert!(s.lo() < 0.1 + 0.2 && s.hi() >= 0.1 + 0.2);
+    assert!(s.lo() < s.hi());
+}
