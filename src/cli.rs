@@ -245,3 +245,122 @@ pub fn grad(input: &Input) -> Result<String, Failure> {
         formula.f_text()
     ))
 }
+
+/// The tree settings of `scene` with the command-line overrides, checked.
+fn tree_settings(
+    scene: &Scene,
+    max_level: Option<u32>,
+    min_level: Option<u32>,
+    node_budget: Option<u32>,
+) -> Result<crate::tree::BuildSettings, Failure> {
+    let mut s = scene.tree;
+    if let Some(v) = max_level {
+        s.max_level = v;
+    }
+    if let Some(v) = min_level {
+        s.min_level = v;
+    }
+    if let Some(v) = node_budget {
+        s.node_budget = v;
+    }
+    if s.max_level > crate::scene::MAX_TREE_LEVEL {
+        return Err(Failure::usage(format!(
+            "--max-level {}: the deepest level is {} (each level multiplies the boxes by up to 16)",
+            s.max_level,
+            crate::scene::MAX_TREE_LEVEL
+        )));
+    }
+    if max_level.is_some() && min_level.is_none() && s.min_level > s.max_level {
+        s.min_level = s.max_level;
+    }
+    if s.min_level > s.max_level {
+        return Err(Failure::usage(format!(
+            "--min-level {} is above --max-level {}: lower the first or raise the second",
+            s.min_level, s.max_level
+        )));
+    }
+    if s.node_budget < 16 {
+        return Err(Failure::usage("--node-budget must be at least 16"));
+    }
+    Ok(s.into())
+}
+
+/// `fourfold tree`.
+pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
+    use std::sync::atomic::AtomicBool;
+    let scene = load_scene(&args.input)?;
+    let formula = compile(&scene)?;
+    for w in parameter_warnings(&scene, &formula) {
+        eprintln!("{w}");
+    }
+    let settings = tree_settings(&scene, args.max_level, args.min_level, args.node_budget)?;
+    let params = scene.param_values(&formula.param_names());
+    let cancel = AtomicBool::new(false);
+    let build =
+        || crate::tree::Tree16::build(&formula, &params, &scene.domain, settings, &cancel, None);
+    let tree = if args.single_thread {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| Failure::runtime(format!("cannot start a thread pool: {e}")))?
+            .install(build)
+    } else {
+        build()
+    }
+    .map_err(|e| Failure::runtime(e.to_string()))?;
+    let hierarchy = crate::tree::Hierarchy::from_tree(&tree);
+    let s = &tree.stats;
+    if args.json {
+        let mut value = serde_json::to_value(s).expect("stats serialise");
+        value["tree_bytes"] = value["bytes"].clone();
+        value["bytes"] = hierarchy.bytes().into();
+        value["max_level"] = settings.max_level.into();
+        value["min_level"] = settings.min_level.into();
+        value["node_budget"] = settings.node_budget.into();
+        return Ok(value.to_string());
+    }
+    let mut out = String::new();
+    out.push_str(&format!(
+        "16-tree of F = {}\nlevels {}..{} (min..max), node budget {}\n\n",
+        formula.f_text(),
+        settings.min_level,
+        settings.max_level,
+        settings.node_budget
+    ));
+    out.push_str("level      kept    leaves  discarded\n");
+    for l in 0..s.nodes_per_level.len().max(s.discarded_per_level.len()) {
+        out.push_str(&format!(
+            "{l:>5} {:>9} {:>9} {:>10}\n",
+            s.nodes_per_level.get(l).copied().unwrap_or(0),
+            s.leaves_per_level.get(l).copied().unwrap_or(0),
+            s.discarded_per_level.get(l).copied().unwrap_or(0),
+        ));
+    }
+    out.push_str(&format!(
+        "\nnodes {}, leaves {}, hierarchy {} bytes, {} interval evaluations, built in {:.1} ms\n",
+        s.nodes,
+        s.leaves,
+        hierarchy.bytes(),
+        s.interval_evaluations,
+        s.build_ms
+    ));
+    if tree.is_empty() {
+        out.push_str(
+            "no surface in this domain: F has no zero in the box (try a larger --domain)\n",
+        );
+    }
+    if s.budget_hit {
+        out.push_str(&format!(
+            "node budget hit: refinement stopped after level {} (raise --node-budget or lower --max-level)\n",
+            s.budget_level.unwrap_or(0)
+        ));
+    }
+    if s.singular_boxes > 0 {
+        out.push_str(&format!(
+            "{} boxes at the maximum level may hold a critical point of F (0 in every partial): \
+             M may be singular there\n",
+            s.singular_boxes
+        ));
+    }
+    Ok(out)
+}

@@ -11,6 +11,7 @@ pub mod eval;
 pub mod expr;
 pub mod formula;
 pub mod syntax;
+pub mod tree;
 
 pub use formula::CompiledFormula;
 pub mod cli;

@@ -6,6 +6,7 @@ fn main() {
     let result = match &cli.command {
         Some(Command::Check(input)) => cli::check(input),
         Some(Command::Grad(input)) => cli::grad(input),
+        Some(Command::Tree(args)) => cli::tree(args),
         _ => Err(cli::Failure::usage("not yet available")),
     };
     match result {

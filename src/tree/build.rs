@@ -1,0 +1,417 @@
+//! The 16-tree of SPEC.md §2, built level by level (breadth first) over the domain box.
+//!
+//! A box at level L is identified by integer coordinates in [0, 2^L)⁴, so boxes are exact
+//! and a node costs a few bytes. Each level's boxes are evaluated in parallel (rayon) with
+//! the rigorous interval evaluator. Breadth-first order makes the node budget fair: a level
+//! is refined completely or not at all, so no corner of the domain starves the others.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::eval::{Box4, Interval, IntervalEvaluator};
+use crate::formula::CompiledFormula;
+use crate::scene::{Domain, MAX_TREE_LEVEL};
+
+/// The criteria and limits of a build.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuildSettings {
+    pub max_level: u32,
+    /// Kept boxes are refined down to this level whatever the topological criterion says.
+    pub min_level: u32,
+    /// The most nodes the tree may hold.
+    pub node_budget: u32,
+}
+
+impl From<crate::scene::TreeSettings> for BuildSettings {
+    fn from(t: crate::scene::TreeSettings) -> Self {
+        Self {
+            max_level: t.max_level,
+            min_level: t.min_level,
+            node_budget: t.node_budget,
+        }
+    }
+}
+
+/// A kept box: its integer coordinates at its level, its parent (index into the level above)
+/// and whether it was refined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TreeBox {
+    pub coords: [u16; 4],
+    pub parent: u32,
+    /// Index of its first kept child in the next level, and how many there are (0 = leaf).
+    pub first_child: u32,
+    pub child_count: u8,
+    /// The topological criterion (0 ∈ every partial) held at this box.
+    pub critical: bool,
+}
+
+/// What a build did, for users and benchmarks.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct TreeStats {
+    pub nodes: u64,
+    pub leaves: u64,
+    pub nodes_per_level: Vec<u64>,
+    pub leaves_per_level: Vec<u64>,
+    pub discarded_per_level: Vec<u64>,
+    /// Leaves at max_level where 0 ∈ ∇F□ still held: F may have a critical point there.
+    pub singular_boxes: u64,
+    /// Refinement stopped early because the next level would pass the node budget.
+    pub budget_hit: bool,
+    /// The level at which the budget stopped refinement, if it did.
+    pub budget_level: Option<u32>,
+    pub interval_evaluations: u64,
+    pub build_ms: f64,
+    pub bytes: u64,
+}
+
+/// A built 16-tree: kept boxes per level.
+#[derive(Debug, Clone)]
+pub struct Tree16 {
+    pub domain: Domain,
+    pub levels: Vec<Vec<TreeBox>>,
+    pub stats: TreeStats,
+}
+
+/// Why a build produced no tree.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    #[error("the tree build was cancelled")]
+    Cancelled,
+    #[error("{0}")]
+    InvalidSettings(String),
+}
+
+/// Progress reports: (level just finished, nodes so far).
+pub type Progress<'a> = &'a (dyn Fn(u32, u64) + Sync);
+
+impl Tree16 {
+    /// Builds the tree of `formula` with parameter values `params` over `domain`.
+    /// `cancel` is polled often; once it is set the build returns [`BuildError::Cancelled`].
+    pub fn build(
+        formula: &CompiledFormula,
+        params: &[f64],
+        domain: &Domain,
+        settings: BuildSettings,
+        cancel: &AtomicBool,
+        progress: Option<Progress<'_>>,
+    ) -> Result<Self, BuildError> {
+        let started = Instant::now();
+        validate(settings)?;
+        let geometry = Geometry::new(domain);
+        let mut stats = TreeStats::default();
+        let mut levels: Vec<Vec<TreeBox>> = Vec::new();
+        let root = TreeBox {
+            coords: [0; 4],
+            parent: u32::MAX,
+            first_child: 0,
+            child_count: 0,
+            critical: false,
+        };
+        let root_f = IntervalEvaluator::new().eval(
+            &formula.tape_f,
+            &geometry.box_at(0, root.coords),
+            params,
+        );
+        stats.interval_evaluations += 1;
+        let mut total: u64 = 0;
+        if contains_manifold(root_f) {
+            levels.push(vec![root]);
+            total = 1;
+        } else {
+            stats.discarded_per_level.push(1);
+        }
+
+        let mut level = 0u32;
+        while let Some(current) = levels.last_mut() {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(BuildError::Cancelled);
+            }
+            if level >= settings.max_level {
+                if level >= settings.min_level {
+                    // Only the stats need the gradient here: is the criterion still open?
+                    mark_critical(
+                        formula, params, &geometry, level, current, cancel, &mut stats,
+                    )?;
+                }
+                break;
+            }
+            if level >= settings.min_level {
+                mark_critical(
+                    formula, params, &geometry, level, current, cancel, &mut stats,
+                )?;
+            }
+            let refine: Vec<u32> = current
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| level < settings.min_level || b.critical)
+                .map(|(i, _)| i as u32)
+                .collect();
+            if refine.is_empty() {
+                break;
+            }
+            // Fairness: the whole next level fits in the budget, or none of it is made.
+            let worst_case = total + 16 * refine.len() as u64;
+            if worst_case > u64::from(settings.node_budget) {
+                stats.budget_hit = true;
+                stats.budget_level = Some(level);
+                break;
+            }
+            let children =
+                refine_level(formula, params, &geometry, level, current, &refine, cancel)?;
+            stats.interval_evaluations += 16 * refine.len() as u64;
+            let kept = children.len() as u64;
+            stats.discarded_per_level.resize(level as usize + 2, 0);
+            stats.discarded_per_level[level as usize + 1] = 16 * refine.len() as u64 - kept;
+            link_children(current, &children);
+            total += kept;
+            level += 1;
+            if let Some(report) = progress {
+                report(level, total);
+            }
+            let done = children.is_empty();
+            // Pushed even when empty, so that pruning sees this level was built.
+            levels.push(children);
+            if done {
+                break;
+            }
+        }
+
+        prune_childless(&mut levels, settings);
+        let mut tree = Tree16 {
+            domain: *domain,
+            levels,
+            stats,
+        };
+        tree.count(settings);
+        tree.stats.build_ms = started.elapsed().as_secs_f64() * 1e3;
+        Ok(tree)
+    }
+
+    /// The box of a node, as intervals.
+    pub fn box_of(&self, level: u32, b: &TreeBox) -> Box4 {
+        Geometry::new(&self.domain).box_at(level, b.coords)
+    }
+
+    /// Every leaf, with its level.
+    pub fn leaves(&self) -> impl Iterator<Item = (u32, &TreeBox)> {
+        self.levels.iter().enumerate().flat_map(|(l, boxes)| {
+            boxes
+                .iter()
+                .filter(|b| b.child_count == 0)
+                .map(move |b| (l as u32, b))
+        })
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.levels.is_empty()
+    }
+
+    fn count(&mut self, settings: BuildSettings) {
+        let s = &mut self.stats;
+        s.nodes_per_level = self.levels.iter().map(|l| l.len() as u64).collect();
+        s.leaves_per_level = self
+            .levels
+            .iter()
+            .map(|l| l.iter().filter(|b| b.child_count == 0).count() as u64)
+            .collect();
+        s.nodes = s.nodes_per_level.iter().sum();
+        s.leaves = s.leaves_per_level.iter().sum();
+        s.singular_boxes = self
+            .levels
+            .get(settings.max_level as usize)
+            .map_or(0, |l| l.iter().filter(|b| b.critical).count() as u64);
+        s.bytes = s.nodes * std::mem::size_of::<TreeBox>() as u64;
+    }
+}
+
+fn validate(s: BuildSettings) -> Result<(), BuildError> {
+    if s.max_level > MAX_TREE_LEVEL {
+        return Err(BuildError::InvalidSettings(format!(
+            "max_level {} is above the limit {MAX_TREE_LEVEL}",
+            s.max_level
+        )));
+    }
+    if s.min_level > s.max_level {
+        return Err(BuildError::InvalidSettings(format!(
+            "min_level {} is above max_level {}",
+            s.min_level, s.max_level
+        )));
+    }
+    if s.node_budget < 1 {
+        return Err(BuildError::InvalidSettings(
+            "the node budget must be at least 1".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The component criterion: F□(B) may contain 0 (an empty F□ means F is undefined on B).
+fn contains_manifold(f: Interval) -> bool {
+    f.contains_zero()
+}
+
+/// Box geometry: integer coordinates at a level → intervals of the domain.
+#[derive(Debug, Clone, Copy)]
+pub struct Geometry {
+    lo: [f64; 4],
+    size: [f64; 4],
+}
+
+impl Geometry {
+    pub fn new(domain: &Domain) -> Self {
+        let axes = domain.axes();
+        Self {
+            lo: axes.map(|a| a.lo),
+            size: axes.map(|a| a.hi - a.lo),
+        }
+    }
+
+    /// The box with coordinates `c` at `level`. Bounds are computed as lo + size·k/2^L: the
+    /// same expression for the shared face of two neighbours, so the boxes tile H with no gap.
+    pub fn box_at(&self, level: u32, c: [u16; 4]) -> Box4 {
+        let cells = f64::from(1u32 << level);
+        std::array::from_fn(|i| {
+            let a = self.lo[i] + self.size[i] * (f64::from(c[i]) / cells);
+            let b = self.lo[i] + self.size[i] * (f64::from(c[i] + 1) / cells);
+            Interval::new(a, b)
+        })
+    }
+}
+
+/// Sets `critical` (0 ∈ every partial of ∇F□) on the boxes of one level.
+fn mark_critical(
+    formula: &CompiledFormula,
+    params: &[f64],
+    geometry: &Geometry,
+    level: u32,
+    boxes: &mut [TreeBox],
+    cancel: &AtomicBool,
+    stats: &mut TreeStats,
+) -> Result<(), BuildError> {
+    boxes
+        .par_chunks_mut(256)
+        .try_for_each_init(IntervalEvaluator::new, |eval, chunk| {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(BuildError::Cancelled);
+            }
+            let mut out = [Interval::EMPTY; 5];
+            for b in chunk {
+                eval.eval_into(
+                    &formula.tape_all,
+                    &geometry.box_at(level, b.coords),
+                    params,
+                    &mut out,
+                );
+                b.critical = out[1..].iter().all(|g| g.contains_zero());
+            }
+            Ok(())
+        })?;
+    stats.interval_evaluations += boxes.len() as u64;
+    Ok(())
+}
+
+/// Evaluates the 16 children of each box in `refine`; returns the kept ones grouped by
+/// parent, in parent order.
+fn refine_level(
+    formula: &CompiledFormula,
+    params: &[f64],
+    geometry: &Geometry,
+    level: u32,
+    current: &[TreeBox],
+    refine: &[u32],
+    cancel: &AtomicBool,
+) -> Result<Vec<TreeBox>, BuildError> {
+    let groups: Vec<Vec<TreeBox>> = refine
+        .par_chunks(64)
+        .map_init(IntervalEvaluator::new, |eval, parents| {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(BuildError::Cancelled);
+            }
+            let mut kept = Vec::with_capacity(parents.len() * 4);
+            for &p in parents {
+                let c = current[p as usize].coords;
+                for k in 0..16u16 {
+                    let child = std::array::from_fn(|i| 2 * c[i] + ((k >> i) & 1));
+                    let f = eval.eval(&formula.tape_f, &geometry.box_at(level + 1, child), params);
+                    if contains_manifold(f) {
+                        kept.push(TreeBox {
+                            coords: child,
+                            parent: p,
+                            first_child: 0,
+                            child_count: 0,
+                            critical: false,
+                        });
+                    }
+                }
+            }
+            Ok(kept)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(groups.concat())
+}
+
+/// Removes refined boxes whose children were all discarded (SPEC.md §2), bottom-up: such
+/// a box holds no point of M. Renumbers the parent links and child ranges it touches.
+fn prune_childless(levels: &mut Vec<Vec<TreeBox>>, settings: BuildSettings) {
+    for l in (0..levels.len()).rev() {
+        let next_built = l + 1 < levels.len();
+        let was_refined = |b: &TreeBox| {
+            next_built
+                && (l as u32) < settings.max_level
+                && ((l as u32) < settings.min_level || b.critical)
+        };
+        let keep: Vec<bool> = levels[l]
+            .iter()
+            .map(|b| !(was_refined(b) && b.child_count == 0))
+            .collect();
+        if keep.iter().all(|k| *k) {
+            continue;
+        }
+        let mut new_index = vec![u32::MAX; keep.len()];
+        let mut next = 0u32;
+        for (i, _) in keep.iter().enumerate().filter(|(_, k)| **k) {
+            new_index[i] = next;
+            next += 1;
+        }
+        let old = std::mem::take(&mut levels[l]);
+        levels[l] = old
+            .into_iter()
+            .zip(&keep)
+            .filter_map(|(b, k)| k.then_some(b))
+            .collect();
+        if next_built {
+            for child in &mut levels[l + 1] {
+                child.parent = new_index[child.parent as usize];
+            }
+        }
+        if l > 0 {
+            let (above, here) = levels.split_at_mut(l);
+            link_children(&mut above[l - 1], &here[0]);
+        }
+    }
+    while levels.last().is_some_and(|l| l.is_empty()) {
+        levels.pop();
+    }
+}
+
+/// Sets each parent's child range from its children's parent links (children are grouped by
+/// parent, in parent order).
+fn link_children(parents: &mut [TreeBox], children: &[TreeBox]) {
+    for p in parents.iter_mut() {
+        p.child_count = 0;
+        p.first_child = 0;
+    }
+    let mut i = 0;
+    while i < children.len() {
+        let parent = children[i].parent as usize;
+        let start = i;
+        while i < children.len() && children[i].parent as usize == parent {
+            i += 1;
+        }
+        parents[parent].first_child = start as u32;
+        parents[parent].child_count = (i - start) as u8;
+    }
+}

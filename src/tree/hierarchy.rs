@@ -1,0 +1,144 @@
+//! The sphere hierarchy sent to the GPU (SPEC.md §3): the kept boxes of a [`Tree16`] in
+//! depth-first order, each with a skip index to the next node outside its subtree, so a
+//! shader walks it with a loop and no stack.
+//!
+//! Layout (`SphereNode`, 24 bytes, `#[repr(C)]`, all 4-byte scalars so WGSL sees the same
+//! struct with no padding):
+//!
+//! | offset | field    | meaning                                                         |
+//! |--------|----------|-----------------------------------------------------------------|
+//! | 0      | center   | centre of the box, f32 × 4 (x, y, z, w)                         |
+//! | 16     | skip     | index of the next node after this node's subtree                 |
+//! | 20     | meta     | bits 0-7: level; bit 8: leaf                                     |
+//!
+//! A box's half extents and its sphere's radius depend only on its level, so they live in a
+//! per-level table ([`LevelInfo`]) rather than in every node. The radius is half the box's
+//! diagonal (SPEC.md §3: the chapter's full diagonal is twice what is needed).
+
+use bytemuck::{Pod, Zeroable};
+
+use super::build::Tree16;
+
+/// One node of the flattened hierarchy; see the module documentation for the layout.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SphereNode {
+    pub center: [f32; 4],
+    pub skip: u32,
+    pub meta: u32,
+}
+
+/// Bit of `SphereNode::meta` that marks a leaf.
+pub const LEAF_BIT: u32 = 1 << 8;
+
+impl SphereNode {
+    pub fn level(&self) -> u32 {
+        self.meta & 0xff
+    }
+    pub fn is_leaf(&self) -> bool {
+        self.meta & LEAF_BIT != 0
+    }
+}
+
+/// Half extents of a box at one level, padded outward so the f32 box holds the exact one,
+/// and the radius of the sphere around it. 32 bytes, as the shader reads it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LevelInfo {
+    pub half: [f32; 4],
+    pub radius: f32,
+    pub _pad: [f32; 3],
+}
+
+/// The flattened hierarchy: nodes in depth-first order, and the per-level table.
+#[derive(Debug, Clone, Default)]
+pub struct Hierarchy {
+    pub nodes: Vec<SphereNode>,
+    pub levels: Vec<LevelInfo>,
+}
+
+impl Hierarchy {
+    /// Flattens `tree` (empty tree → empty hierarchy).
+    pub fn from_tree(tree: &Tree16) -> Self {
+        let axes = tree.domain.axes();
+        let size = axes.map(|a| a.hi - a.lo);
+        let lo = axes.map(|a| a.lo);
+        let scale = axes
+            .iter()
+            .map(|a| a.lo.abs().max(a.hi.abs()))
+            .fold(0.0, f64::max);
+        let levels: Vec<LevelInfo> = (0..tree.levels.len().max(1))
+            .map(|l| {
+                let cells = f64::from(1u32 << l);
+                // Pad by more than the f32 rounding of centre and extents.
+                let pad = |h: f64| h * (1.0 + 1e-5) + scale * 1e-6;
+                let half: [f64; 4] = size.map(|s| pad(0.5 * s / cells));
+                let radius = half.iter().map(|h| h * h).sum::<f64>().sqrt();
+                LevelInfo {
+                    half: half.map(|h| h as f32),
+                    radius: (radius * (1.0 + 1e-6)) as f32,
+                    _pad: [0.0; 3],
+                }
+            })
+            .collect();
+        if tree.is_empty() {
+            return Self {
+                nodes: Vec::new(),
+                levels,
+            };
+        }
+        // Subtree sizes, bottom-up.
+        let mut subtree: Vec<Vec<u32>> = tree.levels.iter().map(|l| vec![1; l.len()]).collect();
+        for l in (0..tree.levels.len().saturating_sub(1)).rev() {
+            let (here, below) = subtree.split_at_mut(l + 1);
+            for (i, b) in tree.levels[l].iter().enumerate() {
+                let children =
+                    b.first_child as usize..b.first_child as usize + b.child_count as usize;
+                here[l][i] += below[0][children].iter().sum::<u32>();
+            }
+        }
+        let mut nodes = Vec::with_capacity(tree.stats.nodes as usize);
+        let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
+        while let Some((l, i)) = stack.pop() {
+            let b = &tree.levels[l as usize][i as usize];
+            let cells = f64::from(1u32 << l);
+            let center: [f32; 4] = std::array::from_fn(|a| {
+                (lo[a] + size[a] * ((f64::from(b.coords[a]) + 0.5) / cells)) as f32
+            });
+            let index = nodes.len() as u32;
+            let leaf = b.child_count == 0;
+            nodes.push(SphereNode {
+                center,
+                skip: index + subtree[l as usize][i as usize],
+                meta: l | if leaf { LEAF_BIT } else { 0 },
+            });
+            for c in (0..u32::from(b.child_count)).rev() {
+                stack.push((l + 1, b.first_child + c));
+            }
+        }
+        Self { nodes, levels }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Bytes the GPU buffers take.
+    pub fn bytes(&self) -> u64 {
+        (std::mem::size_of_val(self.nodes.as_slice())
+            + std::mem::size_of_val(self.levels.as_slice())) as u64
+    }
+
+    /// The f32 box of a node (padded as the shader sees it).
+    pub fn node_box(&self, node: &SphereNode) -> ([f32; 4], [f32; 4]) {
+        let half = self.levels[node.level() as usize].half;
+        (
+            std::array::from_fn(|a| node.center[a] - half[a]),
+            std::array::from_fn(|a| node.center[a] + half[a]),
+        )
+    }
+
+    pub fn radius(&self, node: &SphereNode) -> f32 {
+        self.levels[node.level() as usize].radius
+    }
+}

@@ -1,0 +1,295 @@
+//! The 16-tree and the sphere hierarchy: soundness, growth, criteria, invariants, budget,
+//! cancellation.
+
+mod common;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use common::{Rng, example_scenes};
+use fourfold::CompiledFormula;
+use fourfold::eval::{IntervalEvaluator, PointEvaluator};
+use fourfold::scene::{Domain, Scene};
+use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
+
+fn build(scene: &Scene, settings: BuildSettings) -> (CompiledFormula, Vec<f64>, Tree16) {
+    let f = CompiledFormula::compile(&scene.formula).unwrap();
+    let params = scene.param_values(&f.param_names());
+    let tree = Tree16::build(
+        &f,
+        &params,
+        &scene.domain,
+        settings,
+        &AtomicBool::new(false),
+        None,
+    )
+    .unwrap();
+    (f, params, tree)
+}
+
+/// Points of M found by bisection on random segments of the domain where F changes sign.
+fn points_on_manifold(
+    f: &CompiledFormula,
+    params: &[f64],
+    domain: &Domain,
+    n: usize,
+) -> Vec<[f64; 4]> {
+    let mut eval = PointEvaluator::new();
+    let mut rng = Rng(77);
+    let axes = domain.axes();
+    let mut found = Vec::new();
+    for _ in 0..n * 50 {
+        if found.len() >= n {
+            break;
+        }
+        let a: [f64; 4] = std::array::from_fn(|i| rng.range(axes[i].lo, axes[i].hi));
+        let b: [f64; 4] = std::array::from_fn(|i| rng.range(axes[i].lo, axes[i].hi));
+        let (mut fa, fb) = (
+            eval.eval(&f.tape_f, a, params),
+            eval.eval(&f.tape_f, b, params),
+        );
+        if !(fa * fb < 0.0) {
+            continue;
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        let at = |t: f64| -> [f64; 4] { std::array::from_fn(|i| a[i] + t * (b[i] - a[i])) };
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            let fm = eval.eval(&f.tape_f, at(mid), params);
+            if fm.is_nan() {
+                break;
+            }
+            if (fm < 0.0) == (fa < 0.0) {
+                lo = mid;
+                fa = fm;
+            } else {
+                hi = mid;
+            }
+        }
+        let p = at(0.5 * (lo + hi));
+        // Only a true root (F continuous across it) is a point of M.
+        if eval.eval(&f.tape_f, p, params).abs() < 1e-6 {
+            found.push(p);
+        }
+    }
+    found
+}
+
+#[test]
+fn every_point_of_m_lies_in_a_leaf_and_every_leaf_may_hold_m() {
+    for (name, scene) in example_scenes() {
+        let settings = BuildSettings {
+            max_level: 5,
+            min_level: 3,
+            node_budget: 2_000_000,
+        };
+        let (f, params, tree) = build(&scene, settings);
+        assert!(!tree.is_empty(), "{name}: no tree");
+        let leaves: Vec<_> = tree.leaves().map(|(l, b)| tree.box_of(l, b)).collect();
+        let mut eval = IntervalEvaluator::new();
+        for bx in &leaves {
+            assert!(
+                eval.eval(&f.tape_f, bx, &params).contains_zero(),
+                "{name}: leaf without 0"
+            );
+        }
+        let points = points_on_manifold(&f, &params, &scene.domain, 200);
+        assert!(
+            points.len() >= 50,
+            "{name}: only {} points found",
+            points.len()
+        );
+        for p in points {
+            let inside = leaves.iter().any(|bx| (0..4).all(|i| bx[i].contains(p[i])));
+            assert!(inside, "{name}: {p:?} on M is in no leaf");
+        }
+    }
+}
+
+fn glome() -> Scene {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
+    scene
+}
+
+#[test]
+fn uniform_glome_grows_like_a_three_manifold() {
+    let mut leaves = Vec::new();
+    for n in 3..=6 {
+        let settings = BuildSettings {
+            max_level: n,
+            min_level: n,
+            node_budget: 4_000_000,
+        };
+        let (_, _, tree) = build(&glome(), settings);
+        assert_eq!(tree.stats.leaves_per_level.len() as u32, n + 1);
+        assert_eq!(
+            tree.stats.leaves,
+            *tree.stats.leaves_per_level.last().unwrap()
+        );
+        leaves.push(tree.stats.leaves as f64);
+    }
+    for pair in leaves.windows(2) {
+        let ratio = pair[1] / pair[0];
+        // A 3-manifold: halving the box side multiplies the boxes it meets by about 2³.
+        assert!(
+            (6.0..=10.0).contains(&ratio),
+            "leaf growth {ratio} per level: {leaves:?}"
+        );
+    }
+}
+
+#[test]
+fn the_chapters_criteria_stop_where_the_gradient_excludes_zero() {
+    let settings = BuildSettings {
+        max_level: 6,
+        min_level: 0,
+        node_budget: 4_000_000,
+    };
+    let (f, params, tree) = build(&glome(), settings);
+    let mut eval = IntervalEvaluator::new();
+    let mut out = [fourfold::eval::Interval::EMPTY; 5];
+    for (level, b) in tree.leaves() {
+        eval.eval_into(&f.tape_all, &tree.box_of(level, b), &params, &mut out);
+        let open = out[1..].iter().all(|g| g.contains_zero());
+        // A leaf above the maximum level is one where some partial excludes 0.
+        assert!(
+            level == 6 || !open,
+            "leaf at level {level} still has 0 in every partial"
+        );
+    }
+    // The glome's gradient vanishes only at the origin, outside M: refinement stops early.
+    assert!(
+        tree.stats.leaves_per_level.len() < 7,
+        "{:?}",
+        tree.stats.leaves_per_level
+    );
+    assert_eq!(tree.stats.singular_boxes, 0);
+}
+
+#[test]
+fn hierarchy_spheres_nest_and_skips_walk_depth_first() {
+    let settings = BuildSettings {
+        max_level: 5,
+        min_level: 2,
+        node_budget: 2_000_000,
+    };
+    for (name, scene) in example_scenes() {
+        let (_, _, tree) = build(&scene, settings);
+        let h = Hierarchy::from_tree(&tree);
+        assert_eq!(h.nodes.len() as u64, tree.stats.nodes, "{name}");
+        // Parent of each node, from the depth-first order and skips.
+        let mut visits = vec![0u32; h.nodes.len()];
+        let mut stack: Vec<usize> = Vec::new();
+        for (i, node) in h.nodes.iter().enumerate() {
+            while let Some(&top) = stack.last() {
+                if (h.nodes[top].skip as usize) <= i {
+                    stack.pop();
+                } else {
+                    break;
+                }
+            }
+            if let Some(&parent) = stack.last() {
+                let p = &h.nodes[parent];
+                assert_eq!(node.level(), p.level() + 1, "{name}: child level");
+                assert!(node.skip <= p.skip, "{name}: subtree escapes its parent");
+                let d: f32 = (0..4)
+                    .map(|a| (node.center[a] - p.center[a]).powi(2))
+                    .sum::<f32>()
+                    .sqrt();
+                assert!(
+                    d + h.radius(node) <= h.radius(p) * 1.0001,
+                    "{name}: child sphere outside parent"
+                );
+            }
+            // The sphere holds the box.
+            let half = h.levels[node.level() as usize].half;
+            let corner: f32 = half.iter().map(|v| v * v).sum::<f32>().sqrt();
+            assert!(corner <= h.radius(node) * 1.0001);
+            assert_eq!(
+                node.is_leaf(),
+                node.skip as usize == i + 1,
+                "{name}: leaf flag"
+            );
+            if !node.is_leaf() {
+                stack.push(i);
+            }
+        }
+        // A walk that enters every node visits each once.
+        let mut i = 0;
+        while i < h.nodes.len() {
+            visits[i] += 1;
+            i += 1;
+        }
+        assert!(visits.iter().all(|v| *v == 1));
+        // A walk that skips every subtree visits only the root's siblings: just the root.
+        assert_eq!(h.nodes[0].skip as usize, h.nodes.len(), "{name}: root skip");
+    }
+}
+
+fn dense() -> Scene {
+    let mut scene = Scene::from_formula("sin(20x)sin(20y)sin(20z)sin(20w)");
+    scene.domain = Domain::parse_list("-1,1,-1,1,-1,1,-1,1").unwrap();
+    scene
+}
+
+#[test]
+fn the_node_budget_bounds_a_dense_zero_set() {
+    let settings = BuildSettings {
+        max_level: 10,
+        min_level: 10,
+        node_budget: 200_000,
+    };
+    let (_, _, tree) = build(&dense(), settings);
+    assert!(tree.stats.budget_hit);
+    assert!(tree.stats.nodes <= 200_000, "{} nodes", tree.stats.nodes);
+    // Fair: every leaf is on the same level (no corner refined deeper than another).
+    let leaf_levels: Vec<usize> = tree
+        .stats
+        .leaves_per_level
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| **n > 0)
+        .map(|(l, _)| l)
+        .collect();
+    assert_eq!(leaf_levels.len(), 1, "{:?}", tree.stats.leaves_per_level);
+}
+
+#[test]
+fn a_build_can_be_cancelled() {
+    let f = CompiledFormula::compile(&dense().formula).unwrap();
+    let cancel = AtomicBool::new(false);
+    let settings = BuildSettings {
+        max_level: 10,
+        min_level: 10,
+        node_budget: 50_000_000,
+    };
+    let result = Tree16::build(
+        &f,
+        &[],
+        &dense().domain,
+        settings,
+        &cancel,
+        Some(&|level, _| {
+            if level >= 3 {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        }),
+    );
+    assert_eq!(result.unwrap_err(), BuildError::Cancelled);
+}
+
+#[test]
+fn no_surface_gives_an_empty_tree() {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 + 1");
+    scene.domain = Domain::parse_list("-1,1,-1,1,-1,1,-1,1").unwrap();
+    let (_, _, tree) = build(
+        &scene,
+        BuildSettings {
+            max_level: 5,
+            min_level: 0,
+            node_budget: 1000,
+        },
+    );
+    assert!(tree.is_empty());
+    assert!(Hierarchy::from_tree(&tree).is_empty());
+}
