@@ -7,6 +7,8 @@ fn main() {
         Some(Command::Check(input)) => cli::check(input),
         Some(Command::Grad(input)) => cli::grad(input),
         Some(Command::Tree(args)) => cli::tree(args),
+        Some(Command::Wgsl(args)) => cli::wgsl(args),
+        Some(Command::Render(args)) => cli::render(args),
         _ => Err(cli::Failure::usage("not yet available")),
     };
     match result {

@@ -1,0 +1,186 @@
+//! WGSL for F and ∇F, spliced into `templates/raycast.wgsl` at its markers and validated by
+//! naga before any pipeline sees it.
+//!
+//! One `let` per tape instruction, in order: shared subexpressions are computed once and a
+//! deep formula never nests deeply. Integer powers become multiplications (square and
+//! multiply). Parameters are read from the uniform buffer, so changing one needs no new shader.
+//!
+//! Undefined values follow the CPU point evaluator: sqrt/ln/asin/acos outside their domain,
+//! division by 0, a negative or zero base of a real power with an exponent that needs a
+//! positive one — all give NaN (from the uniform, `ff_nan()`), and a NaN sample never makes a
+//! sign change, so no root is drawn there. Constants that do not fit in f32 are clamped to
+//! ±f32::MAX so every literal is finite.
+
+use std::fmt::Write as _;
+
+use crate::eval::{Instr, Tape};
+use crate::expr::{BinaryOp, UnaryOp};
+use crate::formula::CompiledFormula;
+
+/// The ray-casting template.
+pub const TEMPLATE: &str = include_str!("../../templates/raycast.wgsl");
+const F_MARKER: &str = "//@FOURFOLD_F@";
+const GRAD_MARKER: &str = "//@FOURFOLD_GRAD@";
+
+/// The most parameters a shader can read (the uniform holds 16 × vec4).
+pub const MAX_PARAMS: usize = 64;
+
+/// A generated shader that naga rejected: a bug in fourfold, reported rather than crashed on.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum CodegenError {
+    #[error("the formula has {0} parameters; the shader holds at most {MAX_PARAMS}")]
+    TooManyParams(usize),
+    #[error("internal error: the generated WGSL does not parse: {0}")]
+    Parse(String),
+    #[error("internal error: the generated WGSL does not validate: {0}")]
+    Validate(String),
+}
+
+/// A complete, validated shader.
+#[derive(Debug, Clone)]
+pub struct Shader {
+    pub source: String,
+    pub module: naga::Module,
+}
+
+/// Generates and validates the ray-casting shader for `formula`.
+pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
+    if formula.params.len() > MAX_PARAMS {
+        return Err(CodegenError::TooManyParams(formula.params.len()));
+    }
+    let f = function("ff_f", "f32", &formula.tape_f, |v| v[0].clone());
+    let grad_tape = Tape::new(&formula.graph, &formula.gradient);
+    let grad = function("ff_grad", "vec4<f32>", &grad_tape, |v| {
+        format!("vec4<f32>({}, {}, {}, {})", v[0], v[1], v[2], v[3])
+    });
+    let source = TEMPLATE.replace(F_MARKER, &f).replace(GRAD_MARKER, &grad);
+    let module = validate(&source)?;
+    Ok(Shader { source, module })
+}
+
+/// Parses and validates WGSL with naga (all capabilities a WebGPU device has).
+pub fn validate(source: &str) -> Result<naga::Module, CodegenError> {
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| CodegenError::Parse(e.emit_to_string(source)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| CodegenError::Validate(e.emit_to_string(source)))?;
+    Ok(module)
+}
+
+fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> String) -> String {
+    let mut body = String::new();
+    let _ = writeln!(body, "fn {name}(p: vec4<f32>) -> {ret} {{");
+    for (i, instr) in tape.instrs().iter().enumerate() {
+        if let Instr::Powi(a, n) = *instr {
+            powi_lets(&mut body, i, a, n);
+        } else {
+            let _ = writeln!(body, "    let s{i} = {};", expression(*instr));
+        }
+    }
+    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
+    let _ = writeln!(body, "    return {};", result(&outputs));
+    body.push('}');
+    body
+}
+
+/// A finite f32 literal.
+fn literal(v: f64) -> String {
+    let v = if v.is_nan() {
+        return "ff_nan()".into();
+    } else {
+        v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
+    };
+    let text = format!("{v:?}");
+    let text = if text.contains(['.', 'e']) {
+        text
+    } else {
+        format!("{text}.0")
+    };
+    if v < 0.0 { format!("({text})") } else { text }
+}
+
+fn expression(instr: Instr) -> String {
+    let s = |i: u32| format!("s{i}");
+    match instr {
+        Instr::Const(v) => format!("f32({})", literal(v)),
+        Instr::Var(a) => format!("p.{}", ["x", "y", "z", "w"][a as usize]),
+        Instr::Param(i) => format!("ff_param({i}u)"),
+        Instr::Powi(..) => unreachable!("integer powers are written by powi_lets"),
+        Instr::Unary(op, a) => {
+            let a = s(a);
+            match op {
+                UnaryOp::Neg => format!("-{a}"),
+                UnaryOp::Abs => format!("abs({a})"),
+                UnaryOp::Sqrt => format!("select(sqrt({a}), ff_nan(), {a} < 0.0)"),
+                UnaryOp::Cbrt => format!("sign({a}) * pow(abs({a}), 1.0 / 3.0)"),
+                UnaryOp::Exp => format!("exp({a})"),
+                UnaryOp::Ln => format!("select(log({a}), ff_nan(), {a} <= 0.0)"),
+                UnaryOp::Sin => format!("sin({a})"),
+                UnaryOp::Cos => format!("cos({a})"),
+                UnaryOp::Tan => format!("tan({a})"),
+                UnaryOp::Asin => format!("select(asin({a}), ff_nan(), abs({a}) > 1.0)"),
+                UnaryOp::Acos => format!("select(acos({a}), ff_nan(), abs({a}) > 1.0)"),
+                UnaryOp::Atan => format!("atan({a})"),
+                UnaryOp::Sinh => format!("sinh({a})"),
+                UnaryOp::Cosh => format!("cosh({a})"),
+                UnaryOp::Tanh => format!("tanh({a})"),
+                UnaryOp::Sign => format!("sign({a})"),
+                UnaryOp::Step => {
+                    format!("select(select(0.0, 1.0, {a} > 0.0), 0.5, {a} == 0.0)")
+                }
+            }
+        }
+        Instr::Binary(op, a, b) => {
+            let (a, b) = (s(a), s(b));
+            match op {
+                BinaryOp::Add => format!("{a} + {b}"),
+                BinaryOp::Sub => format!("{a} - {b}"),
+                BinaryOp::Mul => format!("{a} * {b}"),
+                BinaryOp::Div => format!("select({a} / {b}, ff_nan(), {b} == 0.0)"),
+                BinaryOp::Pow => format!(
+                    "select(select(pow({a}, {b}), 1.0, {b} == 0.0), ff_nan(), {a} < 0.0 || ({a} == 0.0 && {b} < 0.0))"
+                ),
+                BinaryOp::Min => format!("min({a}, {b})"),
+                BinaryOp::Max => format!("max({a}, {b})"),
+                BinaryOp::Atan2 => format!("atan2({a}, {b})"),
+            }
+        }
+    }
+}
+
+/// `let s{i} = s{a}^n` as multiplications: square and multiply, one `let` per square.
+fn powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
+    let k = n.unsigned_abs();
+    let x = format!("s{a}");
+    let positive = if k <= 4 {
+        vec![x.as_str(); k as usize].join(" * ")
+    } else {
+        let mut factors = Vec::new();
+        let mut square = x.clone();
+        let mut bits = k;
+        let mut j = 0;
+        while bits > 0 {
+            if bits & 1 == 1 {
+                factors.push(square.clone());
+            }
+            bits >>= 1;
+            if bits > 0 {
+                let next = format!("s{i}_{j}");
+                let _ = writeln!(body, "    let {next} = {square} * {square};");
+                square = next;
+                j += 1;
+            }
+        }
+        factors.join(" * ")
+    };
+    let value = if n < 0 {
+        format!("select(1.0 / ({positive}), ff_nan(), {x} == 0.0)")
+    } else {
+        format!("({positive})")
+    };
+    let _ = writeln!(body, "    let s{i} = {value};");
+}

@@ -1,0 +1,288 @@
+//! The CPU reference ray caster: the method of `templates/raycast.wgsl`, step for step, in
+//! Rust (f32 geometry like the GPU, F evaluated in f64 by the point evaluator). Same
+//! hierarchy, same uniforms, same hash and sampling, so GPU and CPU pictures can be compared.
+
+use rayon::prelude::*;
+
+use crate::eval::PointEvaluator;
+use crate::formula::CompiledFormula;
+use crate::tree::{Hierarchy, hierarchy::LEAF_BIT};
+
+use super::uniforms::{
+    FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms,
+};
+
+type V4 = [f32; 4];
+
+fn dot(a: V4, b: V4) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+}
+fn add(a: V4, b: V4) -> V4 {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+fn sub(a: V4, b: V4) -> V4 {
+    std::array::from_fn(|i| a[i] - b[i])
+}
+fn scale(a: V4, s: f32) -> V4 {
+    a.map(|v| v * s)
+}
+
+fn pcg(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+fn rand01(v: u32) -> f32 {
+    (pcg(v) >> 8) as f32 / 16_777_216.0
+}
+
+struct Pixel<'a> {
+    u: &'a Uniforms,
+    formula: &'a CompiledFormula,
+    params: &'a [f64],
+    eval: PointEvaluator,
+    seed: u32,
+    offset: f32,
+    hits: Vec<(f32, u32)>,
+    k_max: usize,
+}
+
+impl Pixel<'_> {
+    fn f(&mut self, p: V4) -> f32 {
+        let p = p.map(f64::from);
+        self.eval.eval(&self.formula.tape_f, p, self.params) as f32
+    }
+
+    fn dir2(&self, k: u32) -> [f32; 2] {
+        let n = self.u.size[2];
+        if self.u.control[2] & FLAG_RANDOM != 0 {
+            let a = [
+                2.0 * rand01(self.seed.wrapping_add(2 * k)) - 1.0,
+                2.0 * rand01(self.seed.wrapping_add(2 * k + 1)) - 1.0,
+            ];
+            let len = (a[0] * a[0] + a[1] * a[1]).sqrt();
+            if len < 1e-6 {
+                return [1.0, 0.0];
+            }
+            return [a[0] / len, a[1] / len];
+        }
+        let phi = std::f32::consts::TAU * (k as f32 + self.offset) / n as f32;
+        [phi.cos(), phi.sin()]
+    }
+
+    fn direction(&self, k: u32) -> V4 {
+        let d = self.dir2(k);
+        add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
+    }
+
+    fn full(&self) -> bool {
+        self.hits.len() == self.k_max
+    }
+
+    fn farthest(&self) -> f32 {
+        self.hits.last().map_or(f32::INFINITY, |h| h.0)
+    }
+
+    fn insert(&mut self, t: f32, ray: u32) {
+        if self.full() && t >= self.farthest() {
+            return;
+        }
+        if self.full() {
+            self.hits.pop();
+        }
+        let at = self.hits.partition_point(|h| h.0 <= t);
+        self.hits.insert(at, (t, ray));
+    }
+
+    fn find_roots(&mut self, o: V4, d: V4, t0: f32, t1: f32, steps: u32, ray: u32) {
+        let dt = (t1 - t0) / steps as f32;
+        let mut ta = t0;
+        let mut fa = self.f(add(o, scale(d, ta)));
+        for s in 1..=steps {
+            if self.full() && ta >= self.farthest() {
+                return;
+            }
+            let tb = t0 + s as f32 * dt;
+            let fb = self.f(add(o, scale(d, tb)));
+            if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
+                let (mut lo, mut hi, mut flo) = (ta, tb, fa);
+                let mut tm = 0.5 * (lo + hi);
+                for _ in 0..self.u.control[1] {
+                    tm = 0.5 * (lo + hi);
+                    let fm = self.f(add(o, scale(d, tm)));
+                    if fm.abs() < self.u.root[0] {
+                        break;
+                    }
+                    if (fm < 0.0) == (flo < 0.0) {
+                        lo = tm;
+                        flo = fm;
+                    } else {
+                        hi = tm;
+                    }
+                }
+                self.insert(tm, ray);
+            }
+            ta = tb;
+            fa = fb;
+        }
+    }
+
+    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32) {
+        for k in 0..self.u.size[2] {
+            let d = self.direction(k);
+            let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+            for i in 0..4 {
+                let di = if d[i].abs() < 1e-30 { 1e-30 } else { d[i] };
+                let inv = 1.0 / di;
+                let (ta, tb) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
+                t0 = t0.max(ta.min(tb));
+                t1 = t1.min(ta.max(tb));
+            }
+            if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
+                self.find_roots(o, d, t0, t1, steps, k);
+            }
+        }
+    }
+
+    fn shade(&mut self, p: V4, d: V4) -> [f32; 3] {
+        let u = self.u;
+        let mut all = [0.0; 5];
+        self.eval.eval_into(
+            &self.formula.tape_all,
+            p.map(f64::from),
+            self.params,
+            &mut all,
+        );
+        let g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
+        let glen = dot(g, g).sqrt();
+        let flags = u.control[2];
+        let rgb = |c: V4| [c[0], c[1], c[2]];
+        if flags & FLAG_SILHOUETTE != 0 && glen > 0.0 {
+            let gu = scale(g, 1.0 / glen);
+            if dot(gu, u.n1).abs() < u.misc[2] && dot(gu, u.n2).abs() < u.misc[2] {
+                return rgb(u.silhouette_color);
+            }
+        }
+        if flags & FLAG_BORDER != 0 {
+            let inside = (0..4)
+                .map(|i| (p[i] - u.domain_lo[i]).min(u.domain_hi[i] - p[i]))
+                .fold(f32::INFINITY, f32::min);
+            if inside < u.misc[3] {
+                return rgb(u.border_color);
+            }
+        }
+        if flags & FLAG_LIGHTING == 0 {
+            return rgb(u.surface);
+        }
+        let mut n = if glen > 0.0 {
+            scale(g, 1.0 / glen)
+        } else {
+            [0.0; 4]
+        };
+        if dot(n, d) > 0.0 {
+            n = scale(n, -1.0);
+        }
+        let l = u.light;
+        let diffuse = dot(n, l).max(0.0);
+        let r = sub(scale(n, 2.0 * dot(n, l)), l);
+        let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading[3]);
+        std::array::from_fn(|i| {
+            u.surface[i] * (u.shading[0] + u.shading[1] * diffuse) + u.shading[2] * specular
+        })
+    }
+}
+
+/// Renders like the GPU would, returning tightly packed RGBA8 rows.
+pub fn render_rgba(
+    formula: &CompiledFormula,
+    params: &[f64],
+    hierarchy: &Hierarchy,
+    u: &Uniforms,
+) -> Vec<u8> {
+    let (width, height) = (u.size[0], u.size[1]);
+    let rows: Vec<Vec<u8>> = (0..height)
+        .into_par_iter()
+        .map(|py| {
+            let mut row = Vec::with_capacity(width as usize * 4);
+            for px in 0..width {
+                let c = render_pixel(formula, params, hierarchy, u, px, py);
+                row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
+                row.push(255);
+            }
+            row
+        })
+        .collect();
+    rows.concat()
+}
+
+fn render_pixel(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: &Hierarchy,
+    u: &Uniforms,
+    px: u32,
+    py: u32,
+) -> [f32; 3] {
+    let (w, hgt) = (u.size[0] as f32, u.size[1] as f32);
+    let s = u.misc[0];
+    let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
+    let o = add(
+        u.center,
+        add(
+            scale(u.v1, s * (fx - 0.5 * w)),
+            scale(u.v2, s * (0.5 * hgt - fy)),
+        ),
+    );
+    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(
+        u.control[3].wrapping_add(7919u32.wrapping_mul(u.counts[1]))
+    )))));
+    let mut pixel = Pixel {
+        u,
+        formula,
+        params,
+        eval: PointEvaluator::new(),
+        seed,
+        offset: rand01(seed ^ 0x9e37_79b9),
+        hits: Vec::with_capacity(16),
+        k_max: u.size[3].clamp(1, 16) as usize,
+    };
+    if u.control[2] & FLAG_BRUTE_FORCE != 0 {
+        pixel.trace_box(o, u.domain_lo, u.domain_hi, u.counts[3]);
+    } else {
+        let mut i = 0usize;
+        let n = u.counts[0] as usize;
+        while i < n {
+            let node = &h.nodes[i];
+            let level = &u.levels[(node.meta & 255) as usize];
+            let rel = sub(node.center, o);
+            let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
+            if a * a + b * b > level.radius * level.radius {
+                i = node.skip as usize;
+                continue;
+            }
+            if node.meta & LEAF_BIT != 0 {
+                let lo = sub(node.center, level.half);
+                let hi = add(node.center, level.half);
+                pixel.trace_box(o, lo, hi, u.control[0]);
+            }
+            i += 1;
+        }
+    }
+    if pixel.hits.is_empty() {
+        return [u.background[0], u.background[1], u.background[2]];
+    }
+    let alpha = u.misc[1];
+    let hits = pixel.hits.clone();
+    let mut color = [0.0f32; 3];
+    for (j, &(t, ray)) in hits.iter().rev().enumerate() {
+        let d = pixel.direction(ray);
+        let c = pixel.shade(add(o, scale(d, t)), d);
+        color = if j == 0 {
+            c
+        } else {
+            std::array::from_fn(|i| color[i] * (1.0 - alpha) + c[i] * alpha)
+        };
+    }
+    color
+}

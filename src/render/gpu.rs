@@ -1,0 +1,349 @@
+//! The GPU ray caster on wgpu: a pipeline per shader (per formula), the hierarchy in a
+//! storage buffer (per tree), and a uniform block per frame. Offscreen rendering returns an
+//! RGBA image; the viewer draws with the same pipeline into its own target.
+
+use wgpu::util::DeviceExt;
+
+use crate::tree::{Hierarchy, SphereNode};
+
+use super::codegen::Shader;
+use super::uniforms::Uniforms;
+
+/// The colour format the ray caster writes.
+pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found ({0}). On Linux without a GPU, install Mesa's software Vulkan \
+         driver: apt-get install -y mesa-vulkan-drivers (or render with --cpu)"
+    )]
+    NoAdapter(String),
+    #[error("the GPU device could not be created: {0}")]
+    Device(String),
+    #[error("the GPU rejected the shader or pipeline: {0}")]
+    Pipeline(String),
+    #[error(
+        "the tree has {nodes} nodes ({bytes} bytes), over this GPU's storage-buffer limit of {limit} bytes; lower max_level or node_budget"
+    )]
+    TooLarge {
+        nodes: usize,
+        bytes: u64,
+        limit: u64,
+    },
+    #[error("reading the picture back from the GPU failed: {0}")]
+    Readback(String),
+}
+
+/// A device and queue, with a description of the adapter.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter: String,
+}
+
+impl Gpu {
+    /// Opens the first adapter wgpu finds (any backend), headless.
+    pub fn new() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("fourfold"),
+            required_limits: wgpu::Limits {
+                max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
+                max_buffer_size: limits.max_buffer_size,
+                ..wgpu::Limits::downlevel_defaults()
+            },
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(Self {
+            device,
+            queue,
+            adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
+        })
+    }
+
+    /// From a device someone else made (the viewer's).
+    pub fn from_parts(device: wgpu::Device, queue: wgpu::Queue, adapter: String) -> Self {
+        Self {
+            device,
+            queue,
+            adapter,
+        }
+    }
+
+    /// The largest hierarchy, in nodes, this device can hold.
+    pub fn max_nodes(&self) -> usize {
+        let limit = self.device.limits().max_storage_buffer_binding_size;
+        (limit / std::mem::size_of::<SphereNode>() as u64) as usize
+    }
+}
+
+/// A compiled pipeline for one shader, and the buffers for one hierarchy.
+pub struct RayCaster {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+impl RayCaster {
+    /// Builds the pipeline for `shader` (already validated by naga) and uploads `hierarchy`.
+    pub fn new(gpu: &Gpu, shader: &Shader, hierarchy: &Hierarchy) -> Result<Self, GpuError> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("fourfold ray caster"),
+            source: wgpu::ShaderSource::Wgsl(shader.source.as_str().into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("fourfold bindings"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("fourfold pipeline layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("fourfold ray caster"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: TARGET_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        if let Some(error) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Pipeline(error.to_string()));
+        }
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("fourfold uniforms"),
+            size: std::mem::size_of::<Uniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let nodes = node_buffer(gpu, hierarchy)?;
+        let bind_group = bind_group(device, &layout, &uniforms, &nodes);
+        Ok(Self {
+            pipeline,
+            layout,
+            uniforms,
+            nodes,
+            bind_group,
+        })
+    }
+
+    /// Replaces the hierarchy (a new tree for the same formula: parameters, domain, levels).
+    pub fn set_hierarchy(&mut self, gpu: &Gpu, hierarchy: &Hierarchy) -> Result<(), GpuError> {
+        self.nodes = node_buffer(gpu, hierarchy)?;
+        self.bind_group = bind_group(&gpu.device, &self.layout, &self.uniforms, &self.nodes);
+        Ok(())
+    }
+
+    /// Records a frame into `target` (a view of a TARGET_FORMAT texture).
+    pub fn encode(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        uniforms: &Uniforms,
+    ) {
+        gpu.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("fourfold frame"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Renders one frame offscreen and reads it back as tightly packed RGBA8 rows.
+    pub fn render_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<Vec<u8>, GpuError> {
+        let (width, height) = (uniforms.size[0], uniforms.size[1]);
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("fourfold offscreen"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: TARGET_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let row = width * 4;
+        let padded_row =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("fourfold readback"),
+            size: u64::from(padded_row) * u64::from(height),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        self.encode(gpu, &mut encoder, &view, uniforms);
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded_row),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let slice = readback.slice(..);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = sender.send(r);
+        });
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let data = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
+        let mut pixels = Vec::with_capacity((row * height) as usize);
+        for y in 0..height as usize {
+            let start = y * padded_row as usize;
+            pixels.extend_from_slice(&data[start..start + row as usize]);
+        }
+        drop(data);
+        readback.unmap();
+        Ok(pixels)
+    }
+}
+
+fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuError> {
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let bytes = std::mem::size_of_val(hierarchy.nodes.as_slice()) as u64;
+    if bytes > limit {
+        return Err(GpuError::TooLarge {
+            nodes: hierarchy.nodes.len(),
+            bytes,
+            limit,
+        });
+    }
+    // An empty tree still needs a non-empty buffer; the shader reads node_count = 0.
+    let placeholder = [SphereNode {
+        center: [0.0; 4],
+        skip: 1,
+        meta: 0,
+    }];
+    let nodes: &[SphereNode] = if hierarchy.nodes.is_empty() {
+        &placeholder
+    } else {
+        &hierarchy.nodes
+    };
+    Ok(gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fourfold hierarchy"),
+            contents: bytemuck::cast_slice(nodes),
+            usage: wgpu::BufferUsages::STORAGE,
+        }))
+}
+
+fn bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &wgpu::Buffer,
+    nodes: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("fourfold bind group"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: nodes.as_entire_binding(),
+            },
+        ],
+    })
+}

@@ -1,0 +1,14 @@
+//! Stage 5: drawing. The camera (rotation, planes, pixel → R⁴), WGSL generation and naga
+//! validation, the uniform block, the GPU ray caster and its CPU reference twin.
+
+pub mod camera;
+pub mod codegen;
+pub mod cpu;
+pub mod gpu;
+pub mod pipeline;
+pub mod uniforms;
+
+pub use camera::{Camera, Rotation4};
+pub use codegen::{CodegenError, Shader};
+pub use gpu::{Gpu, GpuError, RayCaster};
+pub use uniforms::{FrameOptions, Uniforms};

@@ -1,0 +1,143 @@
+//! The whole pipeline for one picture: formula → tree → hierarchy → shader → frame, with the
+//! time of each stage. The CLI's `render` and the benchmarks call this.
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use crate::formula::CompiledFormula;
+use crate::scene::Scene;
+use crate::tree::{Hierarchy, Tree16, TreeStats};
+
+use super::camera::Camera;
+use super::codegen;
+use super::gpu::{Gpu, RayCaster};
+use super::uniforms::{FrameOptions, Uniforms};
+
+/// Milliseconds per stage.
+#[derive(Debug, Clone, Default)]
+pub struct StageTimes {
+    pub parse_ms: f64,
+    pub tree_ms: f64,
+    pub codegen_ms: f64,
+    pub pipeline_ms: f64,
+    pub frame_ms: f64,
+}
+
+/// A rendered picture and how it was made.
+pub struct Picture {
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8 rows, top to bottom.
+    pub rgba: Vec<u8>,
+    pub adapter: String,
+    pub times: StageTimes,
+    pub tree: TreeStats,
+}
+
+/// What can stop a picture, with a message for the user.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error("{0}")]
+    Formula(String),
+    #[error("{0}")]
+    Tree(#[from] crate::tree::BuildError),
+    #[error("{0}")]
+    Codegen(#[from] codegen::CodegenError),
+    #[error("{0}")]
+    Gpu(#[from] super::gpu::GpuError),
+    #[error("the image size {0}x{1} is not allowed: both sides must be between 1 and 8192")]
+    Size(u32, u32),
+}
+
+/// Where to draw: an existing GPU, a new one, or the CPU reference.
+pub enum Device<'a> {
+    Gpu(&'a Gpu),
+    NewGpu,
+    Cpu,
+}
+
+/// Renders `scene` at `width`×`height`.
+pub fn render_scene(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    device: Device<'_>,
+    options: FrameOptions,
+) -> Result<Picture, RenderError> {
+    if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
+        return Err(RenderError::Size(width, height));
+    }
+    let mut times = StageTimes::default();
+    let t = Instant::now();
+    let formula = CompiledFormula::compile(&scene.formula)
+        .map_err(|e| RenderError::Formula(e.render("formula", &scene.formula)))?;
+    let params = scene.param_values(&formula.param_names());
+    times.parse_ms = ms(t);
+
+    let t = Instant::now();
+    let tree = Tree16::build(
+        &formula,
+        &params,
+        &scene.domain,
+        scene.tree.into(),
+        &AtomicBool::new(false),
+        None,
+    )?;
+    let hierarchy = Hierarchy::from_tree(&tree);
+    times.tree_ms = ms(t);
+
+    let camera = Camera::new(&scene.domain, &scene.view, width, height);
+    let uniforms = Uniforms::new(
+        &camera,
+        &scene.render,
+        &scene.domain,
+        &hierarchy,
+        &params,
+        options,
+    );
+    let t = Instant::now();
+    let shader = codegen::generate(&formula)?;
+    times.codegen_ms = ms(t);
+
+    let (rgba, adapter) = match device {
+        Device::Cpu => {
+            let t = Instant::now();
+            let rgba = super::cpu::render_rgba(&formula, &params, &hierarchy, &uniforms);
+            times.frame_ms = ms(t);
+            (rgba, "CPU reference renderer".to_string())
+        }
+        Device::Gpu(gpu) => gpu_frame(gpu, &shader, &hierarchy, &uniforms, &mut times)?,
+        Device::NewGpu => {
+            let gpu = Gpu::new()?;
+            gpu_frame(&gpu, &shader, &hierarchy, &uniforms, &mut times)?
+        }
+    };
+    Ok(Picture {
+        width,
+        height,
+        rgba,
+        adapter,
+        times,
+        tree: tree.stats,
+    })
+}
+
+fn gpu_frame(
+    gpu: &Gpu,
+    shader: &codegen::Shader,
+    hierarchy: &Hierarchy,
+    uniforms: &Uniforms,
+    times: &mut StageTimes,
+) -> Result<(Vec<u8>, String), RenderError> {
+    let t = Instant::now();
+    let caster = RayCaster::new(gpu, shader, hierarchy)?;
+    times.pipeline_ms = ms(t);
+    let t = Instant::now();
+    let rgba = caster.render_rgba(gpu, uniforms)?;
+    times.frame_ms = ms(t);
+    Ok((rgba, gpu.adapter.clone()))
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

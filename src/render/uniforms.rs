@@ -1,0 +1,154 @@
+//! The uniform block the ray caster reads, laid out exactly as `Uniforms` in
+//! `templates/raycast.wgsl` (1056 bytes), and how a scene fills it.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::scene::{RenderSettings, Sampling};
+use crate::tree::{Hierarchy, LevelInfo};
+
+use super::camera::Camera;
+
+/// Flag bits of `control[2]`.
+pub const FLAG_LIGHTING: u32 = 1;
+pub const FLAG_SILHOUETTE: u32 = 2;
+pub const FLAG_BORDER: u32 = 4;
+pub const FLAG_RANDOM: u32 = 8;
+pub const FLAG_BRUTE_FORCE: u32 = 16;
+
+/// Entries of the per-level table (levels 0..=15).
+pub const LEVEL_SLOTS: usize = 16;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct Uniforms {
+    pub v1: [f32; 4],
+    pub v2: [f32; 4],
+    pub n1: [f32; 4],
+    pub n2: [f32; 4],
+    pub center: [f32; 4],
+    pub domain_lo: [f32; 4],
+    pub domain_hi: [f32; 4],
+    pub light: [f32; 4],
+    pub surface: [f32; 4],
+    pub background: [f32; 4],
+    pub silhouette_color: [f32; 4],
+    pub border_color: [f32; 4],
+    /// ambient, diffuse, specular, shininess
+    pub shading: [f32; 4],
+    /// pixel size, alpha, silhouette tolerance, border tolerance
+    pub misc: [f32; 4],
+    /// bisection approximation
+    pub root: [f32; 4],
+    /// width, height, rays, hits kept
+    pub size: [u32; 4],
+    /// steps per span, bisection iterations, flags, seed
+    pub control: [u32; 4],
+    /// node count, frame, NaN bit pattern, brute-force steps
+    pub counts: [u32; 4],
+    pub levels: [LevelInfo; LEVEL_SLOTS],
+    pub params: [[f32; 4]; 16],
+}
+
+fn v4(a: [f64; 4]) -> [f32; 4] {
+    a.map(|v| v as f32)
+}
+
+fn rgb(c: [f32; 3]) -> [f32; 4] {
+    [c[0], c[1], c[2], 1.0]
+}
+
+/// How one frame is drawn beyond the scene's settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameOptions {
+    /// Frame counter: new ray offsets for progressive refinement.
+    pub frame: u32,
+    /// March every ray across the whole domain (the benchmark's baseline), with the step
+    /// count per unit length that the leaves of `brute_force_level` would use.
+    pub brute_force_level: Option<u32>,
+}
+
+impl Uniforms {
+    pub fn new(
+        camera: &Camera,
+        render: &RenderSettings,
+        domain: &crate::scene::Domain,
+        hierarchy: &Hierarchy,
+        params: &[f64],
+        options: FrameOptions,
+    ) -> Self {
+        let axes = domain.axes();
+        let l = render.lighting.direction;
+        let light: [f64; 4] = std::array::from_fn(|i| {
+            l[0] * camera.v1[i] + l[1] * camera.v2[i] + l[2] * camera.n1[i] + l[3] * camera.n2[i]
+        });
+        let norm = light.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-12);
+        let mut flags = 0;
+        if render.lighting.enabled {
+            flags |= FLAG_LIGHTING;
+        }
+        if render.silhouette.enabled {
+            flags |= FLAG_SILHOUETTE;
+        }
+        if render.border.enabled {
+            flags |= FLAG_BORDER;
+        }
+        if render.sampling == Sampling::Random {
+            flags |= FLAG_RANDOM;
+        }
+        let mut brute_steps = 0;
+        if let Some(level) = options.brute_force_level {
+            flags |= FLAG_BRUTE_FORCE;
+            brute_steps = render.steps.saturating_mul(1 << level.min(16));
+        }
+        let mut levels = [LevelInfo::zeroed(); LEVEL_SLOTS];
+        for (slot, info) in levels.iter_mut().zip(&hierarchy.levels) {
+            *slot = *info;
+        }
+        let mut packed = [[0f32; 4]; 16];
+        for (i, p) in params.iter().take(64).enumerate() {
+            packed[i / 4][i % 4] = *p as f32;
+        }
+        Self {
+            v1: v4(camera.v1),
+            v2: v4(camera.v2),
+            n1: v4(camera.n1),
+            n2: v4(camera.n2),
+            center: v4(camera.center),
+            domain_lo: v4(axes.map(|a| a.lo)),
+            domain_hi: v4(axes.map(|a| a.hi)),
+            light: v4(light.map(|v| v / norm)),
+            surface: rgb(render.lighting.color.to_f32()),
+            background: rgb(render.background.to_f32()),
+            silhouette_color: rgb(render.silhouette.color.to_f32()),
+            border_color: rgb(render.border.color.to_f32()),
+            shading: [
+                render.lighting.ambient as f32,
+                render.lighting.diffuse as f32,
+                render.lighting.specular as f32,
+                render.lighting.shininess as f32,
+            ],
+            misc: [
+                camera.pixel_size as f32,
+                render.alpha as f32,
+                render.silhouette.tolerance as f32,
+                render.border.tolerance as f32,
+            ],
+            root: [render.approximation as f32, 0.0, 0.0, 0.0],
+            size: [
+                camera.width,
+                camera.height,
+                render.rays,
+                render.hits.min(16),
+            ],
+            control: [render.steps, render.bisection_iters, flags, render.seed],
+            counts: [
+                hierarchy.nodes.len() as u32,
+                options.frame,
+                f32::NAN.to_bits(),
+                brute_steps,
+            ],
+            levels,
+            params: packed,
+        }
+    }
+}
