@@ -421,7 +421,7 @@ pub enum SceneError {
     Invalid {
         path: String,
         text: String,
-        error: SourceError,
+        error: Box<SourceError>,
     },
 }
 
@@ -444,7 +444,7 @@ impl Scene {
         let invalid = |error: SourceError| SceneError::Invalid {
             path: path.to_string(),
             text: text.to_string(),
-            error,
+            error: Box::new(error),
         };
         let scene: Scene = toml::from_str(text).map_err(|e| {
             let span = e.span().unwrap_or(0..0);

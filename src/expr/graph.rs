@@ -83,7 +83,7 @@ impl From<Node> for Key {
     fn from(node: Node) -> Self {
         match node {
             // -0.0 and 0.0 are one constant; every NaN is one constant.
-            Node::Const(v) if v == 0.0 => Key::Const(0),
+            Node::Const(0.0) => Key::Const(0),
             Node::Const(v) if v.is_nan() => Key::Const(f64::NAN.to_bits()),
             Node::Const(v) => Key::Const(v.to_bits()),
             Node::Var(i) => Key::Var(i),
@@ -318,23 +318,23 @@ impl ExprGraph {
                     }
                 }
                 // Constant factors move out of quotients: (c·u)/v → c·(u/v).
-                if let Node::Binary(BinaryOp::Mul, p, q) = self.node(a) {
-                    if self.const_value(p).is_some() {
-                        let inner = self.div(q, b);
-                        return self.mul(p, inner);
-                    }
+                if let Node::Binary(BinaryOp::Mul, p, q) = self.node(a)
+                    && self.const_value(p).is_some()
+                {
+                    let inner = self.div(q, b);
+                    return self.mul(p, inner);
                 }
-                if let Node::Binary(BinaryOp::Mul, p, q) = self.node(b) {
-                    if let Some(c) = self.const_value(p).filter(|c| is_power_of_two(*c)) {
-                        let k = self.constant(1.0 / c);
-                        let inner = self.div(a, q);
-                        return self.mul(k, inner);
-                    }
+                if let Node::Binary(BinaryOp::Mul, p, q) = self.node(b)
+                    && let Some(c) = self.const_value(p).filter(|c| is_power_of_two(*c))
+                {
+                    let k = self.constant(1.0 / c);
+                    let inner = self.div(a, q);
+                    return self.mul(k, inner);
                 }
-                if ca == Some(1.0) {
-                    if let Node::Powi(base, n) = self.node(b) {
-                        return self.powi(base, -n);
-                    }
+                if ca == Some(1.0)
+                    && let Node::Powi(base, n) = self.node(b)
+                {
+                    return self.powi(base, -n);
                 }
                 self.intern(Node::Binary(Div, a, b))
             }
@@ -386,25 +386,25 @@ impl ExprGraph {
         if ca.is_none() && cb.is_some() {
             return self.mul(b, a);
         }
-        if let (Some(c1), Node::Binary(BinaryOp::Mul, p, q)) = (ca, self.node(b)) {
-            if let Some(c2) = self.const_value(p) {
-                let c = self.constant(c1 * c2);
-                return self.mul(c, q);
-            }
+        if let (Some(c1), Node::Binary(BinaryOp::Mul, p, q)) = (ca, self.node(b))
+            && let Some(c2) = self.const_value(p)
+        {
+            let c = self.constant(c1 * c2);
+            return self.mul(c, q);
         }
         // Constants move outwards: a·(c·v) → c·(a·v), so that 4R²·2x becomes 8·(R²·x).
         if ca.is_none() {
-            if let Node::Binary(BinaryOp::Mul, p, q) = self.node(b) {
-                if self.const_value(p).is_some() {
-                    let inner = self.mul(a, q);
-                    return self.mul(p, inner);
-                }
+            if let Node::Binary(BinaryOp::Mul, p, q) = self.node(b)
+                && self.const_value(p).is_some()
+            {
+                let inner = self.mul(a, q);
+                return self.mul(p, inner);
             }
-            if let Node::Binary(BinaryOp::Mul, p, q) = self.node(a) {
-                if self.const_value(p).is_some() {
-                    let inner = self.mul(q, b);
-                    return self.mul(p, inner);
-                }
+            if let Node::Binary(BinaryOp::Mul, p, q) = self.node(a)
+                && self.const_value(p).is_some()
+            {
+                let inner = self.mul(q, b);
+                return self.mul(p, inner);
             }
         }
         if let Node::Unary(UnaryOp::Neg, p) = self.node(a) {

@@ -318,29 +318,30 @@ fn translate_error(source: &str, error: pest::error::Error<Rule>) -> SourceError
         _ => None,
     };
     let next_is_closer = matches!(next, None | Some(')') | Some(',') | Some('=') | Some('|'));
-    if let Some(prev) = previous {
-        if next_is_closer || next.is_some_and(|c| "+*/^·×".contains(c)) {
-            if let Some(what) = operator_name(prev) {
-                let (message, hint) = match prev {
-                    '^' => ("missing exponent", "write the power after '^', as in x^2"),
-                    '(' => (
-                        "empty parentheses",
-                        "put an expression inside, as in (x + 1)",
-                    ),
-                    _ => (
-                        "missing operand",
-                        "complete the expression or remove the operator",
-                    ),
-                };
-                return SourceError::new(
-                    message,
-                    prev_span,
-                    format!("expected an {what}")
-                        .replace("an divisor", "a divisor")
-                        .replace("an right", "a right"),
-                )
-                .with_hint(hint);
-            }
+    if let Some(prev) = previous
+        && (next_is_closer || next.is_some_and(|c| "+*/^·×".contains(c)))
+        && let Some(what) = operator_name(prev)
+    {
+        {
+            let (message, hint) = match prev {
+                '^' => ("missing exponent", "write the power after '^', as in x^2"),
+                '(' => (
+                    "empty parentheses",
+                    "put an expression inside, as in (x + 1)",
+                ),
+                _ => (
+                    "missing operand",
+                    "complete the expression or remove the operator",
+                ),
+            };
+            return SourceError::new(
+                message,
+                prev_span,
+                format!("expected an {what}")
+                    .replace("an divisor", "a divisor")
+                    .replace("an right", "a right"),
+            )
+            .with_hint(hint);
         }
     }
     match next {

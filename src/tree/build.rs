@@ -371,10 +371,8 @@ fn prune_childless(levels: &mut Vec<Vec<TreeBox>>, settings: BuildSettings) {
             continue;
         }
         let mut new_index = vec![u32::MAX; keep.len()];
-        let mut next = 0u32;
-        for (i, _) in keep.iter().enumerate().filter(|(_, k)| **k) {
-            new_index[i] = next;
-            next += 1;
+        for (next, (i, _)) in keep.iter().enumerate().filter(|(_, k)| **k).enumerate() {
+            new_index[i] = next as u32;
         }
         let old = std::mem::take(&mut levels[l]);
         levels[l] = old
