@@ -175,3 +175,32 @@ fn outward_rounding_holds_inexact_results() {
     assert!(s.lo() < 0.1 + 0.2 && s.hi() >= 0.1 + 0.2);
     assert!(s.lo() < s.hi());
 }
+
+#[test]
+fn empty_and_overflow_cases_of_the_branch_free_rounding() {
+    let e = Interval::EMPTY;
+    let entire = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+    let one = Interval::new(-1.0, 1.0);
+    // An empty operand makes every sum, difference and product empty, also with ±∞ bounds.
+    for (a, b) in [(e, one), (one, e), (e, entire), (entire, e), (e, e)] {
+        assert!(a.add(b).is_empty(), "{a:?} + {b:?}");
+        assert!(a.sub(b).is_empty(), "{a:?} - {b:?}");
+        assert!(a.mul(b).is_empty(), "{a:?} * {b:?}");
+    }
+    // A sum that overflows is bounded below by something finite and above by +∞.
+    let big = Interval::point(f64::MAX);
+    let s = big.add(big);
+    assert!(s.lo() <= f64::MAX && s.lo() > 1e307 && s.hi() == f64::INFINITY);
+    let d = big.neg().sub(big);
+    assert!(d.hi() >= -f64::MAX && d.lo() == f64::NEG_INFINITY);
+    // Zero and subnormal results still move outward.
+    let tiny = Interval::point(f64::from_bits(1));
+    let z = tiny.sub(tiny);
+    assert!(z.lo() < 0.0 && z.hi() > 0.0);
+    // Unbounded operands stay unbounded and never turn into NaN.
+    let half = Interval::new(0.0, f64::INFINITY);
+    let p = half.mul(Interval::new(-2.0, 3.0));
+    assert_eq!((p.lo(), p.hi()), (f64::NEG_INFINITY, f64::INFINITY));
+    let q = half.add(Interval::point(-1.0));
+    assert!(q.lo() <= -1.0 && q.hi() == f64::INFINITY);
+}

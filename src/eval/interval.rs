@@ -24,15 +24,39 @@ pub struct Interval {
     hi: f64,
 }
 
+/// A float at or below the next float under `x`, without branches: for |x| in
+/// [2^e, 2^(e+1)) one ulp is at most |x|·2^-52, so x − |x|·2^-52 is at or below the next
+/// float down and rounding to nearest cannot bring it back above it; the smallest subnormal
+/// covers zero and subnormal x. At most one ulp looser than `next_down`. A rounded result of
+/// +∞ (an overflow: the exact value is above `f64::MAX`) comes down to just under `MAX`; −∞
+/// stays; NaN (only from an empty operand) gives a huge bound, so the result stays empty.
 #[inline]
 fn down(x: f64) -> f64 {
-    x.next_down()
+    let x = lesser(x, f64::MAX);
+    x - (x.abs() * f64::EPSILON + TINY)
 }
 
+/// A float at or above the next float over `x`; see [`down`].
 #[inline]
 fn up(x: f64) -> f64 {
-    x.next_up()
+    let x = greater(x, -f64::MAX);
+    x + (x.abs() * f64::EPSILON + TINY)
 }
+
+/// `a < b ? a : b`: one `minsd`, unlike `f64::min`, which handles NaN. A NaN `a` gives `b`.
+#[inline]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// `a > b ? a : b`; a NaN `a` gives `b`.
+#[inline]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The smallest positive subnormal.
+const TINY: f64 = f64::from_bits(1);
 
 #[inline]
 fn lib_down(x: f64) -> f64 {
@@ -52,15 +76,36 @@ fn lib_up(x: f64) -> f64 {
     x
 }
 
-/// Moves a value computed with up to `k` roundings down past its true value.
+/// A lower bound of x^k for x ≥ 0 (square-and-multiply, every product rounded down; the
+/// operands stay non-negative, so each rounded product bounds the exact one from below).
 #[inline]
-fn widen_down(v: f64, k: u32) -> f64 {
-    (v - v.abs() * f64::from(k) * f64::EPSILON - f64::MIN_POSITIVE).next_down()
+fn pow_down(x: f64, k: u32) -> f64 {
+    directed_pow(x, k, |a, b| greater(down(a * b), 0.0))
+}
+
+/// An upper bound of x^k for x ≥ 0.
+#[inline]
+fn pow_up(x: f64, k: u32) -> f64 {
+    directed_pow(x, k, |a, b| up(a * b))
 }
 
 #[inline]
-fn widen_up(v: f64, k: u32) -> f64 {
-    (v + v.abs() * f64::from(k) * f64::EPSILON + f64::MIN_POSITIVE).next_up()
+fn directed_pow(x: f64, mut k: u32, mul: impl Fn(f64, f64) -> f64) -> f64 {
+    if x == 0.0 || x.is_infinite() {
+        return x;
+    }
+    let mut base = x;
+    let mut acc = 1.0;
+    loop {
+        if k & 1 == 1 {
+            acc = if acc == 1.0 { base } else { mul(acc, base) };
+        }
+        k >>= 1;
+        if k == 0 {
+            return acc;
+        }
+        base = mul(base, base);
+    }
 }
 
 /// Product in which 0 × ∞ is 0: the bound of a set product, not an IEEE product.
@@ -147,13 +192,12 @@ impl Interval {
 
     #[inline]
     pub fn add(self, b: Self) -> Self {
-        if self.is_empty() || b.is_empty() {
-            return Self::EMPTY;
-        }
+        // No empty check needed: EMPTY is [+∞, −∞], so an empty operand makes lo = +∞ or NaN
+        // and hi = −∞ or NaN, which `down`/`up` keep out of order, and `new` gives EMPTY.
         let lo = down(self.lo + b.lo);
         // A sum of non-negative numbers is non-negative: keep x^2 + y^2 ≥ 0 exact.
         let lo = if self.lo >= 0.0 && b.lo >= 0.0 {
-            lo.max(0.0)
+            greater(lo, 0.0)
         } else {
             lo
         };
@@ -162,9 +206,7 @@ impl Interval {
 
     #[inline]
     pub fn sub(self, b: Self) -> Self {
-        if self.is_empty() || b.is_empty() {
-            return Self::EMPTY;
-        }
+        // Empty operands give EMPTY as in `add`.
         Self::new(down(self.lo - b.hi), up(self.hi - b.lo))
     }
 
@@ -184,18 +226,34 @@ impl Interval {
         if self.is_empty() || b.is_empty() {
             return Self::EMPTY;
         }
-        let (a, b) = (self, b);
-        if a.lo >= 0.0 && b.lo >= 0.0 {
-            return Self::new(down(mul0(a.lo, b.lo)).max(0.0), up(mul0(a.hi, b.hi)));
-        }
-        let p = [
-            mul0(a.lo, b.lo),
-            mul0(a.lo, b.hi),
-            mul0(a.hi, b.lo),
-            mul0(a.hi, b.hi),
-        ];
-        let lo = p[0].min(p[1]).min(p[2]).min(p[3]);
-        let hi = p[0].max(p[1]).max(p[2]).max(p[3]);
+        let a = self;
+        // Sign cases: two products unless both straddle zero.
+        let (lo, hi) = if a.lo >= 0.0 {
+            if b.lo >= 0.0 {
+                return Self::new(greater(down(mul0(a.lo, b.lo)), 0.0), up(mul0(a.hi, b.hi)));
+            } else if b.hi <= 0.0 {
+                (mul0(a.hi, b.lo), mul0(a.lo, b.hi))
+            } else {
+                (mul0(a.hi, b.lo), mul0(a.hi, b.hi))
+            }
+        } else if a.hi <= 0.0 {
+            if b.lo >= 0.0 {
+                (mul0(a.lo, b.hi), mul0(a.hi, b.lo))
+            } else if b.hi <= 0.0 {
+                return Self::new(greater(down(mul0(a.hi, b.hi)), 0.0), up(mul0(a.lo, b.lo)));
+            } else {
+                (mul0(a.lo, b.hi), mul0(a.lo, b.lo))
+            }
+        } else if b.lo >= 0.0 {
+            (mul0(a.lo, b.hi), mul0(a.hi, b.hi))
+        } else if b.hi <= 0.0 {
+            (mul0(a.hi, b.lo), mul0(a.lo, b.lo))
+        } else {
+            (
+                lesser(mul0(a.lo, b.hi), mul0(a.hi, b.lo)),
+                greater(mul0(a.lo, b.lo), mul0(a.hi, b.hi)),
+            )
+        };
         Self::new(down(lo), up(hi))
     }
 
@@ -250,52 +308,62 @@ impl Interval {
         Self::new(down(lo), up(hi))
     }
 
+    #[inline]
     pub fn abs(self) -> Self {
         if self.is_empty() || self.lo >= 0.0 {
             self
         } else if self.hi <= 0.0 {
             self.neg()
         } else {
-            Self::new(0.0, (-self.lo).max(self.hi))
+            Self::new(0.0, greater(-self.lo, self.hi))
         }
     }
 
+    /// x², never negative; the same as `powi(2)`.
+    #[inline]
+    pub fn square(self) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        let m = self.abs();
+        let lo = if m.lo == 0.0 {
+            0.0
+        } else {
+            greater(down(m.lo * m.lo), 0.0)
+        };
+        Self::new(lo, up(m.hi * m.hi))
+    }
+
     /// x^n for an integer n; tight (never negative) for even n.
+    #[inline]
     pub fn powi(self, n: i32) -> Self {
         if self.is_empty() {
             return self;
         }
-        if n == 0 {
-            return Self::ONE;
-        }
-        if n < 0 {
-            return Self::ONE.div(self.powi(-n));
-        }
-        if n == 1 {
-            return self;
+        match n {
+            0 => return Self::ONE,
+            1 => return self,
+            n if n < 0 => return Self::ONE.div(self.powi(-n)),
+            _ => {}
         }
         let k = n.unsigned_abs();
-        let p = |x: f64| x.powi(n);
         if n % 2 == 0 {
+            // |x|^n is increasing in |x|: bound each end by a directed power.
             let m = self.abs();
-            let lo = if m.lo == 0.0 {
-                0.0
-            } else {
-                widen_down(p(m.lo), k).max(0.0)
-            };
-            Self::new(lo, widen_up(p(m.hi), k))
+            Self::new(pow_down(m.lo, k), pow_up(m.hi, k))
         } else {
-            let bound_lo = if self.lo.is_infinite() {
-                self.lo
+            // x^n is increasing and odd: (-a)^n = -(a^n).
+            let lo = if self.lo >= 0.0 {
+                pow_down(self.lo, k)
             } else {
-                widen_down(p(self.lo), k)
+                -pow_up(-self.lo, k)
             };
-            let bound_hi = if self.hi.is_infinite() {
-                self.hi
+            let hi = if self.hi >= 0.0 {
+                pow_up(self.hi, k)
             } else {
-                widen_up(p(self.hi), k)
+                -pow_down(-self.hi, k)
             };
-            Self::new(bound_lo, bound_hi)
+            Self::new(lo, hi)
         }
     }
 

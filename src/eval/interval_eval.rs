@@ -4,7 +4,7 @@
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::interval::Interval;
-use super::tape::{Instr, Tape};
+use super::tape::{Instr, PrefixKey, Tape};
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
 pub type Box4 = [Interval; 4];
@@ -13,6 +13,7 @@ pub type Box4 = [Interval; 4];
 #[derive(Debug, Clone, Default)]
 pub struct IntervalEvaluator {
     slots: Vec<Interval>,
+    prefix: PrefixKey,
 }
 
 impl IntervalEvaluator {
@@ -22,22 +23,33 @@ impl IntervalEvaluator {
 
     /// Evaluates every output of `tape` over `bx`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, bx: &Box4, params: &[f64], out: &mut [Interval]) {
-        self.slots.clear();
-        self.slots.reserve(tape.len());
-        for instr in tape.instrs() {
-            let s = &self.slots;
+        let n = tape.len();
+        if self.slots.len() < n {
+            self.slots.resize(n, Interval::EMPTY);
+        }
+        let slots = &mut self.slots[..n];
+        let start = if self.prefix.stale(tape, params) {
+            0
+        } else {
+            tape.uniform_len()
+        };
+        for (i, instr) in tape.instrs().iter().enumerate().skip(start) {
             let v = match *instr {
                 Instr::Const(c) => Interval::point(c),
-                Instr::Var(a) => bx[a as usize],
+                Instr::Var(a) => bx[a as usize & 3],
                 Instr::Param(i) => Interval::point(params.get(i as usize).copied().unwrap_or(1.0)),
-                Instr::Unary(op, a) => unary(op, s[a as usize]),
-                Instr::Binary(op, a, b) => binary(op, s[a as usize], s[b as usize]),
-                Instr::Powi(a, n) => s[a as usize].powi(n),
+                Instr::Unary(op, a) => unary(op, slots[a as usize]),
+                Instr::Binary(BinaryOp::Add, a, b) => slots[a as usize].add(slots[b as usize]),
+                Instr::Binary(BinaryOp::Sub, a, b) => slots[a as usize].sub(slots[b as usize]),
+                Instr::Binary(BinaryOp::Mul, a, b) => slots[a as usize].mul(slots[b as usize]),
+                Instr::Binary(op, a, b) => binary(op, slots[a as usize], slots[b as usize]),
+                Instr::Powi(a, 2) => slots[a as usize].square(),
+                Instr::Powi(a, n) => slots[a as usize].powi(n),
             };
-            self.slots.push(v);
+            slots[i] = v;
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
-            *o = self.slots[slot as usize];
+            *o = slots[slot as usize];
         }
     }
 

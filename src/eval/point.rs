@@ -3,12 +3,13 @@
 
 use crate::expr::graph::{apply_binary, apply_powi, apply_unary};
 
-use super::tape::{Instr, Tape};
+use super::tape::{Instr, PrefixKey, Tape};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate.
 #[derive(Debug, Clone, Default)]
 pub struct PointEvaluator {
     slots: Vec<f64>,
+    prefix: PrefixKey,
 }
 
 impl PointEvaluator {
@@ -18,22 +19,29 @@ impl PointEvaluator {
 
     /// Evaluates every output of `tape` at `p`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        self.slots.clear();
-        self.slots.reserve(tape.len());
-        for instr in tape.instrs() {
-            let s = &self.slots;
+        let n = tape.len();
+        if self.slots.len() < n {
+            self.slots.resize(n, 0.0);
+        }
+        let slots = &mut self.slots[..n];
+        let start = if self.prefix.stale(tape, params) {
+            0
+        } else {
+            tape.uniform_len()
+        };
+        for (i, instr) in tape.instrs().iter().enumerate().skip(start) {
             let v = match *instr {
                 Instr::Const(c) => c,
-                Instr::Var(a) => p[a as usize],
+                Instr::Var(a) => p[a as usize & 3],
                 Instr::Param(i) => params.get(i as usize).copied().unwrap_or(1.0),
-                Instr::Unary(op, a) => apply_unary(op, s[a as usize]),
-                Instr::Binary(op, a, b) => apply_binary(op, s[a as usize], s[b as usize]),
-                Instr::Powi(a, n) => apply_powi(s[a as usize], n),
+                Instr::Unary(op, a) => apply_unary(op, slots[a as usize]),
+                Instr::Binary(op, a, b) => apply_binary(op, slots[a as usize], slots[b as usize]),
+                Instr::Powi(a, n) => apply_powi(slots[a as usize], n),
             };
-            self.slots.push(v);
+            slots[i] = v;
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
-            *o = self.slots[slot as usize];
+            *o = slots[slot as usize];
         }
     }
 

@@ -1,5 +1,12 @@
 //! A straight-line program over the nodes that some outputs need: the graph's topological
 //! order, renumbered densely. Point and interval evaluation both walk it once, front to back.
+//!
+//! Instructions that depend only on constants and parameters (`R^2 - r^2`, `4R^2`) come
+//! first, as a *uniform prefix*: an evaluator computes it once per parameter set and then only
+//! the rest per point or box. (Moving them ahead keeps the order topological: a uniform
+//! instruction's operands are uniform too.)
+
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::expr::{BinaryOp, ExprGraph, Node, NodeId, UnaryOp};
 
@@ -15,36 +22,72 @@ pub enum Instr {
 }
 
 /// A straight-line program: slot i holds the value of instruction i.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Tape {
     instrs: Vec<Instr>,
     outputs: Vec<u32>,
+    uniform_len: usize,
+    /// Distinct per `Tape::new` (clones share it: same content), so an evaluator can tell
+    /// whether its cached uniform prefix belongs to this tape.
+    id: u64,
 }
+
+static NEXT_TAPE_ID: AtomicU64 = AtomicU64::new(1);
 
 impl Tape {
     /// The program that computes `outputs` of `graph`, in that order.
     pub fn new(graph: &ExprGraph, outputs: &[NodeId]) -> Self {
         let needed = graph.reachable(outputs);
+        // A node is uniform when it reads no coordinate.
+        let mut uniform = vec![false; graph.len()];
+        for (i, node) in graph.nodes().iter().enumerate() {
+            uniform[i] = match *node {
+                Node::Const(_) | Node::Param(_) => true,
+                Node::Var(_) => false,
+                Node::Unary(_, a) | Node::Powi(a, _) => uniform[a.index()],
+                Node::Binary(_, a, b) => uniform[a.index()] && uniform[b.index()],
+            };
+        }
         let mut slot = vec![u32::MAX; graph.len()];
         let mut instrs = Vec::new();
-        for (i, node) in graph.nodes().iter().enumerate() {
-            if !needed[i] {
-                continue;
+        for pass_uniform in [true, false] {
+            for (i, node) in graph.nodes().iter().enumerate() {
+                if !needed[i] || uniform[i] != pass_uniform {
+                    continue;
+                }
+                let s = |id: NodeId| slot[id.index()];
+                let instr = match *node {
+                    Node::Const(v) => Instr::Const(v),
+                    Node::Var(a) => Instr::Var(a),
+                    Node::Param(p) => Instr::Param(p),
+                    Node::Unary(op, a) => Instr::Unary(op, s(a)),
+                    Node::Binary(op, a, b) => Instr::Binary(op, s(a), s(b)),
+                    Node::Powi(a, n) => Instr::Powi(s(a), n),
+                };
+                slot[i] = instrs.len() as u32;
+                instrs.push(instr);
             }
-            let s = |id: NodeId| slot[id.index()];
-            let instr = match *node {
-                Node::Const(v) => Instr::Const(v),
-                Node::Var(a) => Instr::Var(a),
-                Node::Param(p) => Instr::Param(p),
-                Node::Unary(op, a) => Instr::Unary(op, s(a)),
-                Node::Binary(op, a, b) => Instr::Binary(op, s(a), s(b)),
-                Node::Powi(a, n) => Instr::Powi(s(a), n),
-            };
-            slot[i] = instrs.len() as u32;
-            instrs.push(instr);
         }
+        let uniform_len = (0..graph.len())
+            .filter(|&i| needed[i] && uniform[i])
+            .count();
         let outputs = outputs.iter().map(|o| slot[o.index()]).collect();
-        Self { instrs, outputs }
+        Self {
+            instrs,
+            outputs,
+            uniform_len,
+            id: NEXT_TAPE_ID.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    /// How many leading instructions depend on constants and parameters only.
+    pub fn uniform_len(&self) -> usize {
+        self.uniform_len
+    }
+
+    /// Identity of this program (shared by clones).
+    pub fn id(&self) -> u64 {
+        self.id
     }
 
     pub fn instrs(&self) -> &[Instr] {
@@ -61,5 +104,31 @@ impl Tape {
 
     pub fn is_empty(&self) -> bool {
         self.instrs.is_empty()
+    }
+}
+
+/// Remembers for which tape and parameter values an evaluator's uniform prefix was computed.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PrefixKey {
+    tape: u64,
+    params: Vec<u64>,
+}
+
+impl PrefixKey {
+    /// True when the prefix must be (re)computed for `tape` and `params`; records them.
+    pub(crate) fn stale(&mut self, tape: &Tape, params: &[f64]) -> bool {
+        let same = self.tape == tape.id
+            && self.params.len() == params.len()
+            && self
+                .params
+                .iter()
+                .zip(params)
+                .all(|(a, b)| *a == b.to_bits());
+        if !same {
+            self.tape = tape.id;
+            self.params.clear();
+            self.params.extend(params.iter().map(|p| p.to_bits()));
+        }
+        !same
     }
 }

@@ -1,0 +1,259 @@
+//! Interval-evaluation throughput: `cargo bench --bench interval`.
+//!
+//! Boxes per second, on one thread, for F alone and for F + ∇F (five outputs), on the chapter's
+//! formula and the glome, over the same boxes (cells of a 64⁴ grid of the scene's domain, i.e.
+//! 1/64 of the domain per axis, drawn by a fixed pseudo-random sequence). Ours is the rigorous
+//! f64 evaluator with outward rounding; the peer is the `fidget` crate's f32 interval evaluator
+//! (VM interpreter and JIT), fed the same expression graph (our F and our symbolic gradient,
+//! translated node for node, parameters as constants). Everything is measured in one run and
+//! printed as a table with ratios; each figure is the best of several passes.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use fidget::context::{Context, Node as FNode};
+use fidget::eval::{Function, MathFunction, TracingEvaluator};
+use fidget::types::Interval as FInterval;
+use fidget::var::Var;
+
+use fourfold::CompiledFormula;
+
+fn bad<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+use fourfold::eval::{Box4, Interval, IntervalEvaluator};
+use fourfold::expr::{BinaryOp, Node, NodeId, UnaryOp};
+use fourfold::scene::{EXAMPLES, Scene};
+
+const BOXES: usize = 200_000;
+const PASSES: usize = 5;
+
+/// Cells of the 64⁴ grid over the scene's domain, drawn by a 64-bit LCG.
+fn boxes(scene: &Scene) -> Vec<Box4> {
+    let axes = [
+        &scene.domain.x,
+        &scene.domain.y,
+        &scene.domain.z,
+        &scene.domain.w,
+    ];
+    let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+    (0..BOXES)
+        .map(|_| {
+            std::array::from_fn(|a| {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let cell = (state >> 58) as f64; // 0..64
+                let step = (axes[a].hi - axes[a].lo) / 64.0;
+                Interval::new(axes[a].lo + cell * step, axes[a].lo + (cell + 1.0) * step)
+            })
+        })
+        .collect()
+}
+
+/// Translates the nodes reachable from `roots` into a fidget context. Only the operations the
+/// benchmarked formulas use are needed; others are reported.
+fn to_fidget(
+    f: &CompiledFormula,
+    params: &[f64],
+    roots: &[NodeId],
+) -> Result<(Context, Vec<FNode>, Var), String> {
+    let mut ctx = Context::new();
+    let w_var = Var::new();
+    let live = f.graph.reachable(roots);
+    let mut map: Vec<Option<FNode>> = vec![None; f.graph.len()];
+    for (i, node) in f.graph.nodes().iter().enumerate() {
+        if !live[i] {
+            continue;
+        }
+        let get = |id: NodeId| map[id.index()].ok_or("operand before node".to_string());
+        let n = match *node {
+            Node::Const(c) => ctx.constant(c as f32),
+            Node::Var(0) => ctx.x(),
+            Node::Var(1) => ctx.y(),
+            Node::Var(2) => ctx.z(),
+            Node::Var(_) => ctx.var(w_var),
+            Node::Param(p) => ctx.constant(params[p as usize] as f32),
+            Node::Unary(op, a) => {
+                let a = get(a)?;
+                match op {
+                    UnaryOp::Neg => ctx.neg(a),
+                    UnaryOp::Abs => ctx.abs(a),
+                    UnaryOp::Sqrt => ctx.sqrt(a),
+                    UnaryOp::Exp => ctx.exp(a),
+                    UnaryOp::Ln => ctx.ln(a),
+                    UnaryOp::Sin => ctx.sin(a),
+                    UnaryOp::Cos => ctx.cos(a),
+                    other => return Err(format!("{other:?} not translated")),
+                }
+                .map_err(bad)?
+            }
+            Node::Binary(op, a, b) => {
+                let (a, b) = (get(a)?, get(b)?);
+                match op {
+                    BinaryOp::Add => ctx.add(a, b),
+                    BinaryOp::Sub => ctx.sub(a, b),
+                    BinaryOp::Mul => ctx.mul(a, b),
+                    BinaryOp::Div => ctx.div(a, b),
+                    BinaryOp::Min => ctx.min(a, b),
+                    BinaryOp::Max => ctx.max(a, b),
+                    other => return Err(format!("{other:?} not translated")),
+                }
+                .map_err(bad)?
+            }
+            Node::Powi(a, n) => {
+                let a = get(a)?;
+                // The same square-and-multiply chain our evaluators and the WGSL use.
+                if n < 1 {
+                    return Err(format!("power {n} not translated"));
+                }
+                let mut result: Option<FNode> = None;
+                let mut base = a;
+                let mut k = n;
+                let mut first = true;
+                while k > 0 {
+                    if !first {
+                        base = ctx.square(base).map_err(bad)?;
+                    }
+                    first = false;
+                    if k & 1 == 1 {
+                        result = Some(match result {
+                            None => base,
+                            Some(r) => ctx.mul(r, base).map_err(bad)?,
+                        });
+                    }
+                    k >>= 1;
+                }
+                result.unwrap_or(a)
+            }
+        };
+        map[i] = Some(n);
+    }
+    let outs = roots
+        .iter()
+        .map(|r| map[r.index()].ok_or("root not translated".to_string()))
+        .collect::<Result<_, _>>()?;
+    Ok((ctx, outs, w_var))
+}
+
+fn best_rate(mut pass: impl FnMut() -> f64) -> f64 {
+    let mut best = 0.0_f64;
+    let mut sink = 0.0;
+    for _ in 0..PASSES {
+        let t = Instant::now();
+        sink += pass();
+        best = best.max(BOXES as f64 / t.elapsed().as_secs_f64());
+    }
+    black_box(sink);
+    best
+}
+
+fn ours(f: &CompiledFormula, tape: &fourfold::eval::Tape, params: &[f64], bx: &[Box4]) -> f64 {
+    let mut eval = IntervalEvaluator::new();
+    let mut out = vec![Interval::EMPTY; tape.outputs().len()];
+    best_rate(|| {
+        let mut acc = 0.0;
+        for b in bx {
+            eval.eval_into(tape, b, params, &mut out);
+            acc += out[0].lo();
+        }
+        let _ = f;
+        acc
+    })
+}
+
+fn peer<F: Function + MathFunction>(
+    ctx: &Context,
+    outs: &[FNode],
+    w_var: Var,
+    bx: &[Box4],
+) -> Result<f64, String> {
+    let func = F::new(ctx, outs).map_err(|e| e.to_string())?;
+    let tape = func.interval_tape(Default::default());
+    let mut eval = F::new_interval_eval();
+    let vars = fidget::eval::Tape::vars(&tape).clone();
+    let slots: Vec<Option<usize>> = [Var::X, Var::Y, Var::Z, w_var]
+        .iter()
+        .map(|v| vars.get(v))
+        .collect();
+    let n = vars.len();
+    let boxes: Vec<Vec<FInterval>> = bx
+        .iter()
+        .map(|b| {
+            let mut v = vec![FInterval::from(0.0); n];
+            for (axis, slot) in slots.iter().enumerate() {
+                if let Some(s) = slot {
+                    v[*s] = FInterval::new(b[axis].lo() as f32, b[axis].hi() as f32);
+                }
+            }
+            v
+        })
+        .collect();
+    let mut error = None;
+    let rate = best_rate(|| {
+        let mut acc = 0.0;
+        for v in &boxes {
+            match eval.eval(&tape, v) {
+                Ok((out, _)) => acc += out[0].lower() as f64,
+                Err(e) => error = Some(e.to_string()),
+            }
+        }
+        acc
+    });
+    match error {
+        Some(e) => Err(e),
+        None => Ok(rate),
+    }
+}
+
+fn main() {
+    println!(
+        "{BOXES} boxes (1/64 of the domain per axis), one thread, best of {PASSES} passes; Mboxes/s\n"
+    );
+    println!(
+        "scene         outputs   ours (f64, rigorous)   fidget VM   fidget JIT   ours/VM   ours/JIT"
+    );
+    for name in ["fig-3-9-left", "glome"] {
+        let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
+        let scene = Scene::parse(text, name).unwrap();
+        let f = CompiledFormula::compile(&scene.formula).unwrap();
+        let params = scene.param_values(&f.param_names());
+        let bx = boxes(&scene);
+        let grad = [
+            f.f,
+            f.gradient[0],
+            f.gradient[1],
+            f.gradient[2],
+            f.gradient[3],
+        ];
+        for (label, tape, roots) in [
+            ("F", &f.tape_f, &[f.f][..]),
+            ("F+grad", &f.tape_all, &grad[..]),
+        ] {
+            let mine = ours(&f, tape, &params, &bx);
+            let (ctx, outs, w_var) = match to_fidget(&f, &params, roots) {
+                Ok(t) => t,
+                Err(e) => {
+                    println!("{name:<13} {label:<9} {:>10.2}   (fidget: {e})", mine / 1e6);
+                    continue;
+                }
+            };
+            let vm = peer::<fidget::vm::VmFunction>(&ctx, &outs, w_var, &bx);
+            let jit = peer::<fidget::jit::JitFunction>(&ctx, &outs, w_var, &bx);
+            match (vm, jit) {
+                (Ok(vm), Ok(jit)) => println!(
+                    "{name:<13} {label:<9} {:>12.2} {:>20.2} {:>12.2} {:>9.2}x {:>9.2}x",
+                    mine / 1e6,
+                    vm / 1e6,
+                    jit / 1e6,
+                    mine / vm,
+                    mine / jit
+                ),
+                (vm, jit) => println!(
+                    "{name:<13} {label:<9} {:>12.2}  fidget: {vm:?} {jit:?}",
+                    mine / 1e6
+                ),
+            }
+        }
+    }
+}
