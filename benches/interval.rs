@@ -171,7 +171,7 @@ fn peer<F: Function + MathFunction>(
     let func = F::new(ctx, outs).map_err(|e| e.to_string())?;
     let tape = func.interval_tape(Default::default());
     let mut eval = F::new_interval_eval();
-    let vars = fidget::eval::Tape::vars(&tape).clone();
+    let vars = fidget::eval::Tape::vars(&tape);
     let slots: Vec<Option<usize>> = [Var::X, Var::Y, Var::Z, w_var]
         .iter()
         .map(|v| vars.get(v))

@@ -546,3 +546,16 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     }
     Ok(out)
 }
+
+/// `fourfold` / `fourfold view [FORMULA_OR_SCENE]`: opens the viewer window.
+pub fn view(args: &ViewArgs) -> Result<String, Failure> {
+    let scene = match &args.formula_or_scene {
+        None => None,
+        Some(text) if text.ends_with(".toml") || Path::new(text).is_file() => {
+            Some(Scene::load(Path::new(text)).map_err(|e| Failure::usage(e.to_string()))?)
+        }
+        Some(text) => Some(Scene::from_formula(text)),
+    };
+    crate::viewer::run(scene).map_err(Failure::runtime)?;
+    Ok(String::new())
+}

@@ -13,6 +13,7 @@ pub mod formula;
 pub mod render;
 pub mod syntax;
 pub mod tree;
+pub mod viewer;
 
 pub use formula::CompiledFormula;
 pub mod cli;

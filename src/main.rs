@@ -9,7 +9,8 @@ fn main() {
         Some(Command::Tree(args)) => cli::tree(args),
         Some(Command::Wgsl(args)) => cli::wgsl(args),
         Some(Command::Render(args)) => cli::render(args),
-        _ => Err(cli::Failure::usage("not yet available")),
+        Some(Command::View(args)) => cli::view(args),
+        None => cli::view(&cli::ViewArgs::default()),
     };
     match result {
         Ok(text) => println!("{text}"),

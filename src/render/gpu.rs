@@ -35,7 +35,8 @@ pub enum GpuError {
     Readback(String),
 }
 
-/// A device and queue, with a description of the adapter.
+/// A device and queue, with a description of the adapter. Cloning shares them.
+#[derive(Clone)]
 pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -86,8 +87,45 @@ impl Gpu {
     }
 }
 
+/// The colour target a [`RayCaster`] draws into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Target {
+    pub format: wgpu::TextureFormat,
+    /// Blend each pass into the target with a constant weight c: target = c·new + (1−c)·old.
+    /// With c = 1/(k+1) on pass k the target holds the running mean of the passes (the
+    /// viewer's accumulation); c = 1 overwrites.
+    pub accumulate: bool,
+}
+
+impl Target {
+    /// What `render_rgba` and the CLI use: RGBA8, overwrite.
+    pub const OFFSCREEN: Target = Target {
+        format: TARGET_FORMAT,
+        accumulate: false,
+    };
+}
+
+/// Where and how one pass draws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pass {
+    /// x, y, width, height of the pixels to draw; the rest of the target is kept.
+    pub region: Option<[u32; 4]>,
+    /// The weight c of this pass when the target accumulates (ignored otherwise).
+    pub weight: f64,
+}
+
+impl Default for Pass {
+    fn default() -> Self {
+        Self {
+            region: None,
+            weight: 1.0,
+        }
+    }
+}
+
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
 pub struct RayCaster {
+    target: Target,
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -96,8 +134,19 @@ pub struct RayCaster {
 }
 
 impl RayCaster {
-    /// Builds the pipeline for `shader` (already validated by naga) and uploads `hierarchy`.
+    /// Builds the pipeline for `shader` (already validated by naga) and uploads `hierarchy`,
+    /// for offscreen RGBA8 pictures.
     pub fn new(gpu: &Gpu, shader: &Shader, hierarchy: &Hierarchy) -> Result<Self, GpuError> {
+        Self::with_target(gpu, shader, hierarchy, Target::OFFSCREEN)
+    }
+
+    /// As [`RayCaster::new`], drawing into `target`.
+    pub fn with_target(
+        gpu: &Gpu,
+        shader: &Shader,
+        hierarchy: &Hierarchy,
+        target: Target,
+    ) -> Result<Self, GpuError> {
         let device = &gpu.device;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -151,8 +200,8 @@ impl RayCaster {
                 entry_point: Some("fs_main"),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
-                    format: TARGET_FORMAT,
-                    blend: None,
+                    format: target.format,
+                    blend: target.accumulate.then_some(ACCUMULATE),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),
@@ -171,6 +220,7 @@ impl RayCaster {
         let nodes = node_buffer(gpu, hierarchy)?;
         let bind_group = bind_group(device, &layout, &uniforms, &nodes);
         Ok(Self {
+            target,
             pipeline,
             layout,
             uniforms,
@@ -186,7 +236,7 @@ impl RayCaster {
         Ok(())
     }
 
-    /// Records a frame into `target` (a view of a TARGET_FORMAT texture).
+    /// Records a frame into `target` (a view of a texture in this caster's format).
     pub fn encode(
         &self,
         gpu: &Gpu,
@@ -194,16 +244,35 @@ impl RayCaster {
         target: &wgpu::TextureView,
         uniforms: &Uniforms,
     ) {
+        self.encode_pass(gpu, encoder, target, uniforms, Pass::default());
+    }
+
+    /// Records one pass: the whole target, or only `pass.region` (the rest is kept), blended
+    /// with `pass.weight` when the target accumulates. The uniforms are written to the queue,
+    /// so one submission should hold one set of uniforms.
+    pub fn encode_pass(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        uniforms: &Uniforms,
+        pass: Pass,
+    ) {
         gpu.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let load = if pass.region.is_none() && !self.target.accumulate {
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+        } else {
+            wgpu::LoadOp::Load
+        };
+        let mut rpass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("fourfold frame"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: target,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    load,
                     store: wgpu::StoreOp::Store,
                 },
             })],
@@ -212,9 +281,29 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.draw(0..3, 0..1);
+        rpass.set_pipeline(&self.pipeline);
+        rpass.set_bind_group(0, &self.bind_group, &[]);
+        if let Some([x, y, w, h]) = pass.region {
+            let (width, height) = (uniforms.size[0], uniforms.size[1]);
+            let x = x.min(width);
+            let y = y.min(height);
+            let w = w.min(width - x);
+            let h = h.min(height - y);
+            if w == 0 || h == 0 {
+                return;
+            }
+            rpass.set_scissor_rect(x, y, w, h);
+        }
+        if self.target.accumulate {
+            let c = pass.weight.clamp(0.0, 1.0);
+            rpass.set_blend_constant(wgpu::Color {
+                r: c,
+                g: c,
+                b: c,
+                a: c,
+            });
+        }
+        rpass.draw(0..3, 0..1);
     }
 
     /// Renders one frame offscreen and reads it back as tightly packed RGBA8 rows.
@@ -295,6 +384,20 @@ impl RayCaster {
         Ok(pixels)
     }
 }
+
+/// target = c·new + (1−c)·old, c the blend constant.
+const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Constant,
+        dst_factor: wgpu::BlendFactor::OneMinusConstant,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Constant,
+        dst_factor: wgpu::BlendFactor::OneMinusConstant,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
 
 fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuError> {
     let limit = gpu.device.limits().max_storage_buffer_binding_size;

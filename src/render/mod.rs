@@ -10,5 +10,5 @@ pub mod uniforms;
 
 pub use camera::{Camera, Rotation4};
 pub use codegen::{CodegenError, Shader};
-pub use gpu::{Gpu, GpuError, RayCaster};
+pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target};
 pub use uniforms::{FrameOptions, Uniforms};

@@ -372,3 +372,122 @@ fn translate_error(source: &str, error: pest::error::Error<Rule>) -> SourceError
         ),
     }
 }
+
+/// What a stretch of formula text is, for syntax colouring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TokenKind {
+    Number,
+    /// x, y, z or w.
+    Variable,
+    /// A function name in a call: `sin` in `sin(x)`.
+    Function,
+    /// A named constant: pi, e, tau.
+    Constant,
+    /// Any other name: a parameter with a slider.
+    Parameter,
+    Operator,
+    Bracket,
+}
+
+/// A coloured stretch: byte range of the source and its kind.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Token {
+    pub start: usize,
+    pub end: usize,
+    pub kind: TokenKind,
+}
+
+/// The tokens of `source` as the grammar sees them, in order. When the formula does not parse,
+/// the tokens of the longest prefix that does are returned and the rest is left uncoloured
+/// (the editor underlines the error span from [`parse`]).
+pub fn tokens(source: &str) -> Vec<Token> {
+    if prescan(source).is_err() {
+        return Vec::new();
+    }
+    let Ok(bracketed) = classify_bars(source) else {
+        return Vec::new();
+    };
+    pest::set_call_limit(NonZeroUsize::new(PEST_CALL_LIMIT));
+    let Ok(mut pairs) = FormulaGrammar::parse(Rule::formula, &bracketed) else {
+        return Vec::new();
+    };
+    let Some(formula) = pairs.next() else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let mut brackets = Vec::new();
+    for pair in formula.into_inner().flatten() {
+        let span = pair.as_span();
+        let kind = match pair.as_rule() {
+            Rule::number => TokenKind::Number,
+            Rule::ident => {
+                let name = pair.as_str();
+                if matches!(name, "x" | "y" | "z" | "w") {
+                    TokenKind::Variable
+                } else if crate::expr::lower::CONSTANTS
+                    .iter()
+                    .any(|(c, _)| *c == name)
+                {
+                    TokenKind::Constant
+                } else {
+                    TokenKind::Parameter
+                }
+            }
+            Rule::call => {
+                // The call's name is its first inner ident; mark it before the walk reaches it.
+                if let Some(name) = pair.clone().into_inner().next() {
+                    let s = name.as_span();
+                    out.push(Token {
+                        start: s.start(),
+                        end: s.end(),
+                        kind: TokenKind::Function,
+                    });
+                }
+                // Its brackets: the '(' after the name and the final ')'.
+                let name_end = pair.clone().into_inner().next().map(|n| n.as_span().end());
+                if let Some(open) = name_end.and_then(|e| bracketed[e..].find('(').map(|i| e + i)) {
+                    brackets.push(open);
+                }
+                brackets.push(span.end() - 1);
+                continue;
+            }
+            Rule::paren | Rule::abs => {
+                brackets.push(span.start());
+                brackets.push(span.end() - 1);
+                continue;
+            }
+            Rule::add
+            | Rule::sub
+            | Rule::mul
+            | Rule::div
+            | Rule::pow
+            | Rule::neg
+            | Rule::pos
+            | Rule::equals => TokenKind::Operator,
+            _ => continue,
+        };
+        // A call's name was already marked as a function.
+        if out
+            .last()
+            .is_some_and(|t: &Token| t.start == span.start() && t.kind == TokenKind::Function)
+        {
+            continue;
+        }
+        out.push(Token {
+            start: span.start(),
+            end: span.end(),
+            kind,
+        });
+    }
+    for at in brackets {
+        let len = bracketed[at..].chars().next().map_or(1, char::len_utf8);
+        out.push(Token {
+            start: at,
+            end: at + len,
+            kind: TokenKind::Bracket,
+        });
+    }
+    // Commas in calls are left plain. Sort by position; spans never overlap.
+    out.sort_by_key(|t| t.start);
+    out
+}

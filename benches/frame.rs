@@ -1,0 +1,181 @@
+//! Frame-time benchmark of the GPU ray caster: `cargo bench --bench frame`.
+//!
+//! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
+//! 1. the chapter's scene and the glome at SIZE² (default 512) with 8, 16 and 32 rays, drawn
+//!    with the sphere hierarchy and by the brute-force variant (no hierarchy: every ray marched
+//!    across the whole domain with the step count per unit length of the level's leaves), at
+//!    tree levels 5, 6 and 7 (uniform trees, so the leaf size is the level's), as a ratio, with
+//!    the share of pixels on which the two pictures agree;
+//! 2. how the frame time grows with pixels, rays and tree level.
+//!
+//! Environment: FOURFOLD_BENCH_SIZE (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
+//! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_QUICK=1 skips the growth table.
+//! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
+
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use fourfold::CompiledFormula;
+use fourfold::render::codegen;
+use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, Uniforms};
+use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::tree::{BuildSettings, Hierarchy, Tree16};
+
+fn env_list(name: &str, default: &str) -> Vec<u32> {
+    std::env::var(name)
+        .unwrap_or_else(|_| default.to_string())
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect()
+}
+
+fn env_u32(name: &str, default: u32) -> u32 {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+struct Prepared {
+    scene: Scene,
+    params: Vec<f64>,
+    hierarchy: Hierarchy,
+    caster: RayCaster,
+    leaves: u64,
+}
+
+fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
+    let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
+    let scene = Scene::parse(text, name).unwrap();
+    let formula = CompiledFormula::compile(&scene.formula).unwrap();
+    let params = scene.param_values(&formula.param_names());
+    let tree = Tree16::build(
+        &formula,
+        &params,
+        &scene.domain,
+        BuildSettings {
+            max_level: level,
+            min_level: level,
+            node_budget: 50_000_000,
+        },
+        &AtomicBool::new(false),
+        None,
+    )
+    .unwrap();
+    let hierarchy = Hierarchy::from_tree(&tree);
+    let shader = codegen::generate(&formula).unwrap();
+    let caster = RayCaster::new(gpu, &shader, &hierarchy).unwrap();
+    Prepared {
+        scene,
+        params,
+        hierarchy,
+        caster,
+        leaves: tree.stats.leaves,
+    }
+}
+
+/// Best frame time in ms and the picture.
+fn frame(gpu: &Gpu, p: &Prepared, size: u32, rays: u32, brute: Option<u32>) -> (f64, Vec<u8>) {
+    let mut render = p.scene.render;
+    render.rays = rays;
+    let camera = Camera::new(&p.scene.domain, &p.scene.view, size, size);
+    let uniforms = Uniforms::new(
+        &camera,
+        &render,
+        &p.scene.domain,
+        &p.hierarchy,
+        &p.params,
+        FrameOptions {
+            frame: 0,
+            brute_force_level: brute,
+        },
+    );
+    let runs = env_u32("FOURFOLD_BENCH_RUNS", 2).max(1);
+    let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap(); // warm-up
+    let mut best = f64::INFINITY;
+    for _ in 0..runs {
+        let t = Instant::now();
+        rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
+        best = best.min(t.elapsed().as_secs_f64() * 1e3);
+    }
+    (best, rgba)
+}
+
+/// Share of pixels whose colours agree within 16/255 per channel, and of pixels whose
+/// coverage (differs from the background) agrees.
+fn agreement(a: &[u8], b: &[u8], background: [u8; 3]) -> (f64, f64) {
+    let n = a.len() / 4;
+    let (mut colour, mut cover) = (0, 0);
+    for (pa, pb) in a.chunks(4).zip(b.chunks(4)) {
+        if pa.iter().zip(pb).take(3).all(|(x, y)| x.abs_diff(*y) <= 16) {
+            colour += 1;
+        }
+        let bg = |p: &[u8]| p[..3] == background;
+        if bg(pa) == bg(pb) {
+            cover += 1;
+        }
+    }
+    (colour as f64 / n as f64, cover as f64 / n as f64)
+}
+
+fn main() {
+    let gpu = match Gpu::new() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(1);
+        }
+    };
+    let size = env_u32("FOURFOLD_BENCH_SIZE", 512);
+    let levels = env_list("FOURFOLD_BENCH_LEVELS", "5,6,7");
+    let ray_counts = env_list("FOURFOLD_BENCH_RAYS", "8,16,32");
+    println!("adapter: {}", gpu.adapter);
+    println!("\n## Hierarchy vs brute force, {size}x{size}\n");
+    println!(
+        "| scene | level | leaves | rays | hierarchy ms | brute force ms | speed-up | same colour | same coverage |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for name in ["fig-3-9-left", "glome"] {
+        for &level in &levels {
+            let p = prepare(&gpu, name, level);
+            let background = p.scene.render.background.0;
+            for &rays in &ray_counts {
+                let (fast, a) = frame(&gpu, &p, size, rays, None);
+                let (slow, b) = frame(&gpu, &p, size, rays, Some(level));
+                let (colour, cover) = agreement(&a, &b, background);
+                println!(
+                    "| {name} | {level} | {} | {rays} | {fast:.0} | {slow:.0} | {:.1}x | {:.1}% | {:.1}% |",
+                    p.leaves,
+                    slow / fast,
+                    100.0 * colour,
+                    100.0 * cover
+                );
+            }
+        }
+    }
+    if std::env::var("FOURFOLD_BENCH_QUICK").is_ok() {
+        return;
+    }
+    println!("\n## Growth of the hierarchy frame time (chapter scene)\n");
+    println!("| pixels | rays | level | ms | ms per megaray |");
+    println!("|---|---|---|---|---|");
+    let base = prepare(&gpu, "fig-3-9-left", 6);
+    let row = |p: &Prepared, px: u32, rays: u32, level: u32| {
+        let (ms, _) = frame(&gpu, p, px, rays, None);
+        let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
+        println!(
+            "| {px}² | {rays} | {level} | {ms:.0} | {:.0} |",
+            ms / megarays
+        );
+    };
+    for px in [128, 256, 512] {
+        row(&base, px, 16, 6);
+    }
+    for rays in [4, 8, 16, 32] {
+        row(&base, 256, rays, 6);
+    }
+    for level in [4, 5, 6, 7] {
+        let p = prepare(&gpu, "fig-3-9-left", level);
+        row(&p, 256, 16, level);
+    }
+}

@@ -1,0 +1,40 @@
+//! The live viewer (eframe + wgpu): type a formula, see the manifold, rotate it in 4D.
+//! `session` holds what is drawn, `progressive` how it reaches the screen without blocking
+//! the window, `app` the widgets. The picture is made by the same ray caster as
+//! `fourfold render`.
+
+pub mod app;
+pub mod progressive;
+pub mod session;
+
+pub use app::FourfoldApp;
+pub use session::Session;
+
+use eframe::egui;
+
+use crate::scene::Scene;
+
+/// Opens the viewer window on `scene` (or the last scene, or the default one).
+pub fn run(scene: Option<Scene>) -> Result<(), String> {
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("fourfold")
+            .with_inner_size([1280.0, 800.0]),
+        renderer: eframe::Renderer::Wgpu,
+        // Dithering costs a noise function per pixel of the window: on a software GPU that
+        // is a visible share of each UI frame, and the picture has no banding to hide.
+        dithering: false,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "fourfold",
+        options,
+        Box::new(move |cc| Ok(Box::new(FourfoldApp::new(cc, scene)))),
+    )
+    .map_err(|e| {
+        format!(
+            "the viewer window could not open: {e}\n(it needs a display and a GPU driver; on Linux \
+             without a GPU: apt-get install -y mesa-vulkan-drivers; headless: use `fourfold render`)"
+        )
+    })
+}

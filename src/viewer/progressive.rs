@@ -1,0 +1,402 @@
+//! Progressive drawing: the viewer never asks the GPU for more than about one UI frame's
+//! worth of rays at a time, so the window stays responsive even on a software GPU.
+//!
+//! A picture is drawn in stages: a coarse preview (every `div`-th pixel, few rays, sized from
+//! the measured ray throughput so that it fits in one frame), a half-resolution pass, the
+//! full picture with the scene's rays, and then further full passes with new ray offsets that
+//! are averaged into it (the picture converges; nothing flickers). Each stage is drawn in
+//! square tiles, as many per UI frame as fit in the time budget. Any change (view, settings,
+//! new tree) starts again from the preview, while the last picture stays on screen.
+
+use std::time::Instant;
+
+use eframe::{egui, egui_wgpu};
+
+use crate::render::{Camera, FrameOptions, Gpu, Pass, Uniforms};
+use crate::scene::Scene;
+
+use super::session::{Session, VIEW_TARGET};
+
+/// Full-resolution passes averaged into the picture once it is complete.
+pub const ACCUMULATED_PASSES: u32 = 16;
+
+/// One stage of a picture.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Stage {
+    /// Pixels are `div`× larger than the screen's.
+    div: u32,
+    rays: u32,
+    /// Frame index (ray offsets) and blend weight of the pass.
+    frame: u32,
+    weight: f64,
+}
+
+/// A texture the ray caster draws into and egui shows.
+pub struct StageTexture {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    pub id: egui::TextureId,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// A stretch of a stage texture that is drawn: the rectangle in texture pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Done {
+    pub texture: usize,
+    pub rect: [u32; 4],
+}
+
+/// What the app paints: the textures (by index) and, for the stage in progress, the tiles
+/// done so far.
+#[derive(Debug, Clone, Default)]
+pub struct Paint {
+    pub layers: Vec<Done>,
+}
+
+/// The progressive renderer's state.
+pub struct Progressive {
+    /// Screen size in pixels.
+    size: [u32; 2],
+    textures: Vec<StageTexture>,
+    stages: Vec<Stage>,
+    stage: usize,
+    tile: u32,
+    next_tile: u32,
+    /// The highest stage completed for the current plan (None: nothing yet).
+    completed: Option<usize>,
+    /// The texture of the last completed stage of any plan: what is on screen.
+    shown: Option<usize>,
+    /// What the stages were planned for; a different key restarts.
+    key: Option<String>,
+    /// Measured throughput (rays per millisecond), for sizing previews and tiles.
+    rays_per_ms: f64,
+    stage_started: Option<Instant>,
+    stage_gpu_ms: f64,
+    /// Wall time of the last complete full-resolution stage, and of the last preview.
+    pub full_ms: Option<f64>,
+    pub preview_ms: Option<f64>,
+    /// Set when the first stage of a new picture generation completed.
+    pub first_frame_of: Option<u64>,
+    generation: u64,
+}
+
+impl Default for Progressive {
+    fn default() -> Self {
+        Self {
+            size: [0, 0],
+            textures: Vec::new(),
+            stages: Vec::new(),
+            stage: 0,
+            tile: 64,
+            next_tile: 0,
+            completed: None,
+            shown: None,
+            key: None,
+            rays_per_ms: 200.0,
+            stage_started: None,
+            stage_gpu_ms: 0.0,
+            full_ms: None,
+            preview_ms: None,
+            first_frame_of: None,
+            generation: 0,
+        }
+    }
+}
+
+/// The divisors of the stage textures: preview sizes and the full picture.
+const DIVS: [u32; 6] = [32, 16, 8, 4, 2, 1];
+
+impl Progressive {
+    /// Rays per millisecond measured so far.
+    pub fn throughput(&self) -> f64 {
+        self.rays_per_ms
+    }
+
+    /// True when there is nothing left to draw for the current picture.
+    pub fn converged(&self) -> bool {
+        self.completed == Some(self.stages.len().saturating_sub(1)) && !self.stages.is_empty()
+    }
+
+    /// 0..1: how far the current picture is.
+    pub fn fraction(&self) -> f32 {
+        if self.stages.is_empty() {
+            return 0.0;
+        }
+        let done = self.completed.map_or(0, |c| c + 1);
+        done as f32 / self.stages.len() as f32
+    }
+
+    /// Whether the full-resolution picture (with the scene's rays) is on screen.
+    pub fn full_quality(&self) -> bool {
+        self.completed
+            .is_some_and(|c| self.stages.get(c).is_some_and(|s| s.div == 1))
+    }
+
+    /// Makes sure the textures match `size` (screen pixels); registers them with egui.
+    fn ensure_textures(&mut self, gpu: &Gpu, renderer: &mut egui_wgpu::Renderer, size: [u32; 2]) {
+        if self.size == size && !self.textures.is_empty() {
+            return;
+        }
+        for t in self.textures.drain(..) {
+            renderer.free_texture(&t.id);
+        }
+        self.size = size;
+        for div in DIVS {
+            let width = size[0].div_ceil(div).max(1);
+            let height = size[1].div_ceil(div).max(1);
+            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("fourfold view"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: VIEW_TARGET.format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            let id = renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Linear);
+            self.textures.push(StageTexture {
+                texture,
+                view,
+                id,
+                width,
+                height,
+            });
+        }
+        self.key = None;
+        self.completed = None;
+        self.shown = None;
+    }
+
+    /// The texture of each divisor.
+    pub fn texture(&self, index: usize) -> Option<&StageTexture> {
+        self.textures.get(index)
+    }
+
+    fn plan(&mut self, scene: &Scene, interacting: bool) {
+        let rays = scene.render.rays.max(1);
+        let pixels = |div: u32| {
+            f64::from(self.size[0].div_ceil(div)) * f64::from(self.size[1].div_ceil(div))
+        };
+        // The preview: the finest divisor whose pass fits in ~one frame at the measured speed.
+        let preview_rays = rays.min(4);
+        let budget = if interacting { 30.0 } else { 60.0 } * self.rays_per_ms;
+        let preview = DIVS
+            .iter()
+            .copied()
+            .rev()
+            .find(|&d| pixels(d) * f64::from(preview_rays) <= budget)
+            .unwrap_or(DIVS[0]);
+        let mut stages = vec![Stage {
+            div: preview,
+            rays: preview_rays,
+            frame: 0,
+            weight: 1.0,
+        }];
+        if !interacting {
+            if preview > 2 {
+                stages.push(Stage {
+                    div: 2,
+                    rays: rays.min(8),
+                    frame: 0,
+                    weight: 1.0,
+                });
+            }
+            for k in 0..ACCUMULATED_PASSES {
+                stages.push(Stage {
+                    div: 1,
+                    rays,
+                    frame: k,
+                    weight: 1.0 / f64::from(k + 1),
+                });
+            }
+            // A preview that is already the full picture needs no separate first pass.
+            if stages[0].div == 1 {
+                stages.remove(0);
+            }
+        }
+        self.stages = stages;
+        self.completed = None;
+        self.stage = 0;
+        self.next_tile = 0;
+        self.stage_started = None;
+        self.stage_gpu_ms = 0.0;
+        self.plan_tile();
+    }
+
+    /// Tile side for the current stage: about 20 ms of rays, at least 8 pixels.
+    fn plan_tile(&mut self) {
+        let Some(stage) = self.stages.get(self.stage) else {
+            return;
+        };
+        let rays_per_tile = 20.0 * self.rays_per_ms / f64::from(stage.rays);
+        let side = rays_per_tile.max(64.0).sqrt() as u32;
+        self.tile = (side / 8 * 8).clamp(8, 2048);
+    }
+
+    fn texture_index(div: u32) -> usize {
+        DIVS.iter()
+            .position(|&d| d == div)
+            .unwrap_or(DIVS.len() - 1)
+    }
+
+    /// Draws as many tiles as fit in `budget_ms`; returns true while more work remains.
+    /// `key` names everything the picture depends on besides the session's generation (view,
+    /// settings); `interacting` asks for a quick preview only.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step(
+        &mut self,
+        gpu: &Gpu,
+        renderer: &mut egui_wgpu::Renderer,
+        session: &Session,
+        size: [u32; 2],
+        key: String,
+        interacting: bool,
+        budget_ms: f64,
+    ) -> bool {
+        let (Some(caster), Some(hierarchy)) = (&session.caster, &session.hierarchy) else {
+            return false;
+        };
+        self.ensure_textures(gpu, renderer, size);
+        let full_key = format!("{key}|{}|{}", session.picture_generation, interacting);
+        if self.key.as_deref() != Some(full_key.as_str()) {
+            // Keep what is on screen (completed) until the new preview is done.
+            self.key = Some(full_key);
+            self.generation = session.picture_generation;
+            self.plan(&session.scene, interacting);
+        }
+        let started = Instant::now();
+        let params = session.tree_params.clone();
+        while self.stage < self.stages.len() {
+            let stage = self.stages[self.stage];
+            let tex = &self.textures[Self::texture_index(stage.div)];
+            let cols = tex.width.div_ceil(self.tile);
+            let rows = tex.height.div_ceil(self.tile);
+            if self.next_tile >= cols * rows {
+                // Stage complete.
+                let wall = self
+                    .stage_started
+                    .map_or(0.0, |t| t.elapsed().as_secs_f64() * 1e3);
+                if stage.div == 1 && stage.frame == 0 {
+                    self.full_ms = Some(wall);
+                }
+                if self.stage == 0 {
+                    self.preview_ms = Some(wall);
+                    if self.first_frame_of != Some(self.generation) {
+                        self.first_frame_of = Some(self.generation);
+                    }
+                }
+                self.completed = Some(self.stage);
+                self.shown = Some(Self::texture_index(stage.div));
+                self.stage += 1;
+                self.next_tile = 0;
+                self.stage_started = None;
+                self.stage_gpu_ms = 0.0;
+                self.plan_tile();
+                continue;
+            }
+            if started.elapsed().as_secs_f64() * 1e3 >= budget_ms {
+                return true;
+            }
+            if self.stage_started.is_none() {
+                self.stage_started = Some(Instant::now());
+            }
+            let mut render = session.scene.render;
+            render.rays = stage.rays;
+            let camera = Camera::new(
+                &session.scene.domain,
+                &session.scene.view,
+                tex.width,
+                tex.height,
+            );
+            let uniforms = Uniforms::new(
+                &camera,
+                &render,
+                &session.scene.domain,
+                hierarchy,
+                &params,
+                FrameOptions {
+                    frame: stage.frame,
+                    brute_force_level: None,
+                },
+            );
+            let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
+            let region = [tx * self.tile, ty * self.tile, self.tile, self.tile];
+            let t = Instant::now();
+            let mut encoder = gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+            caster.encode_pass(
+                gpu,
+                &mut encoder,
+                &tex.view,
+                &uniforms,
+                Pass {
+                    region: Some(region),
+                    weight: stage.weight,
+                },
+            );
+            gpu.queue.submit([encoder.finish()]);
+            let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+            let tile_ms = t.elapsed().as_secs_f64() * 1e3;
+            self.stage_gpu_ms += tile_ms;
+            let w = self.tile.min(tex.width - region[0]);
+            let h = self.tile.min(tex.height - region[1]);
+            let rays = f64::from(w * h * stage.rays);
+            if tile_ms > 0.05 {
+                // Smoothed throughput: quick to learn, not jumpy.
+                self.rays_per_ms = 0.7 * self.rays_per_ms + 0.3 * (rays / tile_ms);
+            }
+            self.next_tile += 1;
+        }
+        false
+    }
+
+    /// The layers to paint, bottom first: the last completed stage's texture whole, then the
+    /// tiles done of the stage in progress (if it draws into a different texture).
+    pub fn paint(&self) -> Paint {
+        let mut layers = Vec::new();
+        if let Some(i) = self.shown {
+            let t = &self.textures[i];
+            layers.push(Done {
+                texture: i,
+                rect: [0, 0, t.width, t.height],
+            });
+        }
+        if let Some(stage) = self.stages.get(self.stage) {
+            let i = Self::texture_index(stage.div);
+            if self.shown != Some(i) && self.next_tile > 0 {
+                let t = &self.textures[i];
+                let cols = t.width.div_ceil(self.tile);
+                let full_rows = self.next_tile / cols;
+                let partial = self.next_tile % cols;
+                let rows_h = (full_rows * self.tile).min(t.height);
+                if rows_h > 0 {
+                    layers.push(Done {
+                        texture: i,
+                        rect: [0, 0, t.width, rows_h],
+                    });
+                }
+                if partial > 0 && rows_h < t.height {
+                    layers.push(Done {
+                        texture: i,
+                        rect: [
+                            0,
+                            rows_h,
+                            (partial * self.tile).min(t.width),
+                            self.tile.min(t.height - rows_h),
+                        ],
+                    });
+                }
+            }
+        }
+        Paint { layers }
+    }
+}

@@ -1,0 +1,387 @@
+//! What the viewer knows, apart from how it is drawn: the scene being edited, the last formula
+//! that compiled (and its validated shader), the tree built for it, and the background job
+//! that builds the next one. The egui layer (`app.rs`) only reads this and calls its methods,
+//! so tests can drive it the way the window does.
+//!
+//! An edit flows one way: text → parse + gradient → WGSL + naga validation (on the UI thread:
+//! milliseconds) → tree build, hierarchy and pipeline creation (a background thread, cancelled
+//! when a newer edit arrives) → swap. Until the swap the last good picture stays.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::Instant;
+
+use crate::formula::CompiledFormula;
+use crate::render::codegen::{self, Shader};
+use crate::render::{Gpu, RayCaster, Target};
+use crate::scene::Scene;
+use crate::tree::{BuildError, Hierarchy, Tree16, TreeStats};
+
+/// The colour target of the viewer's ray caster. RGBA8, not half floats: egui samples these
+/// textures every UI frame, and on a software GPU sampling RGBA16F cost ~30-50 ms per frame
+/// at 1280x800 (measured with FOURFOLD_TRACE=1). The running mean of the accumulated passes
+/// is then rounded to 1/255 at each pass, which stays within a few levels of the exact mean.
+pub const VIEW_TARGET: Target = Target {
+    format: wgpu::TextureFormat::Rgba8Unorm,
+    accumulate: true,
+};
+
+/// Milliseconds of each stage of the last edit, from the changed text to the swap.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EditTimes {
+    /// Parse and symbolic gradient (one call: `CompiledFormula::compile`).
+    pub compile_ms: f64,
+    /// WGSL generation and naga validation.
+    pub codegen_ms: f64,
+    /// Tree build and hierarchy (background).
+    pub tree_ms: f64,
+    /// Render pipeline creation (background; 0 when only the tree changed).
+    pub pipeline_ms: f64,
+    /// From the changed text to the new tree and pipeline being ready.
+    pub ready_ms: f64,
+}
+
+/// The running count of expensive things, for tests and the status line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Formulas compiled (parse + gradient).
+    pub compiles: u64,
+    /// Render pipelines created (one per new shader).
+    pub pipelines: u64,
+    /// Trees built to completion.
+    pub trees: u64,
+}
+
+/// What a finished background job hands back.
+struct JobResult {
+    generation: u64,
+    formula: Arc<CompiledFormula>,
+    shader: Arc<Shader>,
+    params: Vec<f64>,
+    tree: Result<(Hierarchy, TreeStats), String>,
+    caster: Option<Result<RayCaster, String>>,
+    tree_ms: f64,
+    pipeline_ms: f64,
+}
+
+/// A background build in flight.
+struct Job {
+    generation: u64,
+    cancel: Arc<AtomicBool>,
+    progress: Arc<AtomicU64>,
+    receiver: Receiver<JobResult>,
+    started: Instant,
+    compile_ms: f64,
+    codegen_ms: f64,
+}
+
+/// The picture-making state of the viewer.
+pub struct Session {
+    /// The scene as the user has set it; `scene.formula` is the last text that compiled.
+    pub scene: Scene,
+    /// The text in the editor (may not compile).
+    pub text: String,
+    /// The caret message of the text, if it does not compile.
+    pub error: Option<String>,
+    /// The compiled formula of the picture on screen (or being built).
+    pub formula: Option<Arc<CompiledFormula>>,
+    pub shader: Option<Arc<Shader>>,
+    /// The parameter values the current tree was built with.
+    pub tree_params: Vec<f64>,
+    pub stats: Option<TreeStats>,
+    pub times: EditTimes,
+    pub counters: Counters,
+    /// Bumped whenever the picture must be redrawn from scratch (new tree, pipeline or
+    /// settings); the renderer compares it with the generation it drew.
+    pub picture_generation: u64,
+    pub caster: Option<RayCaster>,
+    pub hierarchy: Option<Arc<Hierarchy>>,
+    job: Option<Job>,
+    generation: u64,
+    /// The edit whose timing runs from its text change (`Instant`) to its first frame.
+    pub edit_started: Option<Instant>,
+}
+
+impl Session {
+    pub fn new(scene: Scene) -> Self {
+        let text = scene.formula.clone();
+        Self {
+            scene,
+            text,
+            error: None,
+            formula: None,
+            shader: None,
+            tree_params: Vec::new(),
+            stats: None,
+            times: EditTimes::default(),
+            counters: Counters::default(),
+            picture_generation: 0,
+            caster: None,
+            hierarchy: None,
+            job: None,
+            generation: 0,
+            edit_started: None,
+        }
+    }
+
+    /// True while a tree or pipeline is being built.
+    pub fn building(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Nodes made so far by the build in flight.
+    pub fn build_progress(&self) -> Option<u64> {
+        self.job
+            .as_ref()
+            .map(|j| j.progress.load(Ordering::Relaxed))
+    }
+
+    /// The parameter names of the current formula, in uniform order.
+    pub fn param_names(&self) -> Vec<String> {
+        self.formula
+            .as_ref()
+            .map(|f| f.param_names().iter().map(|s| s.to_string()).collect())
+            .unwrap_or_default()
+    }
+
+    /// Parameter values for the current formula, from the scene.
+    pub fn param_values(&self) -> Vec<f64> {
+        match &self.formula {
+            Some(f) => self.scene.param_values(&f.param_names()),
+            None => Vec::new(),
+        }
+    }
+
+    /// The editor text changed: compile it; on success start building its picture, on failure
+    /// keep the last good one and show the error.
+    pub fn set_text(&mut self, text: &str, gpu: Option<&Gpu>) {
+        self.text = text.to_string();
+        let started = Instant::now();
+        let compiled = CompiledFormula::compile(text);
+        let compile_ms = ms(started);
+        self.counters.compiles += 1;
+        let formula = match compiled {
+            Ok(f) => f,
+            Err(e) => {
+                self.error = Some(e.render("formula", text));
+                return;
+            }
+        };
+        let t = Instant::now();
+        let shader = match codegen::generate(&formula) {
+            Ok(s) => s,
+            Err(e) => {
+                self.error = Some(format!("the shader for this formula is invalid: {e}"));
+                return;
+            }
+        };
+        let codegen_ms = ms(t);
+        self.error = None;
+        self.scene.formula = text.trim().to_string();
+        // New parameters get 1.0 (or their old value), as on the command line.
+        for name in formula.param_names() {
+            self.scene.params.entry(name.to_string()).or_insert(1.0);
+        }
+        self.start_job(
+            Arc::new(formula),
+            Arc::new(shader),
+            true,
+            gpu,
+            started,
+            compile_ms,
+            codegen_ms,
+        );
+    }
+
+    /// Parameters, domain or tree settings changed: rebuild the tree for the same shader.
+    pub fn rebuild_tree(&mut self, gpu: Option<&Gpu>) {
+        let (Some(formula), Some(shader)) = (self.formula.clone(), self.shader.clone()) else {
+            // Nothing compiled yet: compile the scene's formula instead.
+            let text = self.text.clone();
+            self.set_text(&text, gpu);
+            return;
+        };
+        self.start_job(formula, shader, false, gpu, Instant::now(), 0.0, 0.0);
+    }
+
+    /// Replaces the whole scene (a preset or a file) and builds it.
+    pub fn load_scene(&mut self, scene: Scene, gpu: Option<&Gpu>) {
+        let text = scene.formula.clone();
+        self.scene = scene;
+        self.formula = None;
+        self.shader = None;
+        self.set_text(&text, gpu);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn start_job(
+        &mut self,
+        formula: Arc<CompiledFormula>,
+        shader: Arc<Shader>,
+        new_shader: bool,
+        gpu: Option<&Gpu>,
+        started: Instant,
+        compile_ms: f64,
+        codegen_ms: f64,
+    ) {
+        if let Some(old) = self.job.take() {
+            old.cancel.store(true, Ordering::Relaxed);
+        }
+        self.generation += 1;
+        let generation = self.generation;
+        let cancel = Arc::new(AtomicBool::new(false));
+        let progress = Arc::new(AtomicU64::new(0));
+        let (sender, receiver) = channel();
+        let params = self.scene.param_values(&formula.param_names());
+        let domain = self.scene.domain;
+        let settings = self.scene.tree.into();
+        let gpu = gpu.cloned();
+        // When the shader is new, the pipeline is made here too, off the UI thread.
+        let make_pipeline = new_shader || self.caster.is_none();
+        {
+            let (cancel, progress) = (cancel.clone(), progress.clone());
+            let (formula, shader) = (formula.clone(), shader.clone());
+            let spawned = std::thread::Builder::new()
+                .name("fourfold build".into())
+                .spawn(move || {
+                    let t = Instant::now();
+                    let report = |_level: u32, nodes: u64| progress.store(nodes, Ordering::Relaxed);
+                    let tree =
+                        Tree16::build(&formula, &params, &domain, settings, &cancel, Some(&report));
+                    let tree = match tree {
+                        Ok(tree) => Ok((Hierarchy::from_tree(&tree), tree.stats)),
+                        Err(BuildError::Cancelled) => return,
+                        Err(e) => Err(e.to_string()),
+                    };
+                    let tree_ms = ms(t);
+                    let t = Instant::now();
+                    let caster = match (&gpu, &tree) {
+                        (Some(gpu), Ok((hierarchy, _))) if make_pipeline => Some(
+                            RayCaster::with_target(gpu, &shader, hierarchy, VIEW_TARGET)
+                                .map_err(|e| e.to_string()),
+                        ),
+                        _ => None,
+                    };
+                    let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
+                    let _ = sender.send(JobResult {
+                        generation,
+                        formula,
+                        shader,
+                        params,
+                        tree,
+                        caster,
+                        tree_ms,
+                        pipeline_ms,
+                    });
+                });
+            if let Err(e) = spawned {
+                self.error = Some(format!("could not start the tree build: {e}"));
+                return;
+            }
+        }
+        self.job = Some(Job {
+            generation,
+            cancel,
+            progress,
+            receiver,
+            started,
+            compile_ms,
+            codegen_ms,
+        });
+        self.edit_started = Some(started);
+    }
+
+    /// Takes a finished build, if any; returns true when the picture changed.
+    pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
+        let Some(job) = &self.job else {
+            return false;
+        };
+        let result = match job.receiver.try_recv() {
+            Ok(r) => r,
+            Err(TryRecvError::Empty) => return false,
+            Err(TryRecvError::Disconnected) => {
+                // Cancelled (a newer job replaced it) or the thread died.
+                self.job = None;
+                return false;
+            }
+        };
+        let job = self.job.take().expect("checked above");
+        if result.generation != job.generation {
+            return false;
+        }
+        let (hierarchy, stats) = match result.tree {
+            Ok(t) => t,
+            Err(e) => {
+                self.error = Some(e);
+                return false;
+            }
+        };
+        match result.caster {
+            Some(Ok(caster)) => {
+                self.caster = Some(caster);
+                self.counters.pipelines += 1;
+            }
+            Some(Err(e)) => {
+                self.error = Some(e);
+                return false;
+            }
+            None => {
+                if let (Some(caster), Some(gpu)) = (&mut self.caster, gpu)
+                    && let Err(e) = caster.set_hierarchy(gpu, &hierarchy)
+                {
+                    self.error = Some(e.to_string());
+                    return false;
+                }
+            }
+        }
+        self.counters.trees += 1;
+        self.formula = Some(result.formula);
+        self.shader = Some(result.shader);
+        self.tree_params = result.params;
+        self.hierarchy = Some(Arc::new(hierarchy));
+        self.stats = Some(stats);
+        self.times = EditTimes {
+            compile_ms: job.compile_ms,
+            codegen_ms: job.codegen_ms,
+            tree_ms: result.tree_ms,
+            pipeline_ms: result.pipeline_ms,
+            ready_ms: ms(job.started),
+        };
+        self.picture_generation += 1;
+        true
+    }
+
+    /// Blocks until the build in flight is done (tests, benchmarks, export).
+    pub fn wait(&mut self, gpu: Option<&Gpu>) -> bool {
+        let mut changed = false;
+        while self.job.is_some() {
+            changed |= self.poll(gpu);
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        changed
+    }
+
+    /// A one-line summary of the tree for the status bar.
+    pub fn tree_summary(&self) -> String {
+        let Some(s) = &self.stats else {
+            return "no tree yet".to_string();
+        };
+        if s.leaves == 0 {
+            return "no surface in this domain (the tree kept no box)".to_string();
+        }
+        let mut line = format!("{} nodes, {} leaves", s.nodes, s.leaves);
+        if s.budget_hit {
+            line.push_str(", node budget hit (tree coarser than max level)");
+        }
+        if s.singular_boxes > 0 {
+            line.push_str(&format!(", {} singular boxes", s.singular_boxes));
+        }
+        line.push_str(&format!(", built in {:.0} ms", s.build_ms));
+        line
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,184 @@
+//! The viewer driven as a person drives it (egui_kittest on the real app and the real GPU
+//! path, lavapipe in CI): typing a formula, a mistyped formula, a parameter slider, presets.
+
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::viewer::FourfoldApp;
+
+/// A small, quick scene: the glome at a coarse level with few rays.
+fn small_scene() -> Scene {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.tree.max_level = 4;
+    scene.tree.min_level = 0;
+    scene.render.rays = 2;
+    scene
+}
+
+fn harness(scene: Scene) -> Harness<'static, FourfoldApp> {
+    Harness::builder()
+        .wgpu()
+        .with_size([900.0, 640.0])
+        .build_eframe(move |cc| FourfoldApp::new(cc, Some(scene)))
+}
+
+/// Steps the UI until the build in flight is done and a picture is on screen.
+fn settle(h: &mut Harness<'static, FourfoldApp>) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        h.step();
+        let app = h.state();
+        let shown = !app.progressive.paint().layers.is_empty();
+        if !app.session.building() && shown {
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the viewer did not settle in 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn replace_formula(h: &mut Harness<'static, FourfoldApp>, text: &str) {
+    let editor = h.get_by_label_contains("Formula");
+    editor.focus();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_label_contains("Formula").type_text(text);
+    h.step();
+}
+
+#[test]
+fn typing_a_valid_formula_updates_the_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.picture_generation;
+    let pipelines = h.state().session.counters.pipelines;
+    assert!(h.state().session.error.is_none());
+
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert_eq!(h.state().session.text, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert!(
+        h.state().session.error.is_none(),
+        "{:?}",
+        h.state().session.error
+    );
+    settle(&mut h);
+    let app = h.state();
+    assert!(app.session.picture_generation > before, "no new picture");
+    assert_eq!(
+        app.session.counters.pipelines,
+        pipelines + 1,
+        "a new formula needs a new shader"
+    );
+    assert_eq!(app.session.scene.formula, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert!(app.session.stats.as_ref().unwrap().leaves > 0);
+    assert!(
+        app.edit_latency_ms.is_some(),
+        "the edit latency was not measured"
+    );
+}
+
+#[test]
+fn a_mistyped_formula_shows_the_error_and_keeps_the_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.picture_generation;
+    let formula_before = h.state().session.scene.formula.clone();
+
+    replace_formula(&mut h, "x^2 + sn(y) - 1");
+    for _ in 0..5 {
+        h.step();
+    }
+    let app = h.state();
+    let error = app.session.error.as_deref().expect("an error is shown");
+    assert!(error.contains("sn"), "{error}");
+    assert!(error.contains("did you mean sin"), "{error}");
+    assert!(error.contains('^'), "the message has a caret: {error}");
+    assert_eq!(
+        app.session.picture_generation, before,
+        "the picture was replaced"
+    );
+    assert_eq!(app.session.scene.formula, formula_before);
+    assert!(
+        !app.progressive.paint().layers.is_empty(),
+        "the last picture is gone"
+    );
+    // The message is on screen, under the editor.
+    h.get_by_label_contains("did you mean sin");
+}
+
+#[test]
+fn moving_a_parameter_slider_rebuilds_the_tree_not_the_shader() {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = a");
+    scene.params.insert("a".into(), 1.0);
+    scene.tree.max_level = 4;
+    scene.tree.min_level = 0;
+    scene.render.rays = 2;
+    let mut h = harness(scene);
+    settle(&mut h);
+    let counters = h.state().session.counters;
+
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "a")
+        .set_value_accesskit(0.5);
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.session.scene.params["a"], 0.5);
+    assert_eq!(app.session.tree_params, vec![0.5]);
+    assert_eq!(
+        app.session.counters.pipelines, counters.pipelines,
+        "the shader was rebuilt"
+    );
+    assert_eq!(
+        app.session.counters.compiles, counters.compiles,
+        "the formula was re-parsed"
+    );
+    assert_eq!(
+        app.session.counters.trees,
+        counters.trees + 1,
+        "the tree was not rebuilt"
+    );
+}
+
+#[test]
+fn every_preset_loads() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    // One through the combo box, as a person would.
+    h.get_by_label("Preset").click();
+    h.run_steps(3);
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "glome")
+        .click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().preset, Some("glome"));
+    for (name, _) in EXAMPLES {
+        let pipelines = h.state().session.counters.pipelines;
+        h.state_mut().load_preset(name);
+        // Keep the previews cheap on the software GPU.
+        h.state_mut().session.scene.render.rays = 2;
+        settle(&mut h);
+        let app = h.state();
+        assert!(
+            app.session.error.is_none(),
+            "{name}: {:?}",
+            app.session.error
+        );
+        assert_eq!(app.session.counters.pipelines, pipelines + 1, "{name}");
+        assert!(
+            app.session.stats.as_ref().unwrap().leaves > 0,
+            "{name}: no surface"
+        );
+        assert!(
+            !app.session.scene.description.is_empty(),
+            "{name}: no explanation"
+        );
+    }
+}
