@@ -6,10 +6,11 @@
 //!    across the whole domain with the step count per unit length of the level's leaves), at
 //!    tree levels 5, 6 and 7 (uniform trees, so the leaf size is the level's), as a ratio, with
 //!    the share of pixels on which the two pictures agree;
-//! 2. how the frame time grows with pixels, rays and tree level.
+//! 2. how the frame time grows with pixels, rays and tree level (glome).
 //!
 //! Environment: FOURFOLD_BENCH_SIZE (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
-//! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_QUICK=1 skips the growth table.
+//! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_SCENES (default
+//! "fig-3-9-left,glome"), FOURFOLD_BENCH_QUICK=1 skips the growth table.
 //! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
 
 use std::sync::atomic::AtomicBool;
@@ -91,7 +92,7 @@ fn frame(gpu: &Gpu, p: &Prepared, size: u32, rays: u32, brute: Option<u32>) -> (
         },
     );
     let runs = env_u32("FOURFOLD_BENCH_RUNS", 2).max(1);
-    let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap(); // warm-up
+    let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap(); // warm-up (shader compile)
     let mut best = f64::INFINITY;
     for _ in 0..runs {
         let t = Instant::now();
@@ -99,6 +100,11 @@ fn frame(gpu: &Gpu, p: &Prepared, size: u32, rays: u32, brute: Option<u32>) -> (
         best = best.min(t.elapsed().as_secs_f64() * 1e3);
     }
     (best, rgba)
+}
+
+/// Pixels the driver cut short (alpha 254, see templates/raycast.wgsl).
+fn cut(rgba: &[u8]) -> usize {
+    rgba.chunks(4).filter(|p| p[3] != 255).count()
 }
 
 /// Share of pixels whose colours agree within 16/255 per channel, and of pixels whose
@@ -132,10 +138,12 @@ fn main() {
     println!("adapter: {}", gpu.adapter);
     println!("\n## Hierarchy vs brute force, {size}x{size}\n");
     println!(
-        "| scene | level | leaves | rays | hierarchy ms | brute force ms | speed-up | same colour | same coverage |"
+        "| scene | level | leaves | rays | hierarchy ms | brute force ms | speed-up | same colour | same coverage | pixels cut (hier./brute) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
-    for name in ["fig-3-9-left", "glome"] {
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let scenes =
+        std::env::var("FOURFOLD_BENCH_SCENES").unwrap_or_else(|_| "fig-3-9-left,glome".to_string());
+    for name in scenes.split(',').map(str::trim) {
         for &level in &levels {
             let p = prepare(&gpu, name, level);
             let background = p.scene.render.background.0;
@@ -144,11 +152,13 @@ fn main() {
                 let (slow, b) = frame(&gpu, &p, size, rays, Some(level));
                 let (colour, cover) = agreement(&a, &b, background);
                 println!(
-                    "| {name} | {level} | {} | {rays} | {fast:.0} | {slow:.0} | {:.1}x | {:.1}% | {:.1}% |",
+                    "| {name} | {level} | {} | {rays} | {fast:.0} | {slow:.0} | {:.1}x | {:.1}% | {:.1}% | {} / {} |",
                     p.leaves,
                     slow / fast,
                     100.0 * colour,
-                    100.0 * cover
+                    100.0 * cover,
+                    cut(&a),
+                    cut(&b)
                 );
             }
         }
@@ -156,10 +166,10 @@ fn main() {
     if std::env::var("FOURFOLD_BENCH_QUICK").is_ok() {
         return;
     }
-    println!("\n## Growth of the hierarchy frame time (chapter scene)\n");
+    println!("\n## Growth of the hierarchy frame time (glome, uniform trees)\n");
     println!("| pixels | rays | level | ms | ms per megaray |");
     println!("|---|---|---|---|---|");
-    let base = prepare(&gpu, "fig-3-9-left", 6);
+    let base = prepare(&gpu, "glome", 6);
     let row = |p: &Prepared, px: u32, rays: u32, level: u32| {
         let (ms, _) = frame(&gpu, p, px, rays, None);
         let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
@@ -175,7 +185,7 @@ fn main() {
         row(&base, 256, rays, 6);
     }
     for level in [4, 5, 6, 7] {
-        let p = prepare(&gpu, "fig-3-9-left", level);
+        let p = prepare(&gpu, "glome", level);
         row(&p, 256, 16, level);
     }
 }

@@ -518,6 +518,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     };
     let picture = render_scene(&scene, width, height, device, Default::default())
         .map_err(|e| Failure::runtime(e.to_string()))?;
+    let cut = picture.cut_pixels;
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)
         .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;
     image
@@ -543,6 +544,14 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     );
     if picture.tree.nodes == 0 {
         out.push_str("\nno surface in this domain: the picture shows only the background");
+    }
+    if cut > 0 {
+        out.push_str(&format!(
+            "\nwarning: the GPU driver cut the work of {cut} pixels short ({:.1}% of the picture; \
+             llvmpipe stops a shader's loops after 65535 iterations), so they may miss parts of \
+             the manifold. Lower --rays, the scene's steps or --max-level, or render with --cpu.",
+            100.0 * cut as f64 / (f64::from(width) * f64::from(height))
+        ));
     }
     Ok(out)
 }

@@ -10,7 +10,7 @@
 
 struct LevelInfo {
     half: vec4<f32>,
-    radius: vec4<f32>, // radius in .x
+    radius: vec4<f32>, // .x sphere radius; .y, .z the box's half width along v1 and along v2
 }
 
 struct Uniforms {
@@ -119,39 +119,93 @@ fn insert_hit(hits: ptr<function, Hits>, t: f32, ray: u32, k_max: u32) {
     (*hits).ray[j] = ray;
 }
 
-// The composite interval method with bisection (Algorithm 3.1) on [t0, t1] of one ray.
+struct Bisection {
+    lo: f32,
+    hi: f32,
+    flo: f32,
+    tm: f32,
+    done: bool,
+}
+
+// Step `it` of the bisection (nothing once done or past `iters`).
+fn bisect(b: ptr<function, Bisection>, o: vec4<f32>, d: vec4<f32>, it: u32, iters: u32) {
+    if ((*b).done || it >= iters) {
+        return;
+    }
+    let tm = 0.5 * ((*b).lo + (*b).hi);
+    (*b).tm = tm;
+    let fm = ff_f(o + tm * d);
+    if (abs(fm) < u.root.x) {
+        (*b).done = true;
+        return;
+    }
+    if ((fm < 0.0) == ((*b).flo < 0.0)) {
+        (*b).lo = tm;
+        (*b).flo = fm;
+    } else {
+        (*b).hi = tm;
+    }
+}
+
+struct March {
+    ta: f32,
+    fa: f32,
+    s: u32,
+    stop: bool,
+}
+
+// One step of the march along a ray: [ta, ta + dt]; a sign change is refined by bisection.
+fn march(m: ptr<function, March>, hits: ptr<function, Hits>, o: vec4<f32>, d: vec4<f32>, t0: f32, dt: f32, steps: u32, ray: u32, k_max: u32) {
+    if ((*m).stop || (*m).s > steps) {
+        (*m).stop = true;
+        return;
+    }
+    let ta = (*m).ta;
+    let fa = (*m).fa;
+    if ((*hits).count == k_max && ta >= (*hits).t[k_max - 1u]) {
+        (*m).stop = true; // every later root is farther than the K kept
+        return;
+    }
+    let tb = t0 + f32((*m).s) * dt;
+    let fb = ff_f(o + tb * d);
+    if (fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0)) {
+        var b: Bisection;
+        b.lo = ta;
+        b.hi = tb;
+        b.flo = fa;
+        b.tm = 0.5 * (ta + tb);
+        b.done = false;
+        // Four bisection steps per loop iteration (see fs_main on iteration caps).
+        for (var it = 0u; it < u.control.y && !b.done; it = it + 4u) {
+            bisect(&b, o, d, it, u.control.y);
+            bisect(&b, o, d, it + 1u, u.control.y);
+            bisect(&b, o, d, it + 2u, u.control.y);
+            bisect(&b, o, d, it + 3u, u.control.y);
+        }
+        insert_hit(hits, b.tm, ray, k_max);
+    }
+    (*m).ta = tb;
+    (*m).fa = fb;
+    (*m).s = (*m).s + 1u;
+}
+
+// The composite interval method with bisection (Algorithm 3.1) on [t0, t1] of one ray:
+// `steps` equal steps, four per loop iteration.
 fn find_roots(hits: ptr<function, Hits>, o: vec4<f32>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, ray: u32, k_max: u32) {
     let dt = (t1 - t0) / f32(steps);
-    var ta = t0;
-    var fa = ff_f(o + ta * d);
-    for (var s = 1u; s <= steps; s = s + 1u) {
-        if ((*hits).count == k_max && ta >= (*hits).t[k_max - 1u]) {
-            return; // every later root is farther than the K kept
+    var m: March;
+    m.ta = t0;
+    m.fa = ff_f(o + t0 * d);
+    m.s = 1u;
+    m.stop = false;
+    loop {
+        if (m.stop) {
+            break;
         }
-        let tb = t0 + f32(s) * dt;
-        let fb = ff_f(o + tb * d);
-        if (fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0)) {
-            var lo = ta;
-            var hi = tb;
-            var flo = fa;
-            var tm = 0.5 * (lo + hi);
-            for (var it = 0u; it < u.control.y; it = it + 1u) {
-                tm = 0.5 * (lo + hi);
-                let fm = ff_f(o + tm * d);
-                if (abs(fm) < u.root.x) {
-                    break;
-                }
-                if ((fm < 0.0) == (flo < 0.0)) {
-                    lo = tm;
-                    flo = fm;
-                } else {
-                    hi = tm;
-                }
-            }
-            insert_hit(hits, tm, ray, k_max);
-        }
-        ta = tb;
-        fa = fb;
+        march(&m, hits, o, d, t0, dt, steps, ray, k_max);
+        march(&m, hits, o, d, t0, dt, steps, ray, k_max);
+        march(&m, hits, o, d, t0, dt, steps, ray, k_max);
+        march(&m, hits, o, d, t0, dt, steps, ray, k_max);
     }
 }
 
@@ -172,12 +226,53 @@ fn trace_box(hits: ptr<function, Hits>, o: vec4<f32>, lo: vec4<f32>, hi: vec4<f3
     let n = u.size.z;
     let k_max = min(u.size.w, MAX_HITS);
     for (var k = 0u; k < n; k = k + 1u) {
-        let dir = ray_dir2(k, n, pixel_seed, offset);
-        let d = dir.x * u.n1 + dir.y * u.n2;
-        let span = clip_to_box(o, d, lo, hi);
-        if (span.x < span.y && !((*hits).count == k_max && span.x >= (*hits).t[k_max - 1u])) {
-            find_roots(hits, o, d, span.x, span.y, steps, k, k_max);
+        trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
+    }
+}
+
+fn trace_ray(hits: ptr<function, Hits>, o: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>, steps: u32, k: u32, k_max: u32, pixel_seed: u32, offset: f32) {
+    let dir = ray_dir2(k, u.size.z, pixel_seed, offset);
+    let d = dir.x * u.n1 + dir.y * u.n2;
+    let span = clip_to_box(o, d, lo, hi);
+    if (span.x < span.y && !((*hits).count == k_max && span.x >= (*hits).t[k_max - 1u])) {
+        find_roots(hits, o, d, span.x, span.y, steps, k, k_max);
+    }
+}
+
+// A leaf: only the rays that can meet its sphere. q is the sphere centre's position in the
+// observer plane (along n1, n2, from o); every ray is a half-line from o in that plane.
+fn trace_leaf(hits: ptr<function, Hits>, o: vec4<f32>, c: vec4<f32>, half: vec4<f32>, radius: f32, q: vec2<f32>, pixel_seed: u32, offset: f32) {
+    let n = u.size.z;
+    let k_max = min(u.size.w, MAX_HITS);
+    let lo = c - half;
+    let hi = c + half;
+    let steps = u.control.x;
+    let dist = length(q);
+    if ((u.control.z & 8u) == 0u && dist > radius) {
+        // Stratified rays are at angles TAU (k + offset) / n: the sphere, seen from o, spans
+        // [phi - delta, phi + delta], so only the k in that range are traced (with a margin).
+        let phi = atan2(q.y, q.x);
+        let delta = asin(min(radius / dist, 1.0)) + 1e-3;
+        let scale = f32(n) / TAU;
+        let k0 = i32(ceil((phi - delta) * scale - offset));
+        let k1 = i32(floor((phi + delta) * scale - offset));
+        let count = u32(clamp(k1 - k0 + 1, 0, i32(n)));
+        let ni = i32(n);
+        for (var j = 0u; j < count; j = j + 1u) {
+            let k = u32(((k0 + i32(j)) % ni + ni) % ni);
+            trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
         }
+        return;
+    }
+    // Random rays (or o inside the sphere): a 2D test per ray before the 4D clip.
+    for (var k = 0u; k < n; k = k + 1u) {
+        let dir = ray_dir2(k, n, pixel_seed, offset);
+        let along = dot(dir, q);
+        let across = dir.x * q.y - dir.y * q.x;
+        if (along < -radius || abs(across) > radius) {
+            continue;
+        }
+        trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
     }
 }
 
@@ -214,6 +309,46 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
     return u.surface.rgb * (u.shading.x + u.shading.y * diffuse) + vec3<f32>(u.shading.z * specular);
 }
 
+// Leaves that passed the pixel's tests, waiting to be traced.
+struct Batch {
+    center: array<vec4<f32>, 8>,
+    q: array<vec2<f32>, 8>,
+    level: array<u32, 8>,
+    count: u32,
+}
+
+// Tests node i against the pixel's observer plane; returns the next node of the walk and
+// queues a leaf that passes.
+fn visit(i: u32, o: vec4<f32>, hits: ptr<function, Hits>, k_max: u32, batch: ptr<function, Batch>) -> u32 {
+    let node = nodes[i];
+    let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
+    let level = u.levels[node.info & 255u];
+    let r = level.radius.x;
+    // The sphere meets the pixel's observer plane iff its centre, projected on v1 and v2, is
+    // within its radius of the pixel: one 2D test for all rays of the pixel. The box itself
+    // must also reach the pixel along v1 and along v2 (its support).
+    let rel = c - o;
+    let a = dot(rel, u.v1);
+    let b = dot(rel, u.v2);
+    if (a * a + b * b > r * r || abs(a) > level.radius.y || abs(b) > level.radius.z) {
+        return node.skip;
+    }
+    // Nothing in the sphere is nearer than |q| - r: once K hits are kept, farther subtrees
+    // are skipped whole.
+    let q = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
+    if ((*hits).count == k_max && length(q) - r >= (*hits).t[k_max - 1u]) {
+        return node.skip;
+    }
+    if ((node.info & LEAF) != 0u) {
+        let j = (*batch).count;
+        (*batch).center[j] = c;
+        (*batch).q[j] = q;
+        (*batch).level[j] = node.info & 255u;
+        (*batch).count = j + 1u;
+    }
+    return i + 1u;
+}
+
 @vertex
 fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let x = f32((i << 1u) & 2u) * 2.0 - 1.0;
@@ -232,35 +367,51 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let offset = rand01(pixel_seed ^ 0x9e3779b9u);
     var hits: Hits;
     hits.count = 0u;
+    let k_max = min(u.size.w, MAX_HITS);
     if ((u.control.z & 16u) != 0u) {
         trace_box(&hits, o, u.domain_lo, u.domain_hi, u.counts.w, pixel_seed, offset);
     } else {
+        // Stackless depth-first walk. Up to 8 nodes are tested per loop iteration and
+        // the leaves that pass are traced after them: llvmpipe (lavapipe) stops a shader's
+        // loops after 65535 iterations in all, so iterations are kept few.
         var i = 0u;
         let n = u.counts.x;
         loop {
             if (i >= n) {
                 break;
             }
-            let node = nodes[i];
-            let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
-            let level = u.levels[node.info & 255u];
-            // The sphere meets the pixel's observer plane iff its centre, projected on v1 and
-            // v2, is within its radius of the pixel: one 2D test for all rays of the pixel.
-            let rel = c - o;
-            let a = dot(rel, u.v1);
-            let b = dot(rel, u.v2);
-            if (a * a + b * b > level.radius.x * level.radius.x) {
-                i = node.skip;
-                continue;
+            var batch: Batch;
+            batch.count = 0u;
+            // Written out, not a loop: an inner loop's iterations would count too.
+            i = visit(i, o, &hits, k_max, &batch);
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
+            for (var j = 0u; j < batch.count; j = j + 1u) {
+                let level = u.levels[batch.level[j]];
+                trace_leaf(&hits, o, batch.center[j], level.half, level.radius.x, batch.q[j], pixel_seed, offset);
             }
-            if ((node.info & LEAF) != 0u) {
-                trace_box(&hits, o, c - level.half, c + level.half, u.control.x, pixel_seed, offset);
-            }
-            i = i + 1u;
         }
     }
+    // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
+    // once when the iteration cap is spent; the pixel is then marked with alpha 254/255 so
+    // that the caller can tell the user (the picture may miss parts of M).
+    // (The bound reads a uniform so that no compiler unrolls the loop away.)
+    let rounds = 3u + (u.control.x >> 31u);
+    var probe = 0u;
+    loop {
+        probe = probe + 1u;
+        if (probe >= rounds) {
+            break;
+        }
+    }
+    let alpha = select(254.0 / 255.0, 1.0, probe >= rounds);
     if (hits.count == 0u) {
-        return vec4<f32>(u.background.rgb, 1.0);
+        return vec4<f32>(u.background.rgb, alpha);
     }
     let n = u.size.z;
     var color = vec3<f32>(0.0);
@@ -275,5 +426,5 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             color = color * (1.0 - u.misc.y) + c * u.misc.y;
         }
     }
-    return vec4<f32>(clamp(color, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
+    return vec4<f32>(clamp(color, vec3<f32>(0.0), vec3<f32>(1.0)), alpha);
 }

@@ -143,3 +143,135 @@ fn the_glome_covers_exactly_its_disk_at_any_angles() {
         assert_eq!(wrong, 0, "{wrong} pixels off the disk at angles {angles:?}");
     }
 }
+
+/// Pixels whose whole observer plane meets M, by brute force on the CPU: the plane
+/// o + a·n1 + b·n2 sampled on a 201×201 grid over the domain's extent, a pixel counting as
+/// covered where F changes sign between neighbouring samples inside the domain.
+fn plane_coverage(scene: &Scene, size: u32) -> Vec<bool> {
+    use fourfold::eval::PointEvaluator;
+    use rayon::prelude::*;
+    let f = CompiledFormula::compile(&scene.formula).unwrap();
+    let params = scene.param_values(&f.param_names());
+    let camera = Camera::new(&scene.domain, &scene.view, size, size);
+    let axes = scene.domain.axes();
+    let extent = scene.domain.half_diagonal();
+    const N: usize = 201;
+    (0..size * size)
+        .into_par_iter()
+        .map_init(PointEvaluator::new, |eval, i| {
+            let o = camera.origin(f64::from(i % size), f64::from(i / size));
+            let mut row_prev: Vec<Option<f64>> = vec![None; N];
+            for ia in 0..N {
+                let a = -extent + 2.0 * extent * ia as f64 / (N - 1) as f64;
+                let mut left: Option<f64> = None;
+                for ib in 0..N {
+                    let b = -extent + 2.0 * extent * ib as f64 / (N - 1) as f64;
+                    let p: [f64; 4] =
+                        std::array::from_fn(|k| o[k] + a * camera.n1[k] + b * camera.n2[k]);
+                    let inside = (0..4).all(|k| axes[k].lo <= p[k] && p[k] <= axes[k].hi);
+                    let v = if inside {
+                        Some(eval.eval(&f.tape_f, p, &params)).filter(|v| v.is_finite())
+                    } else {
+                        None
+                    };
+                    let changes =
+                        |u: Option<f64>| matches!((u, v), (Some(x), Some(y)) if x * y <= 0.0);
+                    if changes(left) || changes(row_prev[ib]) {
+                        return true;
+                    }
+                    left = v;
+                    row_prev[ib] = v;
+                }
+            }
+            false
+        })
+        .collect()
+}
+
+#[test]
+fn coverage_grows_with_rays_towards_the_whole_plane_check() {
+    let gpu = gpu();
+    let (_, scene) = example_scenes()
+        .into_iter()
+        .find(|(n, _)| *n == "fig-3-9-left")
+        .unwrap();
+    let mut scene = small(&scene);
+    // A coarser tree keeps each pixel's work under lavapipe's loop-iteration cap at 64 rays.
+    scene.tree.max_level = 4;
+    scene.tree.min_level = 3;
+    scene.render.silhouette.enabled = false;
+    scene.render.border.enabled = false;
+    let size = 48;
+    let truth = plane_coverage(&scene, size);
+    let covered_truth = truth.iter().filter(|c| **c).count();
+    assert!(
+        covered_truth > 100,
+        "the scene should cover part of the picture"
+    );
+    let mut found = Vec::new();
+    eprintln!("rays  detected  shown-not-on-M  pixels-cut-by-driver  missed-and-not-flagged");
+    for rays in [1, 2, 4, 8, 16, 32, 64] {
+        scene.render.rays = rays;
+        let g = render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+        let c = coverage(&g.rgba, scene.render.background.0);
+        // Pixels whose loops the driver cut short carry alpha 254 (see fs_main).
+        let flagged: Vec<bool> = g.rgba.chunks(4).map(|p| p[3] != 255).collect();
+        let detected =
+            c.iter().zip(&truth).filter(|(g, t)| **g && **t).count() as f64 / covered_truth as f64;
+        let false_pos =
+            c.iter().zip(&truth).filter(|(g, t)| **g && !**t).count() as f64 / (size * size) as f64;
+        let cut = flagged.iter().filter(|f| **f).count();
+        let unexplained = (0..c.len())
+            .filter(|&i| truth[i] && !c[i] && !flagged[i])
+            .count();
+        eprintln!(
+            "{rays:>4}  {:>7.1}%  {:>7.1}%  {cut:>6}  {unexplained:>6}",
+            100.0 * detected,
+            100.0 * false_pos
+        );
+        // A pixel the rays show must really meet M (up to the grid's resolution).
+        assert!(
+            false_pos <= 0.01,
+            "{rays} rays: {:.1}% shown but not on M",
+            100.0 * false_pos
+        );
+        found.push((detected, unexplained));
+    }
+    // More rays find more of the plane's intersection with M (32 rays nearly all of it), and
+    // what the rays miss at 64 rays is only where the driver cut the work, which is flagged.
+    assert!(
+        found[5].0 >= found[2].0,
+        "coverage fell from 4 to 32 rays: {found:?}"
+    );
+    assert!(
+        found[5].0 >= 0.97,
+        "32 rays find only {:.1}%",
+        100.0 * found[5].0
+    );
+    assert!(
+        found[6].1 as f64 <= 0.01 * covered_truth as f64,
+        "64 rays: {} pixels missed without a flag",
+        found[6].1
+    );
+}
+
+#[test]
+fn no_adapter_gives_a_clear_message_not_a_panic() {
+    // No Vulkan driver can load, and only Vulkan is allowed: wgpu finds no adapter.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(["render", "x^2 + y^2 + z^2 + w^2 = 1", "--size", "8x8", "-o"])
+        .arg(std::env::temp_dir().join("fourfold-no-adapter.png"))
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "rendering without an adapter succeeded"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("no GPU adapter found"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+}

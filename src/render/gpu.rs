@@ -44,9 +44,11 @@ pub struct Gpu {
 }
 
 impl Gpu {
-    /// Opens the first adapter wgpu finds (any backend), headless.
+    /// Opens the first adapter wgpu finds (any backend, or those named in WGPU_BACKEND),
+    /// headless.
     pub fn new() -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()

@@ -32,6 +32,22 @@ pub struct Picture {
     pub adapter: String,
     pub times: StageTimes,
     pub tree: TreeStats,
+    /// Pixels whose work the GPU driver cut short (llvmpipe stops a shader invocation's loops
+    /// after 65535 iterations): they may miss parts of M. The shader flags them with alpha
+    /// 254; `rgba` has alpha 255 everywhere.
+    pub cut_pixels: usize,
+}
+
+/// Counts the pixels the shader flagged (alpha 254) and makes every pixel opaque.
+pub fn take_cut_pixels(rgba: &mut [u8]) -> usize {
+    let mut cut = 0;
+    for p in rgba.chunks_mut(4) {
+        if p[3] != 255 {
+            cut += 1;
+            p[3] = 255;
+        }
+    }
+    cut
 }
 
 /// What can stop a picture, with a message for the user.
@@ -99,7 +115,7 @@ pub fn render_scene(
     let shader = codegen::generate(&formula)?;
     times.codegen_ms = ms(t);
 
-    let (rgba, adapter) = match device {
+    let (mut rgba, adapter) = match device {
         Device::Cpu => {
             let t = Instant::now();
             let rgba = super::cpu::render_rgba(&formula, &params, &hierarchy, &uniforms);
@@ -112,10 +128,12 @@ pub fn render_scene(
             gpu_frame(&gpu, &shader, &hierarchy, &uniforms, &mut times)?
         }
     };
+    let cut_pixels = take_cut_pixels(&mut rgba);
     Ok(Picture {
         width,
         height,
         rgba,
+        cut_pixels,
         adapter,
         times,
         tree: tree.stats,

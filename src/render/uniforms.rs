@@ -103,6 +103,12 @@ impl Uniforms {
         let mut levels = [LevelInfo::zeroed(); LEVEL_SLOTS];
         for (slot, info) in levels.iter_mut().zip(&hierarchy.levels) {
             *slot = *info;
+            // Support of the box along v1 and v2: Σ h_i |v_i|, padded outward for f32.
+            let support = |v: &[f64; 4]| {
+                let s: f64 = (0..4).map(|i| f64::from(info.half[i]) * v[i].abs()).sum();
+                (s * (1.0 + 1e-5) + 1e-30) as f32
+            };
+            slot.support = [support(&camera.v1), support(&camera.v2), 0.0];
         }
         let mut packed = [[0f32; 4]; 16];
         for (i, p) in params.iter().take(64).enumerate() {

@@ -47,7 +47,9 @@ impl SphereNode {
 pub struct LevelInfo {
     pub half: [f32; 4],
     pub radius: f32,
-    pub _pad: [f32; 3],
+    /// Filled per view by the renderer (zero here): the half widths of the level's box
+    /// projected on v1 and on v2 (its support along each), and one unused slot.
+    pub support: [f32; 3],
 }
 
 /// The flattened hierarchy: nodes in depth-first order, and the per-level table.
@@ -77,7 +79,7 @@ impl Hierarchy {
                 LevelInfo {
                     half: half.map(|h| h as f32),
                     radius: (radius * (1.0 + 1e-6)) as f32,
-                    _pad: [0.0; 3],
+                    support: [0.0; 3],
                 }
             })
             .collect();
