@@ -12,7 +12,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use fourfold::CompiledFormula;
-use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, Uniforms, codegen};
+use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms, codegen};
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold::syntax;
 use fourfold::tree::{Hierarchy, Tree16};
@@ -73,11 +73,11 @@ fn main() {
             let hierarchy = Hierarchy::from_tree(&tree);
             let tree_ms = ms(t);
             let t = Instant::now();
-            let caster = RayCaster::new(&gpu, &shader, &hierarchy).unwrap();
+            let mut caster = RayCaster::new(&gpu, &shader, &hierarchy).unwrap();
             let pipeline = ms(t);
             let mut render = scene.render;
             render.rays = 4;
-            let frame = |angles: [f64; 6]| {
+            let mut frame = |angles: [f64; 6]| {
                 let mut view = scene.view;
                 view.angles = angles;
                 let camera = Camera::new(&scene.domain, &view, pw, ph);
@@ -89,7 +89,9 @@ fn main() {
                     &params,
                     FrameOptions::default(),
                 );
+                // As the viewer: bin the leaves into screen tiles, then draw.
                 let t = Instant::now();
+                caster.set_tiles(&gpu, Some(&TileLists::build(&hierarchy, &camera)));
                 caster.render_rgba(&gpu, &u).unwrap();
                 ms(t)
             };

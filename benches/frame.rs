@@ -2,7 +2,8 @@
 //!
 //! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
 //! 1. the chapter's scene and the glome at SIZE² (default 512) with 8, 16 and 32 rays, drawn
-//!    with the sphere hierarchy and by the brute-force variant (no hierarchy: every ray marched
+//!    with the per-tile leaf lists (the default), with the per-pixel walk of the sphere
+//!    hierarchy, and by the brute-force variant (no hierarchy: every ray marched
 //!    across the whole domain with the step count per unit length of the level's leaves), at
 //!    tree levels 5, 6 and 7 (uniform trees, so the leaf size is the level's), as a ratio, with
 //!    the share of pixels on which the two pictures agree;
@@ -18,7 +19,7 @@ use std::time::Instant;
 
 use fourfold::CompiledFormula;
 use fourfold::render::codegen;
-use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, Uniforms};
+use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms};
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold::tree::{BuildSettings, Hierarchy, Tree16};
 
@@ -75,8 +76,23 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
     }
 }
 
+/// How a frame finds its leaves.
+#[derive(Clone, Copy, PartialEq)]
+enum Method {
+    /// Per-tile leaf lists binned on the CPU (the default; binning time included).
+    Tiles,
+    /// Each pixel walks the sphere hierarchy.
+    Walk,
+    /// No hierarchy: every ray marched across the domain (steps of the level's leaves).
+    Brute(u32),
+}
+
 /// Best frame time in ms and the picture.
-fn frame(gpu: &Gpu, p: &Prepared, size: u32, rays: u32, brute: Option<u32>) -> (f64, Vec<u8>) {
+fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, Vec<u8>) {
+    let brute = match method {
+        Method::Brute(level) => Some(level),
+        _ => None,
+    };
     let mut render = p.scene.render;
     render.rays = rays;
     let camera = Camera::new(&p.scene.domain, &p.scene.view, size, size);
@@ -92,10 +108,15 @@ fn frame(gpu: &Gpu, p: &Prepared, size: u32, rays: u32, brute: Option<u32>) -> (
         },
     );
     let runs = env_u32("FOURFOLD_BENCH_RUNS", 2).max(1);
+    p.caster.set_tiles(gpu, None);
     let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap(); // warm-up (shader compile)
     let mut best = f64::INFINITY;
     for _ in 0..runs {
         let t = Instant::now();
+        if method == Method::Tiles {
+            let lists = TileLists::build(&p.hierarchy, &camera);
+            p.caster.set_tiles(gpu, Some(&lists));
+        }
         rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
         best = best.min(t.elapsed().as_secs_f64() * 1e3);
     }
@@ -138,26 +159,29 @@ fn main() {
     println!("adapter: {}", gpu.adapter);
     println!("\n## Hierarchy vs brute force, {size}x{size}\n");
     println!(
-        "| scene | level | leaves | rays | hierarchy ms | brute force ms | speed-up | same colour | same coverage | pixels cut (hier./brute) |"
+        "| scene | level | leaves | rays | tiles ms | walk ms | brute force ms | brute/tiles | brute/walk | same colour | same coverage | pixels cut (tiles/walk/brute) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let scenes =
         std::env::var("FOURFOLD_BENCH_SCENES").unwrap_or_else(|_| "fig-3-9-left,glome".to_string());
     for name in scenes.split(',').map(str::trim) {
         for &level in &levels {
-            let p = prepare(&gpu, name, level);
+            let mut p = prepare(&gpu, name, level);
             let background = p.scene.render.background.0;
             for &rays in &ray_counts {
-                let (fast, a) = frame(&gpu, &p, size, rays, None);
-                let (slow, b) = frame(&gpu, &p, size, rays, Some(level));
+                let (tiles, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
+                let (walk, w) = frame(&gpu, &mut p, size, rays, Method::Walk);
+                let (slow, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
                 println!(
-                    "| {name} | {level} | {} | {rays} | {fast:.0} | {slow:.0} | {:.1}x | {:.1}% | {:.1}% | {} / {} |",
+                    "| {name} | {level} | {} | {rays} | {tiles:.0} | {walk:.0} | {slow:.0} | {:.1}x | {:.1}x | {:.1}% | {:.1}% | {} / {} / {} |",
                     p.leaves,
-                    slow / fast,
+                    slow / tiles,
+                    slow / walk,
                     100.0 * colour,
                     100.0 * cover,
                     cut(&a),
+                    cut(&w),
                     cut(&b)
                 );
             }
@@ -169,9 +193,9 @@ fn main() {
     println!("\n## Growth of the hierarchy frame time (glome, uniform trees)\n");
     println!("| pixels | rays | level | ms | ms per megaray |");
     println!("|---|---|---|---|---|");
-    let base = prepare(&gpu, "glome", 6);
-    let row = |p: &Prepared, px: u32, rays: u32, level: u32| {
-        let (ms, _) = frame(&gpu, p, px, rays, None);
+    let mut base = prepare(&gpu, "glome", 6);
+    let mut row = |p: &mut Prepared, px: u32, rays: u32, level: u32| {
+        let (ms, _) = frame(&gpu, p, px, rays, Method::Tiles);
         let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
         println!(
             "| {px}² | {rays} | {level} | {ms:.0} | {:.0} |",
@@ -179,13 +203,13 @@ fn main() {
         );
     };
     for px in [128, 256, 512] {
-        row(&base, px, 16, 6);
+        row(&mut base, px, 16, 6);
     }
     for rays in [4, 8, 16, 32] {
-        row(&base, 256, rays, 6);
+        row(&mut base, 256, rays, 6);
     }
     for level in [4, 5, 6, 7] {
-        let p = prepare(&gpu, "glome", level);
-        row(&p, 256, 16, level);
+        let mut p = prepare(&gpu, "glome", level);
+        row(&mut p, 256, 16, level);
     }
 }

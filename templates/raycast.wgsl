@@ -3,6 +3,7 @@
 // Bindings, group 0:
 //   binding 0: uniform  Uniforms              view, settings, per-level box sizes, parameters
 //   binding 1: storage  array<SphereNode>     the sphere hierarchy, depth-first, with skips
+//   binding 2: storage  array<u32>            per-tile leaf lists (or one unused word)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers);
 // fs_main returns the pixel's colour (target format rgba8unorm).
 // Flags (control.z): 1 lighting, 2 silhouette, 4 border, 8 random sampling, 16 brute force.
@@ -32,6 +33,7 @@ struct Uniforms {
     size: vec4<u32>,      // width, height, rays, hits kept
     control: vec4<u32>,   // steps per span, bisection iterations, flags, seed
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
+    tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -47,6 +49,9 @@ struct SphereNode {
 
 @group(0) @binding(0) var<uniform> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
+// Per screen tile, the leaves whose sphere may meet a pixel of it: offsets (one per tile, and
+// one past the last), then leaf indices. See src/render/tiles.rs.
+@group(0) @binding(2) var<storage, read> tiles: array<u32>;
 
 const MAX_HITS: u32 = 16u;
 const LEAF: u32 = 256u;
@@ -370,6 +375,33 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let k_max = min(u.size.w, MAX_HITS);
     if ((u.control.z & 16u) != 0u) {
         trace_box(&hits, o, u.domain_lo, u.domain_hi, u.counts.w, pixel_seed, offset);
+    } else if (u.tiling.z != 0u) {
+        // The leaves binned to this pixel's tile, 8 tested per loop iteration (see below).
+        let px_tile = vec2<u32>(pos.xy) / u.tiling.x;
+        let t = px_tile.x + px_tile.y * u.tiling.y;
+        let base = u.tiling.w;
+        var j = tiles[t];
+        let end = tiles[t + 1u];
+        loop {
+            if (j >= end) {
+                break;
+            }
+            var batch: Batch;
+            batch.count = 0u;
+            visit(tiles[base + j], o, &hits, k_max, &batch);
+            if (j + 1u < end) { visit(tiles[base + j + 1u], o, &hits, k_max, &batch); }
+            if (j + 2u < end) { visit(tiles[base + j + 2u], o, &hits, k_max, &batch); }
+            if (j + 3u < end) { visit(tiles[base + j + 3u], o, &hits, k_max, &batch); }
+            if (j + 4u < end) { visit(tiles[base + j + 4u], o, &hits, k_max, &batch); }
+            if (j + 5u < end) { visit(tiles[base + j + 5u], o, &hits, k_max, &batch); }
+            if (j + 6u < end) { visit(tiles[base + j + 6u], o, &hits, k_max, &batch); }
+            if (j + 7u < end) { visit(tiles[base + j + 7u], o, &hits, k_max, &batch); }
+            j = j + 8u;
+            for (var b = 0u; b < batch.count; b = b + 1u) {
+                let level = u.levels[batch.level[b]];
+                trace_leaf(&hits, o, batch.center[b], level.half, level.radius.x, batch.q[b], pixel_seed, offset);
+            }
+        }
     } else {
         // Stackless depth-first walk. Up to 8 nodes are tested per loop iteration and
         // the leaves that pass are traced after them: llvmpipe (lavapipe) stops a shader's

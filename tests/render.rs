@@ -196,7 +196,7 @@ fn coverage_grows_with_rays_towards_the_whole_plane_check() {
         .find(|(n, _)| *n == "fig-3-9-left")
         .unwrap();
     let mut scene = small(&scene);
-    // A coarser tree keeps each pixel's work under lavapipe's loop-iteration cap at 64 rays.
+    // A coarser tree keeps the test quick (and each pixel's work under llvmpipe's loop cap).
     scene.tree.max_level = 4;
     scene.tree.min_level = 3;
     scene.render.silhouette.enabled = false;

@@ -182,3 +182,47 @@ fn every_preset_loads() {
         );
     }
 }
+
+#[test]
+fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 + 1");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.state().session.building() {
+        h.step();
+        assert!(Instant::now() < deadline);
+    }
+    h.step();
+    let app = h.state();
+    assert!(app.session.error.is_none());
+    assert_eq!(app.session.stats.as_ref().unwrap().leaves, 0);
+    assert!(app.session.tree_summary().contains("no surface in this domain"));
+    h.get_by_label_contains("no surface in this domain");
+
+    // A huge max level is bounded by the node budget; the window keeps answering meanwhile.
+    h.state_mut().session.scene.tree.max_level = 12;
+    h.state_mut().session.scene.tree.node_budget = 200_000;
+    h.state_mut().load_preset("glome");
+    h.state_mut().session.scene.tree.max_level = 12;
+    h.state_mut().session.scene.tree.min_level = 12;
+    h.state_mut().session.scene.tree.node_budget = 200_000;
+    h.state_mut().session.scene.render.rays = 2;
+    let gpu = h.state().gpu().cloned();
+    h.state_mut().session.rebuild_tree(gpu.as_ref());
+    let started = Instant::now();
+    let mut frames = 0;
+    while h.state().session.building() {
+        let t = Instant::now();
+        h.step();
+        frames += 1;
+        assert!(t.elapsed() < Duration::from_secs(5), "a UI frame took {:?}", t.elapsed());
+        assert!(started.elapsed() < Duration::from_secs(120), "the build did not end");
+    }
+    settle(&mut h);
+    let stats = h.state().session.stats.clone().unwrap();
+    assert!(stats.budget_hit, "the budget should stop a level-12 glome");
+    assert!(stats.nodes <= 200_000 + 16, "{} nodes", stats.nodes);
+    assert!(frames > 0);
+    assert!(h.state().session.tree_summary().contains("node budget hit"));
+}

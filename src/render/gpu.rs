@@ -7,6 +7,7 @@ use wgpu::util::DeviceExt;
 use crate::tree::{Hierarchy, SphereNode};
 
 use super::codegen::Shader;
+use super::tiles::TileLists;
 use super::uniforms::Uniforms;
 
 /// The colour format the ray caster writes.
@@ -132,6 +133,9 @@ pub struct RayCaster {
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
+    tiles: wgpu::Buffer,
+    /// `Uniforms::tiling` for the tile lists bound (zero: walk the hierarchy).
+    tiling: [u32; 4],
     bind_group: wgpu::BindGroup,
 }
 
@@ -170,6 +174,16 @@ impl RayCaster {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
                     visibility: wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: true },
@@ -220,13 +234,16 @@ impl RayCaster {
             mapped_at_creation: false,
         });
         let nodes = node_buffer(gpu, hierarchy)?;
-        let bind_group = bind_group(device, &layout, &uniforms, &nodes);
+        let tiles = tile_buffer(gpu, &[0, 0]);
+        let bind_group = bind_group(device, &layout, &uniforms, &nodes, &tiles);
         Ok(Self {
             target,
             pipeline,
             layout,
             uniforms,
             nodes,
+            tiles,
+            tiling: [0; 4],
             bind_group,
         })
     }
@@ -234,8 +251,37 @@ impl RayCaster {
     /// Replaces the hierarchy (a new tree for the same formula: parameters, domain, levels).
     pub fn set_hierarchy(&mut self, gpu: &Gpu, hierarchy: &Hierarchy) -> Result<(), GpuError> {
         self.nodes = node_buffer(gpu, hierarchy)?;
-        self.bind_group = bind_group(&gpu.device, &self.layout, &self.uniforms, &self.nodes);
+        // Old tile lists index the old hierarchy.
+        self.set_tiles(gpu, None);
         Ok(())
+    }
+
+    /// Binds per-tile leaf lists for one view (or none: each pixel walks the hierarchy).
+    /// Lists over the device's storage-buffer limit are dropped for the walk.
+    pub fn set_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        match lists {
+            Some(l) if (l.data.len() as u64) * 4 <= limit && !l.data.is_empty() => {
+                self.tiles = tile_buffer(gpu, &l.data);
+                self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
+            }
+            _ => {
+                self.tiles = tile_buffer(gpu, &[0, 0]);
+                self.tiling = [0; 4];
+            }
+        }
+        self.bind_group = bind_group(
+            &gpu.device,
+            &self.layout,
+            &self.uniforms,
+            &self.nodes,
+            &self.tiles,
+        );
+    }
+
+    /// Whether tile lists are bound.
+    pub fn tiled(&self) -> bool {
+        self.tiling[2] != 0
     }
 
     /// Records a frame into `target` (a view of a texture in this caster's format).
@@ -260,8 +306,10 @@ impl RayCaster {
         uniforms: &Uniforms,
         pass: Pass,
     ) {
+        let mut uniforms = *uniforms;
+        uniforms.tiling = self.tiling;
         gpu.queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         let load = if pass.region.is_none() && !self.target.accumulate {
             wgpu::LoadOp::Clear(wgpu::Color::BLACK)
         } else {
@@ -431,11 +479,21 @@ fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuErro
         }))
 }
 
+fn tile_buffer(gpu: &Gpu, data: &[u32]) -> wgpu::Buffer {
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fourfold tiles"),
+            contents: bytemuck::cast_slice(data),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
 fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     uniforms: &wgpu::Buffer,
     nodes: &wgpu::Buffer,
+    tiles: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("fourfold bind group"),
@@ -448,6 +506,10 @@ fn bind_group(
             wgpu::BindGroupEntry {
                 binding: 1,
                 resource: nodes.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: tiles.as_entire_binding(),
             },
         ],
     })

@@ -6,9 +6,11 @@ pub mod codegen;
 pub mod cpu;
 pub mod gpu;
 pub mod pipeline;
+pub mod tiles;
 pub mod uniforms;
 
 pub use camera::{Camera, Rotation4};
 pub use codegen::{CodegenError, Shader};
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target};
+pub use tiles::TileLists;
 pub use uniforms::{FrameOptions, Uniforms};

@@ -11,6 +11,7 @@ use crate::tree::{Hierarchy, Tree16, TreeStats};
 use super::camera::Camera;
 use super::codegen;
 use super::gpu::{Gpu, RayCaster};
+use super::tiles::TileLists;
 use super::uniforms::{FrameOptions, Uniforms};
 
 /// Milliseconds per stage.
@@ -122,10 +123,10 @@ pub fn render_scene(
             times.frame_ms = ms(t);
             (rgba, "CPU reference renderer".to_string())
         }
-        Device::Gpu(gpu) => gpu_frame(gpu, &shader, &hierarchy, &uniforms, &mut times)?,
+        Device::Gpu(gpu) => gpu_frame(gpu, &shader, &hierarchy, &camera, &uniforms, &mut times)?,
         Device::NewGpu => {
             let gpu = Gpu::new()?;
-            gpu_frame(&gpu, &shader, &hierarchy, &uniforms, &mut times)?
+            gpu_frame(&gpu, &shader, &hierarchy, &camera, &uniforms, &mut times)?
         }
     };
     let cut_pixels = take_cut_pixels(&mut rgba);
@@ -144,13 +145,17 @@ fn gpu_frame(
     gpu: &Gpu,
     shader: &codegen::Shader,
     hierarchy: &Hierarchy,
+    camera: &Camera,
     uniforms: &Uniforms,
     times: &mut StageTimes,
 ) -> Result<(Vec<u8>, String), RenderError> {
     let t = Instant::now();
-    let caster = RayCaster::new(gpu, shader, hierarchy)?;
+    let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
+    if std::env::var_os("FOURFOLD_NO_TILES").is_none() {
+        caster.set_tiles(gpu, Some(&TileLists::build(hierarchy, camera)));
+    }
     let rgba = caster.render_rgba(gpu, uniforms)?;
     times.frame_ms = ms(t);
     Ok((rgba, gpu.adapter.clone()))

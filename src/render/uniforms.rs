@@ -1,5 +1,5 @@
 //! The uniform block the ray caster reads, laid out exactly as `Uniforms` in
-//! `templates/raycast.wgsl` (1056 bytes), and how a scene fills it.
+//! `templates/raycast.wgsl` (1072 bytes), and how a scene fills it.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -45,6 +45,9 @@ pub struct Uniforms {
     pub control: [u32; 4],
     /// node count, frame, NaN bit pattern, brute-force steps
     pub counts: [u32; 4],
+    /// tile side, tiles per row, tile lists bound (0/1), index where the leaf entries start;
+    /// set by the ray caster from its tile lists (see `tiles.rs`).
+    pub tiling: [u32; 4],
     pub levels: [LevelInfo; LEVEL_SLOTS],
     pub params: [[f32; 4]; 16],
 }
@@ -153,6 +156,7 @@ impl Uniforms {
                 f32::NAN.to_bits(),
                 brute_steps,
             ],
+            tiling: [0; 4],
             levels,
             params: packed,
         }

@@ -610,7 +610,7 @@ impl FourfoldApp {
             more = self.progressive.step(
                 gpu,
                 &mut renderer,
-                &self.session,
+                &mut self.session,
                 size,
                 key,
                 interacting,

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use eframe::{egui, egui_wgpu};
 
-use crate::render::{Camera, FrameOptions, Gpu, Pass, Uniforms};
+use crate::render::{Camera, FrameOptions, Gpu, Pass, TileLists, Uniforms};
 use crate::scene::Scene;
 
 use super::session::{Session, VIEW_TARGET};
@@ -93,7 +93,7 @@ impl Default for Progressive {
             completed: None,
             shown: None,
             key: None,
-            rays_per_ms: 200.0,
+            rays_per_ms: 50.0,
             stage_started: None,
             stage_gpu_ms: 0.0,
             full_ms: None,
@@ -255,15 +255,15 @@ impl Progressive {
         &mut self,
         gpu: &Gpu,
         renderer: &mut egui_wgpu::Renderer,
-        session: &Session,
+        session: &mut Session,
         size: [u32; 2],
         key: String,
         interacting: bool,
         budget_ms: f64,
     ) -> bool {
-        let (Some(caster), Some(hierarchy)) = (&session.caster, &session.hierarchy) else {
+        if session.caster.is_none() || session.hierarchy.is_none() {
             return false;
-        };
+        }
         self.ensure_textures(gpu, renderer, size);
         let full_key = format!("{key}|{}|{}", session.picture_generation, interacting);
         if self.key.as_deref() != Some(full_key.as_str()) {
@@ -305,17 +305,22 @@ impl Progressive {
             if started.elapsed().as_secs_f64() * 1e3 >= budget_ms {
                 return true;
             }
-            if self.stage_started.is_none() {
-                self.stage_started = Some(Instant::now());
-            }
-            let mut render = session.scene.render;
-            render.rays = stage.rays;
             let camera = Camera::new(
                 &session.scene.domain,
                 &session.scene.view,
                 tex.width,
                 tex.height,
             );
+            let (Some(caster), Some(hierarchy)) = (&mut session.caster, &session.hierarchy) else {
+                return false;
+            };
+            if self.stage_started.is_none() {
+                self.stage_started = Some(Instant::now());
+                // The leaves of each screen tile, for this stage's resolution and view.
+                caster.set_tiles(gpu, Some(&TileLists::build(hierarchy, &camera)));
+            }
+            let mut render = session.scene.render;
+            render.rays = stage.rays;
             let uniforms = Uniforms::new(
                 &camera,
                 &render,
