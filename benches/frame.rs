@@ -194,7 +194,7 @@ fn main() {
     println!("| pixels | rays | level | ms | ms per megaray |");
     println!("|---|---|---|---|---|");
     let mut base = prepare(&gpu, "glome", 6);
-    let mut row = |p: &mut Prepared, px: u32, rays: u32, level: u32| {
+    let row = |p: &mut Prepared, px: u32, rays: u32, level: u32| {
         let (ms, _) = frame(&gpu, p, px, rays, Method::Tiles);
         let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
         println!(

@@ -169,6 +169,9 @@ fn peer<F: Function + MathFunction>(
     bx: &[Box4],
 ) -> Result<f64, String> {
     let func = F::new(ctx, outs).map_err(|e| e.to_string())?;
+    if std::env::var_os("FOURFOLD_BENCH_SIZES").is_some() {
+        eprintln!("fidget function size: {}", func.size());
+    }
     let tape = func.interval_tape(Default::default());
     let mut eval = F::new_interval_eval();
     let vars = fidget::eval::Tape::vars(&tape);
@@ -231,6 +234,13 @@ fn main() {
             ("F+grad", &f.tape_all, &grad[..]),
         ] {
             let mine = ours(&f, tape, &params, &bx);
+            if std::env::var_os("FOURFOLD_BENCH_SIZES").is_some() {
+                eprintln!(
+                    "{name} {label}: our tape {} instructions ({} per box)",
+                    tape.len(),
+                    tape.len() - tape.uniform_len()
+                );
+            }
             let (ctx, outs, w_var) = match to_fidget(&f, &params, roots) {
                 Ok(t) => t,
                 Err(e) => {

@@ -518,7 +518,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     };
     let picture = render_scene(&scene, width, height, device, Default::default())
         .map_err(|e| Failure::runtime(e.to_string()))?;
-    let cut = picture.cut_pixels;
+    let cut = picture.cut_pixels.len();
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)
         .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;
     image

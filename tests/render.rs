@@ -214,8 +214,11 @@ fn coverage_grows_with_rays_towards_the_whole_plane_check() {
         scene.render.rays = rays;
         let g = render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
         let c = coverage(&g.rgba, scene.render.background.0);
-        // Pixels whose loops the driver cut short carry alpha 254 (see fs_main).
-        let flagged: Vec<bool> = g.rgba.chunks(4).map(|p| p[3] != 255).collect();
+        // Pixels whose loops the driver cut short are flagged (see fs_main).
+        let mut flagged = vec![false; (size * size) as usize];
+        for &i in &g.cut_pixels {
+            flagged[i] = true;
+        }
         let detected =
             c.iter().zip(&truth).filter(|(g, t)| **g && **t).count() as f64 / covered_truth as f64;
         let false_pos =
@@ -274,4 +277,52 @@ fn no_adapter_gives_a_clear_message_not_a_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(stderr.contains("no GPU adapter found"), "{stderr}");
     assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+}
+
+#[test]
+fn tile_lists_hold_every_leaf_a_pixel_can_see() {
+    use fourfold::render::TileLists;
+    use fourfold::tree::{Hierarchy, Tree16};
+    for (name, scene) in example_scenes().into_iter().take(4) {
+        let scene = small(&scene);
+        let f = CompiledFormula::compile(&scene.formula).unwrap();
+        let params = scene.param_values(&f.param_names());
+        let tree = Tree16::build(
+            &f,
+            &params,
+            &scene.domain,
+            scene.tree.into(),
+            &Default::default(),
+            None,
+        )
+        .unwrap();
+        let h = Hierarchy::from_tree(&tree);
+        for (w, hgt) in [(40, 24), (97, 61)] {
+            let camera = Camera::new(&scene.domain, &scene.view, w, hgt);
+            let lists = TileLists::build(&h, &camera);
+            assert!(lists.tile >= 2 && lists.tile <= 16);
+            for py in 0..hgt {
+                for px in 0..w {
+                    let o = camera.origin(f64::from(px), f64::from(py));
+                    let list = lists.tile(px / lists.tile, py / lists.tile);
+                    for (i, node) in h.nodes.iter().enumerate() {
+                        if !node.is_leaf() {
+                            continue;
+                        }
+                        let r = f64::from(h.levels[node.level() as usize].radius);
+                        let rel: [f64; 4] =
+                            std::array::from_fn(|k| f64::from(node.center[k]) - o[k]);
+                        let a: f64 = (0..4).map(|k| rel[k] * camera.v1[k]).sum();
+                        let b: f64 = (0..4).map(|k| rel[k] * camera.v2[k]).sum();
+                        if a * a + b * b <= r * r {
+                            assert!(
+                                list.contains(&(i as u32)),
+                                "{name} {w}x{hgt}: leaf {i} meets pixel ({px}, {py}) but is not in its tile"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -197,7 +197,11 @@ fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
     let app = h.state();
     assert!(app.session.error.is_none());
     assert_eq!(app.session.stats.as_ref().unwrap().leaves, 0);
-    assert!(app.session.tree_summary().contains("no surface in this domain"));
+    assert!(
+        app.session
+            .tree_summary()
+            .contains("no surface in this domain")
+    );
     h.get_by_label_contains("no surface in this domain");
 
     // A huge max level is bounded by the node budget; the window keeps answering meanwhile.
@@ -216,8 +220,16 @@ fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
         let t = Instant::now();
         h.step();
         frames += 1;
-        assert!(t.elapsed() < Duration::from_secs(5), "a UI frame took {:?}", t.elapsed());
-        assert!(started.elapsed() < Duration::from_secs(120), "the build did not end");
+        // Generous: CI runs these tests in parallel on a software GPU.
+        assert!(
+            t.elapsed() < Duration::from_secs(15),
+            "a UI frame took {:?}",
+            t.elapsed()
+        );
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "the build did not end"
+        );
     }
     settle(&mut h);
     let stats = h.state().session.stats.clone().unwrap();

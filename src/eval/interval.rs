@@ -24,23 +24,28 @@ pub struct Interval {
     hi: f64,
 }
 
-/// A float at or below the next float under `x`, without branches: for |x| in
-/// [2^e, 2^(e+1)) one ulp is at most |x|·2^-52, so x − |x|·2^-52 is at or below the next
-/// float down and rounding to nearest cannot bring it back above it; the smallest subnormal
-/// covers zero and subnormal x. At most one ulp looser than `next_down`. A rounded result of
-/// +∞ (an overflow: the exact value is above `f64::MAX`) comes down to just under `MAX`; −∞
-/// stays; NaN (only from an empty operand) gives a huge bound, so the result stays empty.
+/// The next float below `x` (one ulp; enough, as `+ - * /` and `sqrt` are correctly rounded,
+/// so their exact result is within half an ulp of the rounded one). Done on the bits, with
+/// selects rather than branches: the rounding is on the critical path of every interval
+/// operation, and a float-arithmetic version cost four dependent operations. +∞ (an overflow:
+/// the exact value is above `f64::MAX`) comes down to `MAX`; −∞ stays; ±0 gives the smallest
+/// negative subnormal; NaN (only from an empty operand) stays NaN, so the result stays empty.
 #[inline]
 fn down(x: f64) -> f64 {
-    let x = lesser(x, f64::MAX);
-    x - (x.abs() * f64::EPSILON + TINY)
+    let b = x.to_bits() as i64;
+    // Positive floats: one step down is bits − 1; negative ones: bits + 1.
+    let r = f64::from_bits((b - ((b >> 63) | 1)) as u64);
+    let r = if x == f64::NEG_INFINITY { x } else { r };
+    if x == 0.0 { -TINY } else { r }
 }
 
-/// A float at or above the next float over `x`; see [`down`].
+/// The next float above `x`; see [`down`]. −∞ comes up to `−MAX`, +∞ stays.
 #[inline]
 fn up(x: f64) -> f64 {
-    let x = greater(x, -f64::MAX);
-    x + (x.abs() * f64::EPSILON + TINY)
+    let b = x.to_bits() as i64;
+    let r = f64::from_bits((b + ((b >> 63) | 1)) as u64);
+    let r = if x == f64::INFINITY { x } else { r };
+    if x == 0.0 { TINY } else { r }
 }
 
 /// `a < b ? a : b`: one `minsd`, unlike `f64::min`, which handles NaN. A NaN `a` gives `b`.
@@ -196,11 +201,12 @@ impl Interval {
         // and hi = −∞ or NaN, which `down`/`up` keep out of order, and `new` gives EMPTY.
         let lo = down(self.lo + b.lo);
         // A sum of non-negative numbers is non-negative: keep x^2 + y^2 ≥ 0 exact.
-        let lo = if self.lo >= 0.0 && b.lo >= 0.0 {
-            greater(lo, 0.0)
+        let floor = if (self.lo >= 0.0) & (b.lo >= 0.0) {
+            0.0
         } else {
-            lo
+            f64::NEG_INFINITY
         };
+        let lo = greater(lo, floor);
         Self::new(lo, up(self.hi + b.hi))
     }
 
@@ -227,6 +233,24 @@ impl Interval {
             return Self::EMPTY;
         }
         let a = self;
+        // Finite bounds (the usual case, and a well-predicted branch): four plain products and
+        // branch-free min/max; no 0·∞ can occur.
+        if (a.lo.abs() < f64::INFINITY)
+            & (a.hi.abs() < f64::INFINITY)
+            & (b.lo.abs() < f64::INFINITY)
+            & (b.hi.abs() < f64::INFINITY)
+        {
+            let (p1, p2, p3, p4) = (a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi);
+            let lo = lesser(lesser(p1, p2), lesser(p3, p4));
+            let hi = greater(greater(p1, p2), greater(p3, p4));
+            // Products of two non-negative (or two non-positive) intervals stay ≥ 0.
+            let floor = if ((a.lo >= 0.0) & (b.lo >= 0.0)) | ((a.hi <= 0.0) & (b.hi <= 0.0)) {
+                0.0
+            } else {
+                f64::NEG_INFINITY
+            };
+            return Self::new(greater(down(lo), floor), up(hi));
+        }
         // Sign cases: two products unless both straddle zero.
         let (lo, hi) = if a.lo >= 0.0 {
             if b.lo >= 0.0 {
@@ -325,13 +349,14 @@ impl Interval {
         if self.is_empty() {
             return self;
         }
-        let m = self.abs();
-        let lo = if m.lo == 0.0 {
+        // Branch-free: the squares of the ends, and 0 when the interval straddles 0.
+        let (a, b) = (self.lo * self.lo, self.hi * self.hi);
+        let lo = if (self.lo < 0.0) & (self.hi > 0.0) {
             0.0
         } else {
-            greater(down(m.lo * m.lo), 0.0)
+            lesser(a, b)
         };
-        Self::new(lo, up(m.hi * m.hi))
+        Self::new(greater(down(lo), 0.0), up(greater(a, b)))
     }
 
     /// x^n for an integer n; tight (never negative) for even n.

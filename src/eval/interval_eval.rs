@@ -4,7 +4,7 @@
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::interval::Interval;
-use super::tape::{Instr, PrefixKey, Tape};
+use super::tape::{Op, PrefixKey, Tape};
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
 pub type Box4 = [Interval; 4];
@@ -33,18 +33,19 @@ impl IntervalEvaluator {
         } else {
             tape.uniform_len()
         };
-        for (i, instr) in tape.instrs().iter().enumerate().skip(start) {
-            let v = match *instr {
-                Instr::Const(c) => Interval::point(c),
-                Instr::Var(a) => bx[a as usize & 3],
-                Instr::Param(i) => Interval::point(params.get(i as usize).copied().unwrap_or(1.0)),
-                Instr::Unary(op, a) => unary(op, slots[a as usize]),
-                Instr::Binary(BinaryOp::Add, a, b) => slots[a as usize].add(slots[b as usize]),
-                Instr::Binary(BinaryOp::Sub, a, b) => slots[a as usize].sub(slots[b as usize]),
-                Instr::Binary(BinaryOp::Mul, a, b) => slots[a as usize].mul(slots[b as usize]),
-                Instr::Binary(op, a, b) => binary(op, slots[a as usize], slots[b as usize]),
-                Instr::Powi(a, 2) => slots[a as usize].square(),
-                Instr::Powi(a, n) => slots[a as usize].powi(n),
+        for (i, op) in tape.ops().iter().enumerate().skip(start) {
+            let v = match *op {
+                Op::Const(c) => Interval::point(c),
+                Op::Var(a) => bx[a as usize & 3],
+                Op::Param(i) => Interval::point(params.get(i as usize).copied().unwrap_or(1.0)),
+                Op::Add(a, b) => slots[a as usize].add(slots[b as usize]),
+                Op::Sub(a, b) => slots[a as usize].sub(slots[b as usize]),
+                Op::Mul(a, b) => slots[a as usize].mul(slots[b as usize]),
+                Op::Neg(a) => slots[a as usize].neg(),
+                Op::Square(a) => slots[a as usize].square(),
+                Op::Powi(a, n) => slots[a as usize].powi(n),
+                Op::Unary(op, a) => unary(op, slots[a as usize]),
+                Op::Binary(op, a, b) => binary(op, slots[a as usize], slots[b as usize]),
             };
             slots[i] = v;
         }

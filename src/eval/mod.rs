@@ -8,4 +8,4 @@ pub mod tape;
 pub use interval::Interval;
 pub use interval_eval::{Box4, IntervalEvaluator};
 pub use point::PointEvaluator;
-pub use tape::{Instr, Tape};
+pub use tape::{Instr, Op, Tape};

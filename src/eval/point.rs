@@ -3,7 +3,7 @@
 
 use crate::expr::graph::{apply_binary, apply_powi, apply_unary};
 
-use super::tape::{Instr, PrefixKey, Tape};
+use super::tape::{Op, PrefixKey, Tape};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate.
 #[derive(Debug, Clone, Default)]
@@ -29,14 +29,19 @@ impl PointEvaluator {
         } else {
             tape.uniform_len()
         };
-        for (i, instr) in tape.instrs().iter().enumerate().skip(start) {
-            let v = match *instr {
-                Instr::Const(c) => c,
-                Instr::Var(a) => p[a as usize & 3],
-                Instr::Param(i) => params.get(i as usize).copied().unwrap_or(1.0),
-                Instr::Unary(op, a) => apply_unary(op, slots[a as usize]),
-                Instr::Binary(op, a, b) => apply_binary(op, slots[a as usize], slots[b as usize]),
-                Instr::Powi(a, n) => apply_powi(slots[a as usize], n),
+        for (i, op) in tape.ops().iter().enumerate().skip(start) {
+            let v = match *op {
+                Op::Const(c) => c,
+                Op::Var(a) => p[a as usize & 3],
+                Op::Param(i) => params.get(i as usize).copied().unwrap_or(1.0),
+                Op::Add(a, b) => slots[a as usize] + slots[b as usize],
+                Op::Sub(a, b) => slots[a as usize] - slots[b as usize],
+                Op::Mul(a, b) => slots[a as usize] * slots[b as usize],
+                Op::Neg(a) => -slots[a as usize],
+                Op::Square(a) => apply_powi(slots[a as usize], 2),
+                Op::Powi(a, n) => apply_powi(slots[a as usize], n),
+                Op::Unary(op, a) => apply_unary(op, slots[a as usize]),
+                Op::Binary(op, a, b) => apply_binary(op, slots[a as usize], slots[b as usize]),
             };
             slots[i] = v;
         }

@@ -21,10 +21,46 @@ pub enum Instr {
     Powi(u32, i32),
 }
 
+/// The evaluators' form of an instruction: one flat enum, so that their loops dispatch once
+/// per instruction (the common arithmetic has its own variants).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Op {
+    Const(f64),
+    Var(u8),
+    Param(u32),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Neg(u32),
+    Square(u32),
+    Powi(u32, i32),
+    Unary(UnaryOp, u32),
+    Binary(BinaryOp, u32, u32),
+}
+
+impl From<Instr> for Op {
+    fn from(instr: Instr) -> Self {
+        match instr {
+            Instr::Const(v) => Op::Const(v),
+            Instr::Var(a) => Op::Var(a & 3),
+            Instr::Param(i) => Op::Param(i),
+            Instr::Unary(UnaryOp::Neg, a) => Op::Neg(a),
+            Instr::Unary(op, a) => Op::Unary(op, a),
+            Instr::Binary(BinaryOp::Add, a, b) => Op::Add(a, b),
+            Instr::Binary(BinaryOp::Sub, a, b) => Op::Sub(a, b),
+            Instr::Binary(BinaryOp::Mul, a, b) => Op::Mul(a, b),
+            Instr::Binary(op, a, b) => Op::Binary(op, a, b),
+            Instr::Powi(a, 2) => Op::Square(a),
+            Instr::Powi(a, n) => Op::Powi(a, n),
+        }
+    }
+}
+
 /// A straight-line program: slot i holds the value of instruction i.
 #[derive(Debug, Clone)]
 pub struct Tape {
     instrs: Vec<Instr>,
+    ops: Vec<Op>,
     outputs: Vec<u32>,
     uniform_len: usize,
     /// Distinct per `Tape::new` (clones share it: same content), so an evaluator can tell
@@ -72,8 +108,10 @@ impl Tape {
             .filter(|&i| needed[i] && uniform[i])
             .count();
         let outputs = outputs.iter().map(|o| slot[o.index()]).collect();
+        let ops = instrs.iter().map(|&i| Op::from(i)).collect();
         Self {
             instrs,
+            ops,
             outputs,
             uniform_len,
             id: NEXT_TAPE_ID.fetch_add(1, Ordering::Relaxed),
@@ -92,6 +130,11 @@ impl Tape {
 
     pub fn instrs(&self) -> &[Instr] {
         &self.instrs
+    }
+
+    /// The instructions in the evaluators' flat form.
+    pub fn ops(&self) -> &[Op] {
+        &self.ops
     }
 
     pub fn outputs(&self) -> &[u32] {

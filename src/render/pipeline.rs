@@ -33,18 +33,18 @@ pub struct Picture {
     pub adapter: String,
     pub times: StageTimes,
     pub tree: TreeStats,
-    /// Pixels whose work the GPU driver cut short (llvmpipe stops a shader invocation's loops
-    /// after 65535 iterations): they may miss parts of M. The shader flags them with alpha
-    /// 254; `rgba` has alpha 255 everywhere.
-    pub cut_pixels: usize,
+    /// Pixels (row-major indices) whose work the GPU driver cut short (llvmpipe stops a
+    /// shader invocation's loops after 65535 iterations): they may miss parts of M. The
+    /// shader flags them with alpha 254; `rgba` has alpha 255 everywhere.
+    pub cut_pixels: Vec<usize>,
 }
 
-/// Counts the pixels the shader flagged (alpha 254) and makes every pixel opaque.
-pub fn take_cut_pixels(rgba: &mut [u8]) -> usize {
-    let mut cut = 0;
-    for p in rgba.chunks_mut(4) {
+/// The pixels the shader flagged (alpha 254), made opaque.
+pub fn take_cut_pixels(rgba: &mut [u8]) -> Vec<usize> {
+    let mut cut = Vec::new();
+    for (i, p) in rgba.chunks_mut(4).enumerate() {
         if p[3] != 255 {
-            cut += 1;
+            cut.push(i);
             p[3] = 255;
         }
     }

@@ -78,8 +78,7 @@ impl TileLists {
                 let x1 = ((cx + rp) / tf).floor();
                 let y0 = ((cy - rp) / tf).floor().max(0.0);
                 let y1 = ((cy + rp) / tf).floor();
-                if !(x1 >= 0.0 && y1 >= 0.0 && x0 < f64::from(tiles_x) && y0 < f64::from(tiles_y))
-                {
+                if !(x1 >= 0.0 && y1 >= 0.0 && x0 < f64::from(tiles_x) && y0 < f64::from(tiles_y)) {
                     return None;
                 }
                 Some([

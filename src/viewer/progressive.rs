@@ -63,6 +63,8 @@ pub struct Progressive {
     stage: usize,
     tile: u32,
     next_tile: u32,
+    /// Measured milliseconds per square in this stage (None: not measured yet).
+    unit_ms: Option<f64>,
     /// The highest stage completed for the current plan (None: nothing yet).
     completed: Option<usize>,
     /// The texture of the last completed stage of any plan: what is on screen.
@@ -88,8 +90,9 @@ impl Default for Progressive {
             textures: Vec::new(),
             stages: Vec::new(),
             stage: 0,
-            tile: 64,
+            tile: UNIT,
             next_tile: 0,
+            unit_ms: None,
             completed: None,
             shown: None,
             key: None,
@@ -103,6 +106,9 @@ impl Default for Progressive {
         }
     }
 }
+
+/// Side of the squares a stage is drawn in, pixels.
+const UNIT: u32 = 8;
 
 /// The divisors of the stage textures: preview sizes and the full picture.
 const DIVS: [u32; 6] = [32, 16, 8, 4, 2, 1];
@@ -233,12 +239,10 @@ impl Progressive {
 
     /// Tile side for the current stage: about 20 ms of rays, at least 8 pixels.
     fn plan_tile(&mut self) {
-        let Some(stage) = self.stages.get(self.stage) else {
-            return;
-        };
-        let rays_per_tile = 20.0 * self.rays_per_ms / f64::from(stage.rays);
-        let side = rays_per_tile.max(64.0).sqrt() as u32;
-        self.tile = (side / 8 * 8).clamp(8, 2048);
+        // Work goes in runs of UNIT×UNIT squares along a row; the run length adapts to the
+        // measured time per square (a square of sky costs nothing, one on M a lot).
+        self.tile = UNIT;
+        self.unit_ms = None;
     }
 
     fn texture_index(div: u32) -> usize {
@@ -333,7 +337,13 @@ impl Progressive {
                 },
             );
             let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
-            let region = [tx * self.tile, ty * self.tile, self.tile, self.tile];
+            // As many squares of this row as fit in what is left of the budget.
+            let left = (budget_ms - started.elapsed().as_secs_f64() * 1e3).max(1.0);
+            let run = match self.unit_ms {
+                None => 1,
+                Some(u) => ((left / u.max(1e-3)) as u32).clamp(1, cols - tx),
+            };
+            let region = [tx * self.tile, ty * self.tile, run * self.tile, self.tile];
             let t = Instant::now();
             let mut encoder = gpu
                 .device
@@ -350,16 +360,26 @@ impl Progressive {
             );
             gpu.queue.submit([encoder.finish()]);
             let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
-            let tile_ms = t.elapsed().as_secs_f64() * 1e3;
-            self.stage_gpu_ms += tile_ms;
-            let w = self.tile.min(tex.width - region[0]);
+            let run_ms = t.elapsed().as_secs_f64() * 1e3;
+            self.stage_gpu_ms += run_ms;
+            let per_unit = run_ms / f64::from(run);
+            // Slower squares count at once, faster ones slowly: never plan a run too long.
+            self.unit_ms = Some(match self.unit_ms {
+                Some(u) if per_unit < u => 0.8 * u + 0.2 * per_unit,
+                _ => per_unit,
+            });
+            let w = (run * self.tile).min(tex.width - region[0]);
             let h = self.tile.min(tex.height - region[1]);
             let rays = f64::from(w * h * stage.rays);
-            if tile_ms > 0.05 {
-                // Smoothed throughput: quick to learn, not jumpy.
-                self.rays_per_ms = 0.7 * self.rays_per_ms + 0.3 * (rays / tile_ms);
+            if run_ms > 0.05 {
+                let measured = rays / run_ms;
+                self.rays_per_ms = if measured < self.rays_per_ms {
+                    measured
+                } else {
+                    0.9 * self.rays_per_ms + 0.1 * measured
+                };
             }
-            self.next_tile += 1;
+            self.next_tile += run;
         }
         false
     }

@@ -178,7 +178,12 @@ impl Session {
         };
         let codegen_ms = ms(t);
         self.error = None;
-        self.scene.formula = text.trim().to_string();
+        let text = text.trim().to_string();
+        if self.scene.formula != text {
+            // The scene's explanation was about its own formula.
+            self.scene.description.clear();
+        }
+        self.scene.formula = text;
         // New parameters get 1.0 (or their old value), as on the command line.
         for name in formula.param_names() {
             self.scene.params.entry(name.to_string()).or_insert(1.0);
@@ -259,7 +264,13 @@ impl Session {
                     let caster = match (&gpu, &tree) {
                         (Some(gpu), Ok((hierarchy, _))) if make_pipeline => Some(
                             RayCaster::with_target(gpu, &shader, hierarchy, VIEW_TARGET)
-                                .map_err(|e| e.to_string()),
+                                .map_err(|e| e.to_string())
+                                .and_then(|caster| {
+                                    // One 1x1 draw here, so that a driver that compiles the
+                                    // shader at its first draw (llvmpipe) does it off the UI
+                                    // thread.
+                                    warm_up(gpu, &caster, hierarchy).map(|()| caster)
+                                }),
                         ),
                         _ => None,
                     };
@@ -380,6 +391,23 @@ impl Session {
         line.push_str(&format!(", built in {:.0} ms", s.build_ms));
         line
     }
+}
+
+fn warm_up(gpu: &Gpu, caster: &RayCaster, hierarchy: &Hierarchy) -> Result<(), String> {
+    let scene = Scene::from_formula("0");
+    let camera = crate::render::Camera::new(&scene.domain, &scene.view, 1, 1);
+    let uniforms = crate::render::Uniforms::new(
+        &camera,
+        &scene.render,
+        &scene.domain,
+        hierarchy,
+        &[],
+        Default::default(),
+    );
+    caster
+        .render_rgba(gpu, &uniforms)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }
 
 fn ms(t: Instant) -> f64 {
