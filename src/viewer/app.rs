@@ -694,9 +694,11 @@ impl eframe::App for FourfoldApp {
             }
         }
         let mut more = false;
-        egui::CentralPanel::default().show(ui, |ui| {
-            more = self.picture(ui);
-        });
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| {
+                more = self.picture(ui);
+            });
         if more || self.session.building() || self.export.is_some() || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         }
