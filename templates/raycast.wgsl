@@ -227,14 +227,6 @@ fn clip_to_box(o: vec4<f32>, d: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2
     return vec2<f32>(t0, t1);
 }
 
-fn trace_box(hits: ptr<function, Hits>, o: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>, steps: u32, pixel_seed: u32, offset: f32) {
-    let n = u.size.z;
-    let k_max = min(u.size.w, MAX_HITS);
-    for (var k = 0u; k < n; k = k + 1u) {
-        trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
-    }
-}
-
 fn trace_ray(hits: ptr<function, Hits>, o: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>, steps: u32, k: u32, k_max: u32, pixel_seed: u32, offset: f32) {
     let dir = ray_dir2(k, u.size.z, pixel_seed, offset);
     let d = dir.x * u.n1 + dir.y * u.n2;
@@ -244,38 +236,42 @@ fn trace_ray(hits: ptr<function, Hits>, o: vec4<f32>, lo: vec4<f32>, hi: vec4<f3
     }
 }
 
-// A leaf: only the rays that can meet its sphere. q is the sphere centre's position in the
-// observer plane (along n1, n2, from o); every ray is a half-line from o in that plane.
-fn trace_leaf(hits: ptr<function, Hits>, o: vec4<f32>, c: vec4<f32>, half: vec4<f32>, radius: f32, q: vec2<f32>, pixel_seed: u32, offset: f32) {
+// A leaf (or, for the brute-force baseline, the whole domain): only the rays that can meet
+// its sphere. q is the sphere centre's position in the observer plane (along n1, n2, from o);
+// every ray is a half-line from o in that plane. One call site of trace_ray, so that the
+// shader holds few copies of F (it is inlined everywhere).
+fn trace_leaf(hits: ptr<function, Hits>, o: vec4<f32>, c: vec4<f32>, half: vec4<f32>, radius: f32, q: vec2<f32>, steps: u32, pixel_seed: u32, offset: f32) {
     let n = u.size.z;
+    let ni = i32(n);
     let k_max = min(u.size.w, MAX_HITS);
     let lo = c - half;
     let hi = c + half;
-    let steps = u.control.x;
     let dist = length(q);
-    if ((u.control.z & 8u) == 0u && dist > radius) {
-        // Stratified rays are at angles TAU (k + offset) / n: the sphere, seen from o, spans
-        // [phi - delta, phi + delta], so only the k in that range are traced (with a margin).
+    // Stratified rays are at angles TAU (k + offset) / n: the sphere, seen from o, spans
+    // [phi - delta, phi + delta], so only the k in that range are traced (with a margin).
+    let stratified = (u.control.z & 8u) == 0u && dist > radius;
+    var k0 = 0;
+    var count = n;
+    if (stratified) {
         let phi = atan2(q.y, q.x);
         let delta = asin(min(radius / dist, 1.0)) + 1e-3;
         let scale = f32(n) / TAU;
-        let k0 = i32(ceil((phi - delta) * scale - offset));
+        k0 = i32(ceil((phi - delta) * scale - offset));
         let k1 = i32(floor((phi + delta) * scale - offset));
-        let count = u32(clamp(k1 - k0 + 1, 0, i32(n)));
-        let ni = i32(n);
-        for (var j = 0u; j < count; j = j + 1u) {
-            let k = u32(((k0 + i32(j)) % ni + ni) % ni);
-            trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
-        }
-        return;
+        count = u32(clamp(k1 - k0 + 1, 0, ni));
     }
-    // Random rays (or o inside the sphere): a 2D test per ray before the 4D clip.
-    for (var k = 0u; k < n; k = k + 1u) {
-        let dir = ray_dir2(k, n, pixel_seed, offset);
-        let along = dot(dir, q);
-        let across = dir.x * q.y - dir.y * q.x;
-        if (along < -radius || abs(across) > radius) {
-            continue;
+    for (var j = 0u; j < count; j = j + 1u) {
+        var k = j;
+        if (stratified) {
+            k = u32(((k0 + i32(j)) % ni + ni) % ni);
+        } else {
+            // Random rays (or o inside the sphere): a 2D test per ray before the 4D clip.
+            let dir = ray_dir2(k, n, pixel_seed, offset);
+            let along = dot(dir, q);
+            let across = dir.x * q.y - dir.y * q.x;
+            if (along < -radius || abs(across) > radius) {
+                continue;
+            }
         }
         trace_ray(hits, o, lo, hi, steps, k, k_max, pixel_seed, offset);
     }
@@ -313,6 +309,9 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
     let specular = pow(max(dot(r, -d), 0.0), u.shading.w);
     return u.surface.rgb * (u.shading.x + u.shading.y * diffuse) + vec3<f32>(u.shading.z * specular);
 }
+
+// Batch.level of the brute-force baseline's one box, the whole domain.
+const DOMAIN: u32 = 255u;
 
 // Leaves that passed the pixel's tests, waiting to be traced.
 struct Batch {
@@ -373,21 +372,48 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var hits: Hits;
     hits.count = 0u;
     let k_max = min(u.size.w, MAX_HITS);
+    // Where the leaves come from: the brute-force baseline (the whole domain as one box,
+    // marched with the leaves' step), this pixel's tile list, or a walk of the hierarchy. Up
+    // to 8 candidates are tested per loop iteration (written out: an inner loop's iterations
+    // would count against llvmpipe's cap of 65535 loop iterations per invocation), and those
+    // that pass are traced after them, from one call site.
+    var mode = 2u;
+    if (u.tiling.z != 0u) {
+        mode = 1u;
+    }
     if ((u.control.z & 16u) != 0u) {
-        trace_box(&hits, o, u.domain_lo, u.domain_hi, u.counts.w, pixel_seed, offset);
-    } else if (u.tiling.z != 0u) {
-        // The leaves binned to this pixel's tile, 8 tested per loop iteration (see below).
-        let px_tile = vec2<u32>(pos.xy) / u.tiling.x;
+        mode = 0u;
+    }
+    var j = 0u;
+    var end = 0u;
+    let base = u.tiling.w;
+    if (mode == 1u) {
+        let px_tile = px / u.tiling.x;
         let t = px_tile.x + px_tile.y * u.tiling.y;
-        let base = u.tiling.w;
-        var j = tiles[t];
-        let end = tiles[t + 1u];
-        loop {
+        j = tiles[t];
+        end = tiles[t + 1u];
+    }
+    var i = 0u;
+    let n_nodes = u.counts.x;
+    var done = false;
+    loop {
+        if (done) {
+            break;
+        }
+        var batch: Batch;
+        batch.count = 0u;
+        if (mode == 0u) {
+            let c = 0.5 * (u.domain_lo + u.domain_hi);
+            let rel = c - o;
+            batch.center[0] = c;
+            batch.q[0] = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
+            batch.level[0] = DOMAIN;
+            batch.count = 1u;
+            done = true;
+        } else if (mode == 1u) {
             if (j >= end) {
                 break;
             }
-            var batch: Batch;
-            batch.count = 0u;
             visit(tiles[base + j], o, &hits, k_max, &batch);
             if (j + 1u < end) { visit(tiles[base + j + 1u], o, &hits, k_max, &batch); }
             if (j + 2u < end) { visit(tiles[base + j + 2u], o, &hits, k_max, &batch); }
@@ -397,36 +423,34 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             if (j + 6u < end) { visit(tiles[base + j + 6u], o, &hits, k_max, &batch); }
             if (j + 7u < end) { visit(tiles[base + j + 7u], o, &hits, k_max, &batch); }
             j = j + 8u;
-            for (var b = 0u; b < batch.count; b = b + 1u) {
-                let level = u.levels[batch.level[b]];
-                trace_leaf(&hits, o, batch.center[b], level.half, level.radius.x, batch.q[b], pixel_seed, offset);
-            }
-        }
-    } else {
-        // Stackless depth-first walk. Up to 8 nodes are tested per loop iteration and
-        // the leaves that pass are traced after them: llvmpipe (lavapipe) stops a shader's
-        // loops after 65535 iterations in all, so iterations are kept few.
-        var i = 0u;
-        let n = u.counts.x;
-        loop {
-            if (i >= n) {
+        } else {
+            if (i >= n_nodes) {
                 break;
             }
-            var batch: Batch;
-            batch.count = 0u;
-            // Written out, not a loop: an inner loop's iterations would count too.
             i = visit(i, o, &hits, k_max, &batch);
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            if (i < n) { i = visit(i, o, &hits, k_max, &batch); }
-            for (var j = 0u; j < batch.count; j = j + 1u) {
-                let level = u.levels[batch.level[j]];
-                trace_leaf(&hits, o, batch.center[j], level.half, level.radius.x, batch.q[j], pixel_seed, offset);
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+            if (i < n_nodes) { i = visit(i, o, &hits, k_max, &batch); }
+        }
+        for (var b = 0u; b < batch.count; b = b + 1u) {
+            var half: vec4<f32>;
+            var radius: f32;
+            var steps: u32;
+            if (batch.level[b] == DOMAIN) {
+                half = 0.5 * (u.domain_hi - u.domain_lo);
+                radius = length(half);
+                steps = u.counts.w;
+            } else {
+                let level = u.levels[batch.level[b]];
+                half = level.half;
+                radius = level.radius.x;
+                steps = u.control.x;
             }
+            trace_leaf(&hits, o, batch.center[b], half, radius, batch.q[b], steps, pixel_seed, offset);
         }
     }
     // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
