@@ -4,7 +4,7 @@
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::interval::Interval;
-use super::tape::{Op, PrefixKey, Tape};
+use super::tape::{Op, PrefixKey, Tape, prepare_slots};
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
 pub type Box4 = [Interval; 4];
@@ -23,16 +23,13 @@ impl IntervalEvaluator {
 
     /// Evaluates every output of `tape` over `bx`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, bx: &Box4, params: &[f64], out: &mut [Interval]) {
-        let n = tape.len();
-        if self.slots.len() < n {
-            self.slots.resize(n, Interval::EMPTY);
-        }
-        let slots = &mut self.slots[..n];
-        let start = if self.prefix.stale(tape, params) {
-            0
-        } else {
-            tape.uniform_len()
-        };
+        let (slots, start) = prepare_slots(
+            &mut self.slots,
+            &mut self.prefix,
+            tape,
+            params,
+            Interval::EMPTY,
+        );
         for (i, op) in tape.ops().iter().enumerate().skip(start) {
             let v = match *op {
                 Op::Const(c) => Interval::point(c),

@@ -3,7 +3,7 @@
 
 use crate::expr::graph::{apply_binary, apply_powi, apply_unary};
 
-use super::tape::{Op, PrefixKey, Tape};
+use super::tape::{Op, PrefixKey, Tape, prepare_slots};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate.
 #[derive(Debug, Clone, Default)]
@@ -19,16 +19,7 @@ impl PointEvaluator {
 
     /// Evaluates every output of `tape` at `p`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        let n = tape.len();
-        if self.slots.len() < n {
-            self.slots.resize(n, 0.0);
-        }
-        let slots = &mut self.slots[..n];
-        let start = if self.prefix.stale(tape, params) {
-            0
-        } else {
-            tape.uniform_len()
-        };
+        let (slots, start) = prepare_slots(&mut self.slots, &mut self.prefix, tape, params, 0.0);
         for (i, op) in tape.ops().iter().enumerate().skip(start) {
             let v = match *op {
                 Op::Const(c) => c,

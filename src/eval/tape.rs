@@ -157,6 +157,27 @@ pub(crate) struct PrefixKey {
     params: Vec<u64>,
 }
 
+/// Sizes `slots` for `tape` and returns them with the index of the first instruction to run:
+/// 0 when the uniform prefix must be (re)computed, else the prefix's length.
+pub(crate) fn prepare_slots<'a, T: Copy>(
+    slots: &'a mut Vec<T>,
+    key: &mut PrefixKey,
+    tape: &Tape,
+    params: &[f64],
+    fill: T,
+) -> (&'a mut [T], usize) {
+    let n = tape.len();
+    if slots.len() < n {
+        slots.resize(n, fill);
+    }
+    let start = if key.stale(tape, params) {
+        0
+    } else {
+        tape.uniform_len()
+    };
+    (&mut slots[..n], start)
+}
+
 impl PrefixKey {
     /// True when the prefix must be (re)computed for `tape` and `params`; records them.
     pub(crate) fn stale(&mut self, tape: &Tape, params: &[f64]) -> bool {
