@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use fourfold::CompiledFormula;
 use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms, codegen};
-use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::scene::Scene;
 use fourfold::syntax;
 use fourfold::tree::{Hierarchy, Tree16};
 
@@ -44,8 +44,7 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     for name in ["glome", "fig-3-9-left", "tiger"] {
-        let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
-        let scene = Scene::parse(text, name).unwrap();
+        let scene = Scene::example(name).unwrap();
         let mut best = [f64::INFINITY; 8];
         for _ in 0..RUNS {
             let start = Instant::now();

@@ -20,7 +20,7 @@ use std::time::Instant;
 use fourfold::CompiledFormula;
 use fourfold::render::codegen;
 use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms};
-use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::scene::Scene;
 use fourfold::tree::{BuildSettings, Hierarchy, Tree16};
 
 fn env_list(name: &str, default: &str) -> Vec<u32> {
@@ -47,8 +47,7 @@ struct Prepared {
 }
 
 fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
-    let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
-    let scene = Scene::parse(text, name).unwrap();
+    let scene = Scene::example(name).unwrap();
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
     let params = scene.param_values(&formula.param_names());
     let tree = Tree16::build(

@@ -23,7 +23,7 @@ fn bad<E: std::fmt::Display>(e: E) -> String {
 }
 use fourfold::eval::{Box4, Interval, IntervalEvaluator};
 use fourfold::expr::{BinaryOp, Node, NodeId, UnaryOp};
-use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::scene::Scene;
 
 const BOXES: usize = 200_000;
 const PASSES: usize = 5;
@@ -217,8 +217,7 @@ fn main() {
         "scene         outputs   ours (f64, rigorous)   fidget VM   fidget JIT   ours/VM   ours/JIT"
     );
     for name in ["fig-3-9-left", "glome"] {
-        let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
-        let scene = Scene::parse(text, name).unwrap();
+        let scene = Scene::example(name).unwrap();
         let f = CompiledFormula::compile(&scene.formula).unwrap();
         let params = scene.param_values(&f.param_names());
         let bx = boxes(&scene);

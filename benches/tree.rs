@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use fourfold::CompiledFormula;
-use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::scene::Scene;
 use fourfold::tree::{BuildSettings, Tree16};
 
 fn best_ms(runs: usize, mut f: impl FnMut() -> Tree16) -> (f64, Tree16) {
@@ -31,8 +31,7 @@ fn main() {
         "scene        criteria      level   leaves      1 thread   {threads} threads   speed-up   Mevals/s ({threads} thr)"
     );
     for name in ["glome", "fig-3-9-left"] {
-        let text = EXAMPLES.iter().find(|(n, _)| *n == name).unwrap().1;
-        let scene = Scene::parse(text, name).unwrap();
+        let scene = Scene::example(name).unwrap();
         let f = CompiledFormula::compile(&scene.formula).unwrap();
         let params = scene.param_values(&f.param_names());
         for uniform in [true, false] {

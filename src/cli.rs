@@ -504,10 +504,12 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
 
 /// `fourfold render`.
 pub fn render(args: &RenderArgs) -> Result<String, Failure> {
-    use crate::render::pipeline::{Device, render_scene};
+    use crate::render::pipeline::{Device, render_compiled};
     let scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
+    let t = std::time::Instant::now();
     let formula = compile(&scene)?;
+    let parse_ms = t.elapsed().as_secs_f64() * 1e3;
     for w in parameter_warnings(&scene, &formula) {
         eprintln!("{w}");
     }
@@ -516,8 +518,9 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     } else {
         Device::NewGpu
     };
-    let picture = render_scene(&scene, width, height, device, Default::default())
+    let mut picture = render_compiled(&scene, &formula, width, height, device, Default::default())
         .map_err(|e| Failure::runtime(e.to_string()))?;
+    picture.times.parse_ms = parse_ms;
     let cut = picture.cut_pixels.len();
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)
         .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;

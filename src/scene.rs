@@ -545,6 +545,16 @@ fn find_key(text: &str, key: &str) -> std::ops::Range<usize> {
     0..0
 }
 
+impl Scene {
+    /// The embedded example scene called `name` (see [`EXAMPLES`]), if there is one.
+    pub fn example(name: &str) -> Option<Scene> {
+        EXAMPLES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .and_then(|(n, text)| Scene::parse(text, n).ok())
+    }
+}
+
 /// The example scenes shipped with fourfold (also embedded in the viewer).
 pub const EXAMPLES: &[(&str, &str)] = &[
     ("glome", include_str!("../examples/scenes/glome.toml")),

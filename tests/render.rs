@@ -282,20 +282,10 @@ fn no_adapter_gives_a_clear_message_not_a_panic() {
 #[test]
 fn tile_lists_hold_every_leaf_a_pixel_can_see() {
     use fourfold::render::TileLists;
-    use fourfold::tree::{Hierarchy, Tree16};
+    use fourfold::tree::Hierarchy;
     for (name, scene) in example_scenes().into_iter().take(4) {
         let scene = small(&scene);
-        let f = CompiledFormula::compile(&scene.formula).unwrap();
-        let params = scene.param_values(&f.param_names());
-        let tree = Tree16::build(
-            &f,
-            &params,
-            &scene.domain,
-            scene.tree.into(),
-            &Default::default(),
-            None,
-        )
-        .unwrap();
+        let (_, _, tree) = common::build(&scene, scene.tree.into());
         let h = Hierarchy::from_tree(&tree);
         for (w, hgt) in [(40, 24), (97, 61)] {
             let camera = Camera::new(&scene.domain, &scene.view, w, hgt);

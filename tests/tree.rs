@@ -5,26 +5,11 @@ mod common;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use common::{Rng, example_scenes};
+use common::{Rng, build, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
 use fourfold::scene::{Domain, Scene};
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
-
-fn build(scene: &Scene, settings: BuildSettings) -> (CompiledFormula, Vec<f64>, Tree16) {
-    let f = CompiledFormula::compile(&scene.formula).unwrap();
-    let params = scene.param_values(&f.param_names());
-    let tree = Tree16::build(
-        &f,
-        &params,
-        &scene.domain,
-        settings,
-        &AtomicBool::new(false),
-        None,
-    )
-    .unwrap();
-    (f, params, tree)
-}
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
 fn points_on_manifold(

@@ -67,7 +67,7 @@ const TINY: f64 = f64::from_bits(1);
 fn lib_down(x: f64) -> f64 {
     let mut x = x;
     for _ in 0..LIB_ULPS {
-        x = x.next_down();
+        x = down(x);
     }
     x
 }
@@ -76,7 +76,7 @@ fn lib_down(x: f64) -> f64 {
 fn lib_up(x: f64) -> f64 {
     let mut x = x;
     for _ in 0..LIB_ULPS {
-        x = x.next_up();
+        x = up(x);
     }
     x
 }

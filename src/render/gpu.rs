@@ -82,12 +82,6 @@ impl Gpu {
             adapter,
         }
     }
-
-    /// The largest hierarchy, in nodes, this device can hold.
-    pub fn max_nodes(&self) -> usize {
-        let limit = self.device.limits().max_storage_buffer_binding_size;
-        (limit / std::mem::size_of::<SphereNode>() as u64) as usize
-    }
 }
 
 /// The colour target a [`RayCaster`] draws into.
@@ -329,11 +323,16 @@ impl RayCaster {
         rpass.draw(0..3, 0..1);
     }
 
-    /// Renders one frame offscreen and reads it back as tightly packed RGBA8 rows.
-    pub fn render_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<Vec<u8>, GpuError> {
-        let (width, height) = (uniforms.size[0], uniforms.size[1]);
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("fourfold offscreen"),
+    /// A `width`×`height` texture in this caster's target format.
+    pub fn target_texture(
+        &self,
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("fourfold target"),
             size: wgpu::Extent3d {
                 width,
                 height,
@@ -342,10 +341,22 @@ impl RayCaster {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: TARGET_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            format: self.target.format,
+            usage,
             view_formats: &[],
-        });
+        })
+    }
+
+    /// Renders one frame offscreen and reads it back as tightly packed rows, 4 bytes a pixel
+    /// (the RGBA8 formats, which both targets use).
+    pub fn render_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<Vec<u8>, GpuError> {
+        let (width, height) = (uniforms.size[0], uniforms.size[1]);
+        let texture = self.target_texture(
+            gpu,
+            width,
+            height,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let row = width * 4;
         let padded_row =

@@ -81,19 +81,34 @@ pub fn render_scene(
     device: Device<'_>,
     options: FrameOptions,
 ) -> Result<Picture, RenderError> {
+    let t = Instant::now();
+    let formula = CompiledFormula::compile(&scene.formula)
+        .map_err(|e| RenderError::Formula(e.render("formula", &scene.formula)))?;
+    let parse_ms = ms(t);
+    let mut picture = render_compiled(scene, &formula, width, height, device, options)?;
+    picture.times.parse_ms = parse_ms;
+    Ok(picture)
+}
+
+/// As [`render_scene`], for a formula the caller has already compiled from `scene.formula`
+/// (the parse time is then left at 0).
+pub fn render_compiled(
+    scene: &Scene,
+    formula: &CompiledFormula,
+    width: u32,
+    height: u32,
+    device: Device<'_>,
+    options: FrameOptions,
+) -> Result<Picture, RenderError> {
     if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
         return Err(RenderError::Size(width, height));
     }
     let mut times = StageTimes::default();
-    let t = Instant::now();
-    let formula = CompiledFormula::compile(&scene.formula)
-        .map_err(|e| RenderError::Formula(e.render("formula", &scene.formula)))?;
     let params = scene.param_values(&formula.param_names());
-    times.parse_ms = ms(t);
 
     let t = Instant::now();
     let tree = Tree16::build(
-        &formula,
+        formula,
         &params,
         &scene.domain,
         scene.tree.into(),
@@ -113,13 +128,13 @@ pub fn render_scene(
         options,
     );
     let t = Instant::now();
-    let shader = codegen::generate(&formula)?;
+    let shader = codegen::generate(formula)?;
     times.codegen_ms = ms(t);
 
     let (mut rgba, adapter) = match device {
         Device::Cpu => {
             let t = Instant::now();
-            let rgba = super::cpu::render_rgba(&formula, &params, &hierarchy, &uniforms);
+            let rgba = super::cpu::render_rgba(formula, &params, &hierarchy, &uniforms);
             times.frame_ms = ms(t);
             (rgba, "CPU reference renderer".to_string())
         }
@@ -153,9 +168,7 @@ fn gpu_frame(
     let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    if std::env::var_os("FOURFOLD_NO_TILES").is_none() {
-        caster.set_tiles(gpu, Some(&TileLists::build(hierarchy, camera)));
-    }
+    caster.set_tiles(gpu, Some(&TileLists::build(hierarchy, camera)));
     let rgba = caster.render_rgba(gpu, uniforms)?;
     times.frame_ms = ms(t);
     Ok((rgba, gpu.adapter.clone()))

@@ -131,15 +131,6 @@ impl Hierarchy {
             + std::mem::size_of_val(self.levels.as_slice())) as u64
     }
 
-    /// The f32 box of a node (padded as the shader sees it).
-    pub fn node_box(&self, node: &SphereNode) -> ([f32; 4], [f32; 4]) {
-        let half = self.levels[node.level() as usize].half;
-        (
-            std::array::from_fn(|a| node.center[a] - half[a]),
-            std::array::from_fn(|a| node.center[a] + half[a]),
-        )
-    }
-
     pub fn radius(&self, node: &SphereNode) -> f32 {
         self.levels[node.level() as usize].radius
     }

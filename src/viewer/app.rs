@@ -712,10 +712,7 @@ impl eframe::App for FourfoldApp {
 
 /// The scene the viewer opens with when none is given or stored: the chapter's figure.
 pub fn default_scene() -> Scene {
-    EXAMPLES
-        .iter()
-        .find(|(n, _)| *n == "fig-3-9-left")
-        .and_then(|(n, t)| Scene::parse(t, n).ok())
+    Scene::example("fig-3-9-left")
         .unwrap_or_else(|| Scene::from_formula("x^2 + y^2 + z^2 + w^2 - 1"))
 }
 

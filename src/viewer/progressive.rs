@@ -12,10 +12,10 @@ use std::time::Instant;
 
 use eframe::{egui, egui_wgpu};
 
-use crate::render::{Camera, FrameOptions, Gpu, Pass, TileLists, Uniforms};
+use crate::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, TileLists, Uniforms};
 use crate::scene::Scene;
 
-use super::session::{Session, VIEW_TARGET};
+use super::session::Session;
 
 /// Full-resolution passes averaged into the picture once it is complete.
 pub const ACCUMULATED_PASSES: u32 = 16;
@@ -74,7 +74,6 @@ pub struct Progressive {
     /// Measured throughput (rays per millisecond), for sizing previews and tiles.
     rays_per_ms: f64,
     stage_started: Option<Instant>,
-    stage_gpu_ms: f64,
     /// Wall time of the last complete full-resolution stage, and of the last preview.
     pub full_ms: Option<f64>,
     pub preview_ms: Option<f64>,
@@ -98,7 +97,6 @@ impl Default for Progressive {
             key: None,
             rays_per_ms: 50.0,
             stage_started: None,
-            stage_gpu_ms: 0.0,
             full_ms: None,
             preview_ms: None,
             first_frame_of: None,
@@ -140,7 +138,13 @@ impl Progressive {
     }
 
     /// Makes sure the textures match `size` (screen pixels); registers them with egui.
-    fn ensure_textures(&mut self, gpu: &Gpu, renderer: &mut egui_wgpu::Renderer, size: [u32; 2]) {
+    fn ensure_textures(
+        &mut self,
+        gpu: &Gpu,
+        caster: &RayCaster,
+        renderer: &mut egui_wgpu::Renderer,
+        size: [u32; 2],
+    ) {
         if self.size == size && !self.textures.is_empty() {
             return;
         }
@@ -151,21 +155,12 @@ impl Progressive {
         for div in DIVS {
             let width = size[0].div_ceil(div).max(1);
             let height = size[1].div_ceil(div).max(1);
-            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("fourfold view"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: VIEW_TARGET.format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            });
+            let texture = caster.target_texture(
+                gpu,
+                width,
+                height,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            );
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             let id = renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Linear);
             self.textures.push(StageTexture {
@@ -233,7 +228,6 @@ impl Progressive {
         self.stage = 0;
         self.next_tile = 0;
         self.stage_started = None;
-        self.stage_gpu_ms = 0.0;
         self.plan_tile();
     }
 
@@ -268,7 +262,9 @@ impl Progressive {
         if session.caster.is_none() || session.hierarchy.is_none() {
             return false;
         }
-        self.ensure_textures(gpu, renderer, size);
+        if let Some(caster) = &session.caster {
+            self.ensure_textures(gpu, caster, renderer, size);
+        }
         let full_key = format!("{key}|{}|{}", session.picture_generation, interacting);
         if self.key.as_deref() != Some(full_key.as_str()) {
             // Keep what is on screen (completed) until the new preview is done.
@@ -302,7 +298,6 @@ impl Progressive {
                 self.stage += 1;
                 self.next_tile = 0;
                 self.stage_started = None;
-                self.stage_gpu_ms = 0.0;
                 self.plan_tile();
                 continue;
             }
@@ -361,7 +356,6 @@ impl Progressive {
             gpu.queue.submit([encoder.finish()]);
             let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
             let run_ms = t.elapsed().as_secs_f64() * 1e3;
-            self.stage_gpu_ms += run_ms;
             let per_unit = run_ms / f64::from(run);
             // Slower squares count at once, faster ones slowly: never plan a run too long.
             self.unit_ms = Some(match self.unit_ms {

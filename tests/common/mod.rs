@@ -3,7 +3,10 @@
 
 use fourfold::CompiledFormula;
 use fourfold::eval::PointEvaluator;
+use std::sync::atomic::AtomicBool;
+
 use fourfold::scene::{EXAMPLES, Scene};
+use fourfold::tree::{BuildSettings, Tree16};
 
 /// A small deterministic generator (xorshift64*), so failures reproduce.
 pub struct Rng(pub u64);
@@ -39,4 +42,20 @@ pub fn example_scenes() -> Vec<(&'static str, Scene)> {
 /// F at a point with the given parameter values.
 pub fn eval_f(formula: &CompiledFormula, p: [f64; 4], params: &[f64]) -> f64 {
     PointEvaluator::new().eval(&formula.tape_f, p, params)
+}
+
+/// The compiled formula, its parameter values and its tree, for `scene` with `settings`.
+pub fn build(scene: &Scene, settings: BuildSettings) -> (CompiledFormula, Vec<f64>, Tree16) {
+    let f = CompiledFormula::compile(&scene.formula).unwrap();
+    let params = scene.param_values(&f.param_names());
+    let tree = Tree16::build(
+        &f,
+        &params,
+        &scene.domain,
+        settings,
+        &AtomicBool::new(false),
+        None,
+    )
+    .unwrap();
+    (f, params, tree)
 }
