@@ -289,28 +289,81 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
         let h = Hierarchy::from_tree(&tree);
         for (w, hgt) in [(40, 24), (97, 61)] {
             let camera = Camera::new(&scene.domain, &scene.view, w, hgt);
-            let lists = TileLists::build(&h, &camera);
-            assert!(lists.tile >= 2 && lists.tile <= 16);
-            for py in 0..hgt {
-                for px in 0..w {
-                    let o = camera.origin(f64::from(px), f64::from(py));
-                    let list = lists.tile(px / lists.tile, py / lists.tile);
-                    for (i, node) in h.nodes.iter().enumerate() {
-                        if !node.is_leaf() {
-                            continue;
-                        }
-                        let r = f64::from(h.levels[node.level() as usize].radius);
-                        let rel: [f64; 4] =
-                            std::array::from_fn(|k| f64::from(node.center[k]) - o[k]);
-                        let a: f64 = (0..4).map(|k| rel[k] * camera.v1[k]).sum();
-                        let b: f64 = (0..4).map(|k| rel[k] * camera.v2[k]).sum();
-                        if a * a + b * b <= r * r {
-                            assert!(
-                                list.contains(&(i as u32)),
-                                "{name} {w}x{hgt}: leaf {i} meets pixel ({px}, {py}) but is not in its tile"
-                            );
-                        }
-                    }
+            // One-pixel tiles, and larger ones forced by a small entry budget.
+            let exact = TileLists::build(&h, &camera);
+            let coarse = TileLists::build_within(&h, &camera, exact.entries() / 8);
+            assert_eq!(
+                exact.tile, 1,
+                "{name}: small lists should use one-pixel tiles"
+            );
+            assert!(
+                coarse.tile > 1 && coarse.tile <= 16,
+                "{name}: tile {}",
+                coarse.tile
+            );
+            for lists in [&exact, &coarse] {
+                check_tile_lists(name, &h, &camera, lists);
+            }
+        }
+    }
+}
+
+/// Every leaf that passes the shader's pixel test (sphere and box support along v1, v2) is
+/// in the pixel's tile list, once, and each list is nearest first (by |q| − r).
+fn check_tile_lists(
+    name: &str,
+    h: &fourfold::tree::Hierarchy,
+    camera: &Camera,
+    lists: &fourfold::render::TileLists,
+) {
+    let t = lists.tile;
+    let key = |i: u32| {
+        let node = &h.nodes[i as usize];
+        let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
+        let q1: f64 = (0..4).map(|k| rel[k] * camera.n1[k]).sum();
+        let q2: f64 = (0..4).map(|k| rel[k] * camera.n2[k]).sum();
+        q1.hypot(q2) - f64::from(h.levels[node.level() as usize].radius)
+    };
+    for ty in 0..lists.tiles_y {
+        for tx in 0..lists.tiles_x {
+            let list = lists.tile(tx, ty);
+            let mut seen = std::collections::HashSet::new();
+            assert!(
+                list.iter().all(|i| seen.insert(*i)),
+                "{name}: a leaf twice in a tile"
+            );
+            assert!(
+                list.windows(2).all(|p| key(p[0]) <= key(p[1]) + 1e-5),
+                "{name}: tile ({tx}, {ty}) is not nearest first"
+            );
+        }
+    }
+    for py in 0..camera.height {
+        for px in 0..camera.width {
+            let o = camera.origin(f64::from(px), f64::from(py));
+            let list = lists.tile(px / t, py / t);
+            for (i, node) in h.nodes.iter().enumerate() {
+                if !node.is_leaf() {
+                    continue;
+                }
+                let info = &h.levels[node.level() as usize];
+                let r = f64::from(info.radius);
+                let support = |v: &[f64; 4]| -> f64 {
+                    (0..4).map(|k| f64::from(info.half[k]) * v[k].abs()).sum()
+                };
+                let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - o[k]);
+                let a: f64 = (0..4).map(|k| rel[k] * camera.v1[k]).sum();
+                let b: f64 = (0..4).map(|k| rel[k] * camera.v2[k]).sum();
+                if a * a + b * b <= r * r
+                    && a.abs() <= support(&camera.v1)
+                    && b.abs() <= support(&camera.v2)
+                {
+                    assert!(
+                        list.contains(&(i as u32)),
+                        "{name} {}x{} tile {t}: leaf {i} meets pixel ({px}, {py}) but is not in its tile",
+                        camera.width,
+                        camera.height
+                    );
                 }
             }
         }

@@ -8,7 +8,7 @@ use crate::tree::{Hierarchy, SphereNode};
 
 use super::codegen::Shader;
 use super::tiles::TileLists;
-use super::uniforms::Uniforms;
+use super::uniforms::{FLAG_BRUTE_FORCE, Uniforms};
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -120,10 +120,25 @@ impl Default for Pass {
     }
 }
 
+/// Where a pixel's leaves come from: the shader's pipeline constant MODE. Each is its own
+/// pipeline, so a pixel runs only its mode's code (a SIMD rasterizer runs every branch).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// The brute-force baseline: no hierarchy, the domain as one box.
+    BruteForce = 0,
+    /// The leaves of the pixel's tile list (the default).
+    Tiles = 1,
+    /// A walk of the whole sphere hierarchy (when no tile lists are bound).
+    Walk = 2,
+}
+
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
 pub struct RayCaster {
     target: Target,
-    pipeline: wgpu::RenderPipeline,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// Per Mode; the tile pipeline is built at once, the others when first used.
+    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3],
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
@@ -166,31 +181,7 @@ impl RayCaster {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("fourfold ray caster"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: target.format,
-                    blend: target.accumulate.then_some(ACCUMULATE),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = build_pipeline(device, &module, &pipeline_layout, target, Mode::Tiles);
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Pipeline(error.to_string()));
         }
@@ -205,7 +196,13 @@ impl RayCaster {
         let bind_group = bind_group(device, &layout, &uniforms, &nodes, &tiles);
         Ok(Self {
             target,
-            pipeline,
+            module,
+            pipeline_layout,
+            pipelines: [
+                std::sync::OnceLock::new(),
+                std::sync::OnceLock::from(pipeline),
+                std::sync::OnceLock::new(),
+            ],
             layout,
             uniforms,
             nodes,
@@ -298,7 +295,14 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rpass.set_pipeline(&self.pipeline);
+        let mode = if uniforms.control[2] & FLAG_BRUTE_FORCE != 0 {
+            Mode::BruteForce
+        } else if self.tiled() {
+            Mode::Tiles
+        } else {
+            Mode::Walk
+        };
+        rpass.set_pipeline(self.pipeline(gpu, mode));
         rpass.set_bind_group(0, &self.bind_group, &[]);
         if let Some([x, y, w, h]) = pass.region {
             let (width, height) = (uniforms.size[0], uniforms.size[1]);
@@ -321,6 +325,20 @@ impl RayCaster {
             });
         }
         rpass.draw(0..3, 0..1);
+    }
+
+    /// The pipeline of `mode`, built on first use (the shader module was validated when
+    /// the tile pipeline was built, so the others build too).
+    fn pipeline(&self, gpu: &Gpu, mode: Mode) -> &wgpu::RenderPipeline {
+        self.pipelines[mode as usize].get_or_init(|| {
+            build_pipeline(
+                &gpu.device,
+                &self.module,
+                &self.pipeline_layout,
+                self.target,
+                mode,
+            )
+        })
     }
 
     /// A `width`×`height` texture in this caster's target format.
@@ -464,6 +482,44 @@ fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuErro
 }
 
 /// A buffer binding of the fragment stage.
+fn build_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    target: Target,
+    mode: Mode,
+) -> wgpu::RenderPipeline {
+    let constants = [("MODE", f64::from(mode as u32))];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("fourfold ray caster"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
+            targets: &[Some(wgpu::ColorTargetState {
+                format: target.format,
+                blend: target.accumulate.then_some(ACCUMULATE),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,

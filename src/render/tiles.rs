@@ -4,11 +4,20 @@
 //! inner-node tests (16 children per passing node) were most of a frame on a software GPU.
 //!
 //! A leaf's sphere (centre c, radius r) meets pixel p's observer plane iff the projection of c
-//! on the (v1, v2) plane is within r of p's origin there. In pixel units that is a disk of
-//! radius r / pixel_size around the projected centre: the leaf goes into every tile that disk
-//! overlaps (with one pixel of margin for rounding). Layout, one `u32` buffer:
+//! on the (v1, v2) plane is within r of p's origin there; its box can only meet it if that
+//! projection is also within the box's support along v1 and along v2. In pixel units that is
+//! a disk of radius r / pixel_size around the projected centre, cut by a rectangle: the leaf
+//! goes into every tile with a pixel centre in both (the same tests as the shader's, padded
+//! for its f32 rounding). With one-pixel tiles a list holds exactly the leaves that pass its
+//! pixel's test. Layout, one `u32` buffer:
 //! `[offset of tile 0, …, offset of tile T, leaf indices…]`, offsets counted from the start of
 //! the leaf indices.
+//!
+//! Each tile's leaves are in order of their least possible distance from the pixel's origin in
+//! the observer plane, |q| − r, where q is the projection of the centre on (n1, n2). That
+//! projection is the same for every pixel (o moves only along v1 and v2), so one global order
+//! serves all tiles, and a pixel stops at the first leaf that cannot hold a hit nearer than
+//! the K it keeps: every later one is at least as far (nearest-first with early exit).
 
 use rayon::prelude::*;
 
@@ -18,14 +27,17 @@ use super::camera::Camera;
 
 /// Largest and smallest tile side in pixels.
 pub const MAX_TILE: u32 = 16;
-pub const MIN_TILE: u32 = 2;
+pub const MIN_TILE: u32 = 1;
+
+/// Entries (leaf indices) the lists may hold: the tile side grows until they fit (96 MiB).
+pub const MAX_ENTRIES: usize = 24 << 20;
 
 /// The per-tile leaf lists of one view.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct TileLists {
-    /// Tile side in pixels: about the radius of the smallest leaf sphere on screen, a power of
-    /// two in MIN_TILE..=MAX_TILE. Smaller tiles mean shorter lists (less work per pixel) but
-    /// more entries per leaf.
+    /// Tile side in pixels, a power of two in MIN_TILE..=MAX_TILE: the smallest whose lists
+    /// fit in MAX_ENTRIES. One-pixel tiles hold exactly the leaves that pass each pixel's
+    /// test (the least work per pixel); larger tiles hold more per pixel but fewer in all.
     pub tile: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
@@ -33,71 +45,209 @@ pub struct TileLists {
     pub data: Vec<u32>,
 }
 
-impl TileLists {
-    /// Bins the leaves of `hierarchy` for `camera`.
-    pub fn build(hierarchy: &Hierarchy, camera: &Camera) -> Self {
-        let smallest = hierarchy
-            .nodes
-            .iter()
-            .filter(|n| n.is_leaf())
-            .map(|n| n.level())
-            .max()
-            .and_then(|l| hierarchy.levels.get(l as usize))
-            .map_or(f64::INFINITY, |info| f64::from(info.radius));
-        let radius_px = smallest / camera.pixel_size;
-        let mut tile = MAX_TILE;
-        while tile > MIN_TILE && f64::from(tile) > radius_px {
-            tile /= 2;
-        }
-        let tiles_x = camera.width.div_ceil(tile);
-        let tiles_y = camera.height.div_ceil(tile);
-        let tf = f64::from(tile);
-        let tiles = (tiles_x * tiles_y) as usize;
-        let v1 = camera.v1;
-        let v2 = camera.v2;
-        let s = camera.pixel_size;
-        let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-        // The tile rectangle of each leaf: (x0, x1, y0, y1), inclusive; None when off screen.
-        let rects: Vec<Option<[u32; 4]>> = hierarchy
-            .nodes
-            .par_iter()
-            .map(|node| {
-                if !node.is_leaf() {
-                    return None;
-                }
-                let radius = f64::from(hierarchy.levels.get(node.level() as usize)?.radius);
-                let rel: [f64; 4] =
-                    std::array::from_fn(|i| f64::from(node.center[i]) - camera.center[i]);
-                let a: f64 = (0..4).map(|i| rel[i] * v1[i]).sum();
-                let b: f64 = (0..4).map(|i| rel[i] * v2[i]).sum();
-                // Invert Camera::origin: pixel centre (px + 0.5, py + 0.5).
-                let cx = a / s + 0.5 * w;
-                let cy = 0.5 * h - b / s;
-                let rp = radius / s + 1.0;
-                let x0 = ((cx - rp) / tf).floor().max(0.0);
-                let x1 = ((cx + rp) / tf).floor();
-                let y0 = ((cy - rp) / tf).floor().max(0.0);
-                let y1 = ((cy + rp) / tf).floor();
-                if !(x1 >= 0.0 && y1 >= 0.0 && x0 < f64::from(tiles_x) && y0 < f64::from(tiles_y)) {
-                    return None;
-                }
-                Some([
-                    x0 as u32,
-                    (x1 as u32).min(tiles_x - 1),
-                    y0 as u32,
-                    (y1 as u32).min(tiles_y - 1),
-                ])
-            })
-            .collect();
-        // Counting sort into the tiles.
-        let mut counts = vec![0u32; tiles + 1];
-        for r in rects.iter().flatten() {
-            for ty in r[2]..=r[3] {
-                for tx in r[0]..=r[1] {
-                    counts[(ty * tiles_x + tx) as usize] += 1;
+/// A leaf on screen: the centre of its projection in pixel units (pixel (px, py) has its
+/// centre at (px + 0.5, py + 0.5)), its level, and its sort key.
+#[derive(Debug, Clone, Copy)]
+struct Footprint {
+    /// |q| − r as an order-preserving integer (see `order_key`).
+    key: u32,
+    leaf: u32,
+    cx: f32,
+    cy: f32,
+    level: u32,
+}
+
+/// A level's sizes in pixel units, padded a little for the shader's f32 rounding: the
+/// sphere's radius and the box's half widths along x and y (its support along v1 and v2,
+/// where smaller than the radius).
+#[derive(Debug, Clone, Copy)]
+struct Reach {
+    radius: f32,
+    hx: f32,
+    hy: f32,
+}
+
+/// Maps an f32 to a u32 with the same order (for sorting by key as plain integers).
+fn order_key(x: f32) -> u32 {
+    let bits = x.to_bits();
+    if bits >> 31 == 1 {
+        !bits
+    } else {
+        bits | 1 << 31
+    }
+}
+
+/// Inclusive range of pixel indices whose centres (i + 0.5) lie within `half` of `c`, in
+/// `0..pixels`; None if empty.
+fn pixel_range(c: f32, half: f32, pixels: u32) -> Option<(u32, u32)> {
+    let p0 = (c - half - 0.5).ceil().max(0.0);
+    let p1 = (c + half - 0.5).floor().min(pixels as f32 - 1.0);
+    (p0 <= p1).then_some((p0 as u32, p1 as u32))
+}
+
+/// The tiles (side `t`) of tile row `ty` that may hold a pixel the footprint reaches:
+/// the pixel rows of the tile give the least vertical gap, hence the widest chord of the
+/// disk; None if none.
+fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u32)> {
+    let lo = (ty * t) as f32 + 0.5;
+    let hi = lo + (t - 1) as f32;
+    let gap = (lo - f.cy).max(f.cy - hi).max(0.0);
+    if gap > r.radius || gap > r.hy {
+        return None;
+    }
+    let chord = (r.radius * r.radius - gap * gap).sqrt();
+    let (x0, x1) = pixel_range(f.cx, chord.min(r.hx), w)?;
+    Some((x0 / t, x1 / t))
+}
+
+/// The footprints of one view, by band of tile rows.
+struct Bins<'a> {
+    feet: &'a [Footprint],
+    reach: &'a [Reach],
+    /// Per band, the footprints that reach it, in order.
+    members: &'a [Vec<u32>],
+    tile: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    band_rows: u32,
+    w: u32,
+    h: u32,
+}
+
+impl Bins<'_> {
+    /// Calls `each(tile index within the band, leaf)` for every tile of `band` that each of
+    /// its footprints reaches, footprints in order.
+    fn each(&self, band: usize, mut each: impl FnMut(usize, u32)) {
+        let r0 = band as u32 * self.band_rows;
+        let r1 = (r0 + self.band_rows).min(self.tiles_y) - 1;
+        let base = band * (self.band_rows * self.tiles_x) as usize;
+        for &k in &self.members[band] {
+            let f = &self.feet[k as usize];
+            let r = &self.reach[f.level as usize];
+            let Some((y0, y1)) = pixel_range(f.cy, r.hy, self.h) else {
+                continue;
+            };
+            for ty in (y0 / self.tile).max(r0)..=(y1 / self.tile).min(r1) {
+                if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
+                    let row = (ty * self.tiles_x) as usize - base;
+                    for tx in tx0..=tx1 {
+                        each(row + tx as usize, f.leaf);
+                    }
                 }
             }
         }
+    }
+}
+
+impl TileLists {
+    /// Bins the leaves of `hierarchy` for `camera`.
+    pub fn build(hierarchy: &Hierarchy, camera: &Camera) -> Self {
+        Self::build_within(hierarchy, camera, MAX_ENTRIES)
+    }
+
+    /// Bins the leaves with at most about `max_entries` entries (the smallest tile side whose
+    /// estimate fits; MAX_TILE if none does).
+    pub fn build_within(hierarchy: &Hierarchy, camera: &Camera, max_entries: usize) -> Self {
+        let (w, h) = (camera.width.max(1), camera.height.max(1));
+        let s = camera.pixel_size;
+        let (v1, v2, n1, n2) = (camera.v1, camera.v2, camera.n1, camera.n2);
+        let pad = |x: f64| (x * (1.0 + 1e-4) + 2e-3) as f32;
+        let reach: Vec<Reach> = hierarchy
+            .levels
+            .iter()
+            .map(|info| {
+                // As in Uniforms::new.
+                let support = |v: &[f64; 4]| -> f64 {
+                    (0..4).map(|i| f64::from(info.half[i]) * v[i].abs()).sum()
+                };
+                let radius = f64::from(info.radius);
+                Reach {
+                    radius: pad(radius / s),
+                    hx: pad(support(&v1).min(radius) / s),
+                    hy: pad(support(&v2).min(radius) / s),
+                }
+            })
+            .collect();
+        let mut feet: Vec<Footprint> = hierarchy
+            .nodes
+            .par_iter()
+            .enumerate()
+            .filter_map(|(i, node)| {
+                let level = node.level();
+                let r = reach.get(level as usize).filter(|_| node.is_leaf())?;
+                let rel: [f64; 4] =
+                    std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
+                let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
+                // Invert Camera::origin.
+                let cx = (dot(&v1) / s + 0.5 * f64::from(w)) as f32;
+                let cy = (0.5 * f64::from(h) - dot(&v2) / s) as f32;
+                pixel_range(cx, r.hx, w)?;
+                pixel_range(cy, r.hy, h)?;
+                let (q1, q2) = (dot(&n1), dot(&n2));
+                let key =
+                    (q1 * q1 + q2 * q2).sqrt() - f64::from(hierarchy.levels[level as usize].radius);
+                Some(Footprint {
+                    key: order_key(key as f32),
+                    leaf: i as u32,
+                    cx,
+                    cy,
+                    level,
+                })
+            })
+            .collect();
+        // Nearest first; the counting sort into the tiles below keeps that order.
+        feet.par_sort_unstable_by_key(|f| (f.key, f.leaf));
+        // The smallest tile side whose lists fit (estimated from the rectangles).
+        let rect = |f: &Footprint, t: u32| -> usize {
+            let r = &reach[f.level as usize];
+            match (pixel_range(f.cx, r.hx, w), pixel_range(f.cy, r.hy, h)) {
+                (Some((x0, x1)), Some((y0, y1))) => {
+                    ((x1 / t - x0 / t + 1) * (y1 / t - y0 / t + 1)) as usize
+                }
+                _ => 0,
+            }
+        };
+        let mut tile = MIN_TILE;
+        while tile < MAX_TILE && feet.par_iter().map(|f| rect(f, tile)).sum::<usize>() > max_entries
+        {
+            tile *= 2;
+        }
+        let tiles_x = w.div_ceil(tile);
+        let tiles_y = h.div_ceil(tile);
+        let tiles = (tiles_x * tiles_y) as usize;
+        // Bands of tile rows, binned in parallel; each visits its footprints in order and
+        // writes only its own tiles, so the order survives.
+        let band_rows = tiles_y.div_ceil(16).max(1);
+        let band_tiles = (band_rows * tiles_x) as usize;
+        let bands = tiles_y.div_ceil(band_rows) as usize;
+        let rows = |f: &Footprint| {
+            let r = &reach[f.level as usize];
+            pixel_range(f.cy, r.hy, h).map(|(y0, y1)| (y0 / tile, y1 / tile))
+        };
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); bands];
+        for (k, f) in feet.iter().enumerate() {
+            if let Some((ty0, ty1)) = rows(f) {
+                for band in (ty0 / band_rows)..=(ty1 / band_rows) {
+                    members[band as usize].push(k as u32);
+                }
+            }
+        }
+        let bins = Bins {
+            feet: &feet,
+            reach: &reach,
+            members: &members,
+            tile,
+            tiles_x,
+            tiles_y,
+            band_rows,
+            w,
+            h,
+        };
+        let mut counts = vec![0u32; tiles];
+        counts
+            .par_chunks_mut(band_tiles)
+            .enumerate()
+            .for_each(|(band, counts)| bins.each(band, |t, _| counts[t] += 1));
         let mut offsets = vec![0u32; tiles + 1];
         for t in 0..tiles {
             offsets[t + 1] = offsets[t] + counts[t];
@@ -106,17 +256,29 @@ impl TileLists {
         let mut data = Vec::with_capacity(tiles + 1 + total);
         data.extend_from_slice(&offsets);
         data.resize(tiles + 1 + total, 0);
-        let mut fill = offsets.clone();
-        for (i, r) in rects.iter().enumerate() {
-            let Some(r) = r else { continue };
-            for ty in r[2]..=r[3] {
-                for tx in r[0]..=r[1] {
-                    let t = (ty * tiles_x + tx) as usize;
-                    data[tiles + 1 + fill[t] as usize] = i as u32;
-                    fill[t] += 1;
-                }
-            }
+        // Split the entries into the bands' own slices.
+        let mut slices = Vec::new();
+        let mut rest = &mut data[tiles + 1..];
+        for start in (0..tiles).step_by(band_tiles) {
+            let end = (start + band_tiles).min(tiles);
+            let (band, tail) = rest.split_at_mut((offsets[end] - offsets[start]) as usize);
+            slices.push((start, band));
+            rest = tail;
         }
+        slices
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(band, (start, entries))| {
+                let first = offsets[start];
+                let mut fill: Vec<u32> = offsets[start..(start + band_tiles).min(tiles)]
+                    .iter()
+                    .map(|o| o - first)
+                    .collect();
+                bins.each(band, |t, leaf| {
+                    entries[fill[t] as usize] = leaf;
+                    fill[t] += 1;
+                });
+            });
         Self {
             tile,
             tiles_x,

@@ -37,7 +37,7 @@ pub struct Uniforms {
     pub shading: [f32; 4],
     /// pixel size, alpha, silhouette tolerance, border tolerance
     pub misc: [f32; 4],
-    /// bisection approximation
+    /// bisection approximation, box padding
     pub root: [f32; 4],
     /// width, height, rays, hits kept
     pub size: [u32; 4],
@@ -48,6 +48,9 @@ pub struct Uniforms {
     /// tile side, tiles per row, tile lists bound (0/1), index where the leaf entries start;
     /// set by the ray caster from its tile lists (see `tiles.rs`).
     pub tiling: [u32; 4],
+    /// Half extents of a level-0 box before padding (root[1] is the padding): the shader
+    /// computes a level's box from them (see `Hierarchy::base_half`).
+    pub half0: [f32; 4],
     pub levels: [LevelInfo; LEVEL_SLOTS],
     pub params: [[f32; 4]; 16],
 }
@@ -142,7 +145,7 @@ impl Uniforms {
                 render.silhouette.tolerance as f32,
                 render.border.tolerance as f32,
             ],
-            root: [render.approximation as f32, 0.0, 0.0, 0.0],
+            root: [render.approximation as f32, hierarchy.pad, 0.0, 0.0],
             size: [
                 camera.width,
                 camera.height,
@@ -157,6 +160,7 @@ impl Uniforms {
                 brute_steps,
             ],
             tiling: [0; 4],
+            half0: hierarchy.base_half,
             levels,
             params: packed,
         }

@@ -52,11 +52,23 @@ pub struct LevelInfo {
     pub support: [f32; 3],
 }
 
+/// Half extents of a level-`level` box: `base · 2^-level + pad`, in f32 (the scaling by a
+/// power of two is exact, so the shader gets the same bits).
+pub fn level_half(base: [f32; 4], pad: f32, level: u32) -> [f32; 4] {
+    let scale = f32::from_bits((127 - level.min(126)) << 23);
+    base.map(|b| b * scale + pad)
+}
+
 /// The flattened hierarchy: nodes in depth-first order, and the per-level table.
 #[derive(Debug, Clone, Default)]
 pub struct Hierarchy {
     pub nodes: Vec<SphereNode>,
     pub levels: Vec<LevelInfo>,
+    /// The rule behind `levels[l].half`, in f32 as the shader computes it (instead of reading
+    /// the table): `base_half · 2^-l + pad`, `base_half` padded relatively and `pad` more
+    /// than the f32 rounding of centres.
+    pub base_half: [f32; 4],
+    pub pad: f32,
 }
 
 impl Hierarchy {
@@ -69,15 +81,19 @@ impl Hierarchy {
             .iter()
             .map(|a| a.lo.abs().max(a.hi.abs()))
             .fold(0.0, f64::max);
+        // Pad by more than the f32 rounding of centre and extents.
+        let base_half = size.map(|s| (0.5 * s * (1.0 + 1e-5)) as f32);
+        let pad = (scale * 1e-6) as f32;
         let levels: Vec<LevelInfo> = (0..tree.levels.len().max(1))
             .map(|l| {
-                let cells = f64::from(1u32 << l);
-                // Pad by more than the f32 rounding of centre and extents.
-                let pad = |h: f64| h * (1.0 + 1e-5) + scale * 1e-6;
-                let half: [f64; 4] = size.map(|s| pad(0.5 * s / cells));
-                let radius = half.iter().map(|h| h * h).sum::<f64>().sqrt();
+                let half = level_half(base_half, pad, l as u32);
+                let radius = half
+                    .iter()
+                    .map(|&h| f64::from(h).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
                 LevelInfo {
-                    half: half.map(|h| h as f32),
+                    half,
                     radius: (radius * (1.0 + 1e-6)) as f32,
                     support: [0.0; 3],
                 }
@@ -87,6 +103,8 @@ impl Hierarchy {
             return Self {
                 nodes: Vec::new(),
                 levels,
+                base_half,
+                pad,
             };
         }
         // Subtree sizes, bottom-up.
@@ -118,7 +136,12 @@ impl Hierarchy {
                 stack.push((l + 1, b.first_child + c));
             }
         }
-        Self { nodes, levels }
+        Self {
+            nodes,
+            levels,
+            base_half,
+            pad,
+        }
     }
 
     pub fn is_empty(&self) -> bool {

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use crate::formula::CompiledFormula;
 use crate::render::codegen::{self, Shader};
-use crate::render::{Gpu, RayCaster, Target};
+use crate::render::{Gpu, RayCaster, Target, TileLists};
 use crate::scene::Scene;
 use crate::tree::{BuildError, Hierarchy, Tree16, TreeStats};
 
@@ -265,11 +265,11 @@ impl Session {
                         (Some(gpu), Ok((hierarchy, _))) if make_pipeline => Some(
                             RayCaster::with_target(gpu, &shader, hierarchy, VIEW_TARGET)
                                 .map_err(|e| e.to_string())
-                                .and_then(|caster| {
+                                .and_then(|mut caster| {
                                     // One 1x1 draw here, so that a driver that compiles the
                                     // shader at its first draw (llvmpipe) does it off the UI
                                     // thread.
-                                    warm_up(gpu, &caster, hierarchy).map(|()| caster)
+                                    warm_up(gpu, &mut caster, hierarchy).map(|()| caster)
                                 }),
                         ),
                         _ => None,
@@ -393,9 +393,11 @@ impl Session {
     }
 }
 
-fn warm_up(gpu: &Gpu, caster: &RayCaster, hierarchy: &Hierarchy) -> Result<(), String> {
+/// Draws one pixel with the pipeline the viewer draws with (tile lists bound: empty ones).
+fn warm_up(gpu: &Gpu, caster: &mut RayCaster, hierarchy: &Hierarchy) -> Result<(), String> {
     let scene = Scene::from_formula("0");
     let camera = crate::render::Camera::new(&scene.domain, &scene.view, 1, 1);
+    caster.set_tiles(gpu, Some(&TileLists::build(&Hierarchy::default(), &camera)));
     let uniforms = crate::render::Uniforms::new(
         &camera,
         &scene.render,
