@@ -93,6 +93,9 @@ impl FourfoldApp {
         let (gpu, renderer) = match &cc.wgpu_render_state {
             Some(rs) => {
                 let info = rs.adapter.get_info();
+                if let Some(blit) = super::blit::Blit::new(&rs.device, rs.target_format) {
+                    rs.renderer.write().callback_resources.insert(blit);
+                }
                 (
                     Some(Gpu::from_parts(
                         rs.device.clone(),
@@ -578,7 +581,20 @@ impl FourfoldApp {
                 rect.min + egui::vec2(uv.min.x * rect.width(), uv.min.y * rect.height()),
                 rect.min + egui::vec2(uv.max.x * rect.width(), uv.max.y * rect.height()),
             );
-            painter.image(t.id, screen, uv, Color32::WHITE);
+            match &t.blit {
+                Some(bind_group) => {
+                    painter.add(egui_wgpu::Callback::new_paint_callback(
+                        screen,
+                        super::blit::Layer {
+                            bind_group: bind_group.clone(),
+                            full: rect,
+                        },
+                    ));
+                }
+                None => {
+                    painter.image(t.id, screen, uv, Color32::WHITE);
+                }
+            }
         }
         if self.session.building() {
             let nodes = self.session.build_progress().unwrap_or(0);

@@ -4,6 +4,7 @@
 //! `fourfold render`.
 
 pub mod app;
+mod blit;
 pub mod progressive;
 pub mod session;
 

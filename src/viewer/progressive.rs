@@ -36,6 +36,8 @@ pub struct StageTexture {
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
     pub id: egui::TextureId,
+    /// For the app's own blit (see blit.rs), where egui's renderer has it.
+    pub blit: Option<wgpu::BindGroup>,
     pub width: u32,
     pub height: u32,
 }
@@ -163,10 +165,15 @@ impl Progressive {
             );
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             let id = renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Linear);
+            let blit = renderer
+                .callback_resources
+                .get::<super::blit::Blit>()
+                .map(|b| b.bind(&gpu.device, &view));
             self.textures.push(StageTexture {
                 texture,
                 view,
                 id,
+                blit,
                 width,
                 height,
             });
