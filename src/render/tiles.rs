@@ -196,42 +196,64 @@ impl TileLists {
             })
             .collect();
         // Nearest first; the counting sort into the tiles below keeps that order.
-        feet.par_sort_unstable_by_key(|f| (f.key, f.leaf));
-        // The smallest tile side whose lists fit (estimated from the rectangles).
-        let rect = |f: &Footprint, t: u32| -> usize {
-            let r = &reach[f.level as usize];
-            match (pixel_range(f.cx, r.hx, w), pixel_range(f.cy, r.hy, h)) {
-                (Some((x0, x1)), Some((y0, y1))) => {
-                    ((x1 / t - x0 / t + 1) * (y1 / t - y0 / t + 1)) as usize
+        feet.par_sort_unstable_by_key(|f| (u64::from(f.key) << 32) | u64::from(f.leaf));
+        // The smallest tile side whose lists fit (estimated from the rectangles, for every
+        // side in one pass).
+        const SIDES: usize = (MAX_TILE.ilog2() - MIN_TILE.ilog2() + 1) as usize;
+        let estimates = feet
+            .par_iter()
+            .map(|f| {
+                let r = &reach[f.level as usize];
+                let mut n = [0usize; SIDES];
+                if let (Some((x0, x1)), Some((y0, y1))) =
+                    (pixel_range(f.cx, r.hx, w), pixel_range(f.cy, r.hy, h))
+                {
+                    for (i, n) in n.iter_mut().enumerate() {
+                        let t = MIN_TILE << i;
+                        *n = ((x1 / t - x0 / t + 1) * (y1 / t - y0 / t + 1)) as usize;
+                    }
                 }
-                _ => 0,
-            }
-        };
-        let mut tile = MIN_TILE;
-        while tile < MAX_TILE && feet.par_iter().map(|f| rect(f, tile)).sum::<usize>() > max_entries
-        {
-            tile *= 2;
-        }
+                n
+            })
+            .reduce(|| [0; SIDES], |a, b| std::array::from_fn(|i| a[i] + b[i]));
+        let tile = (0..SIDES)
+            .find(|&i| estimates[i] <= max_entries)
+            .map_or(MAX_TILE, |i| MIN_TILE << i);
         let tiles_x = w.div_ceil(tile);
         let tiles_y = h.div_ceil(tile);
         let tiles = (tiles_x * tiles_y) as usize;
         // Bands of tile rows, binned in parallel; each visits its footprints in order and
         // writes only its own tiles, so the order survives.
-        let band_rows = tiles_y.div_ceil(16).max(1);
+        // (More bands than threads, so that rayon can balance dense and empty ones.)
+        let band_rows = tiles_y.div_ceil(64).max(1);
         let band_tiles = (band_rows * tiles_x) as usize;
         let bands = tiles_y.div_ceil(band_rows) as usize;
         let rows = |f: &Footprint| {
             let r = &reach[f.level as usize];
             pixel_range(f.cy, r.hy, h).map(|(y0, y1)| (y0 / tile, y1 / tile))
         };
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); bands];
-        for (k, f) in feet.iter().enumerate() {
-            if let Some((ty0, ty1)) = rows(f) {
-                for band in (ty0 / band_rows)..=(ty1 / band_rows) {
-                    members[band as usize].push(k as u32);
+        // Each band's footprints, in order: per chunk of footprints in parallel, then joined
+        // per band in chunk order.
+        const CHUNK: usize = 1 << 16;
+        let chunks: Vec<Vec<Vec<u32>>> = feet
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut per_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
+                for (k, f) in chunk.iter().enumerate() {
+                    if let Some((ty0, ty1)) = rows(f) {
+                        for band in (ty0 / band_rows)..=(ty1 / band_rows) {
+                            per_band[band as usize].push((c * CHUNK + k) as u32);
+                        }
+                    }
                 }
-            }
-        }
+                per_band
+            })
+            .collect();
+        let members: Vec<Vec<u32>> = (0..bands)
+            .into_par_iter()
+            .map(|b| chunks.iter().flat_map(|c| c[b].iter().copied()).collect())
+            .collect();
         let bins = Bins {
             feet: &feet,
             reach: &reach,
