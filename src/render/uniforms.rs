@@ -13,6 +13,7 @@ pub const FLAG_LIGHTING: u32 = 1;
 pub const FLAG_SILHOUETTE: u32 = 2;
 pub const FLAG_BORDER: u32 = 4;
 pub const FLAG_RANDOM: u32 = 8;
+/// Brute force: the ray caster picks its brute-force pipeline (see `gpu::Mode`).
 pub const FLAG_BRUTE_FORCE: u32 = 16;
 
 /// Entries of the per-level table (levels 0..=15).
@@ -107,14 +108,10 @@ impl Uniforms {
             brute_steps = render.steps.saturating_mul(1 << level.min(16));
         }
         let mut levels = [LevelInfo::zeroed(); LEVEL_SLOTS];
+        // (The CPU reference reads this table; the shader computes a level's box from
+        // `half0` instead, see templates/raycast.wgsl.)
         for (slot, info) in levels.iter_mut().zip(&hierarchy.levels) {
             *slot = *info;
-            // Support of the box along v1 and v2: Σ h_i |v_i|, padded outward for f32.
-            let support = |v: &[f64; 4]| {
-                let s: f64 = (0..4).map(|i| f64::from(info.half[i]) * v[i].abs()).sum();
-                (s * (1.0 + 1e-5) + 1e-30) as f32
-            };
-            slot.support = [support(&camera.v1), support(&camera.v2), 0.0];
         }
         let mut packed = [[0f32; 4]; 16];
         for (i, p) in params.iter().take(64).enumerate() {

@@ -47,8 +47,7 @@ impl SphereNode {
 pub struct LevelInfo {
     pub half: [f32; 4],
     pub radius: f32,
-    /// Filled per view by the renderer (zero here): the half widths of the level's box
-    /// projected on v1 and on v2 (its support along each), and one unused slot.
+    /// Unused (zero): pads the entry to the shader's 32 bytes.
     pub support: [f32; 3],
 }
 
