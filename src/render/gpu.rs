@@ -489,9 +489,32 @@ fn build_pipeline(
     target: Target,
     mode: Mode,
 ) -> wgpu::RenderPipeline {
-    let constants = [("MODE", f64::from(mode as u32))];
+    fullscreen_pipeline(
+        device,
+        "fourfold ray caster",
+        module,
+        layout,
+        wgpu::ColorTargetState {
+            format: target.format,
+            blend: target.accumulate.then_some(ACCUMULATE),
+            write_mask: wgpu::ColorWrites::ALL,
+        },
+        &[("MODE", f64::from(mode as u32))],
+    )
+}
+
+/// A pipeline drawing one triangle over the viewport with `vs_main` (no vertex buffers) and
+/// shading it with `fs_main`, given pipeline constants for the fragment stage.
+pub fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    target: wgpu::ColorTargetState,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("fourfold ray caster"),
+        label: Some(label),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
@@ -506,14 +529,10 @@ fn build_pipeline(
             module,
             entry_point: Some("fs_main"),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
+                constants,
                 ..Default::default()
             },
-            targets: &[Some(wgpu::ColorTargetState {
-                format: target.format,
-                blend: target.accumulate.then_some(ACCUMULATE),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
+            targets: &[Some(target)],
         }),
         multiview_mask: None,
         cache: None,

@@ -80,34 +80,18 @@ impl Blit {
             immediate_size: 0,
         });
         let constants = [("SRGB_TARGET", if target.is_srgb() { 1.0 } else { 0.0 })];
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("fourfold picture blit"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
+        let pipeline = crate::render::gpu::fullscreen_pipeline(
+            device,
+            "fourfold picture blit",
+            &module,
+            &pipeline_layout,
+            wgpu::ColorTargetState {
+                format: target,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
             },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    constants: &constants,
-                    ..Default::default()
-                },
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: target,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+            &constants,
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("fourfold picture blit"),
             mag_filter: wgpu::FilterMode::Linear,
