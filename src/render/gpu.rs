@@ -45,6 +45,15 @@ pub struct Gpu {
 }
 
 impl Gpu {
+    /// How many words tile lists (offsets and entries) may hold on this device: MAX_ENTRIES,
+    /// or less where the device's storage-buffer limit is lower.
+    pub fn tile_entry_budget(&self) -> usize {
+        let words = self.device.limits().max_storage_buffer_binding_size / 4;
+        usize::try_from(words).map_or(super::tiles::MAX_ENTRIES, |w| {
+            w.min(super::tiles::MAX_ENTRIES)
+        })
+    }
+
     /// Opens the first adapter wgpu finds (any backend, or those named in WGPU_BACKEND),
     /// headless.
     pub fn new() -> Result<Self, GpuError> {

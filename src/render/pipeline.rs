@@ -168,7 +168,14 @@ fn gpu_frame(
     let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    caster.set_tiles(gpu, Some(&TileLists::build(hierarchy, camera)));
+    caster.set_tiles(
+        gpu,
+        Some(&TileLists::build_within(
+            hierarchy,
+            camera,
+            gpu.tile_entry_budget(),
+        )),
+    );
     let rgba = caster.render_rgba(gpu, uniforms)?;
     times.frame_ms = ms(t);
     Ok((rgba, gpu.adapter.clone()))

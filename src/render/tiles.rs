@@ -29,7 +29,8 @@ use super::camera::Camera;
 pub const MAX_TILE: u32 = 16;
 pub const MIN_TILE: u32 = 1;
 
-/// Entries (leaf indices) the lists may hold: the tile side grows until they fit (96 MiB).
+/// Words (tile offsets and leaf indices) the lists may hold: the tile side grows until they
+/// fit (96 MiB).
 pub const MAX_ENTRIES: usize = 24 << 20;
 
 /// The per-tile leaf lists of one view.
@@ -145,8 +146,8 @@ impl TileLists {
         Self::build_within(hierarchy, camera, MAX_ENTRIES)
     }
 
-    /// Bins the leaves with at most about `max_entries` entries (the smallest tile side whose
-    /// estimate fits; MAX_TILE if none does).
+    /// Bins the leaves in at most about `max_entries` words, offsets included (the smallest
+    /// tile side whose estimate fits; MAX_TILE if none does).
     pub fn build_within(hierarchy: &Hierarchy, camera: &Camera, max_entries: usize) -> Self {
         let (w, h) = (camera.width.max(1), camera.height.max(1));
         let s = camera.pixel_size;
@@ -216,8 +217,12 @@ impl TileLists {
                 n
             })
             .reduce(|| [0; SIDES], |a, b| std::array::from_fn(|i| a[i] + b[i]));
+        let words = |i: usize| {
+            let t = MIN_TILE << i;
+            estimates[i] + (w.div_ceil(t) * h.div_ceil(t)) as usize + 1
+        };
         let tile = (0..SIDES)
-            .find(|&i| estimates[i] <= max_entries)
+            .find(|&i| words(i) <= max_entries)
             .map_or(MAX_TILE, |i| MIN_TILE << i);
         let tiles_x = w.div_ceil(tile);
         let tiles_y = h.div_ceil(tile);
