@@ -112,6 +112,10 @@ pub struct RenderArgs {
     pub zoom: Option<f64>,
     #[arg(long)]
     pub no_silhouette: bool,
+    /// March every ray across the whole domain (finest leaves' step) instead of testing the
+    /// tree's leaves: the same picture, often faster.
+    #[arg(long)]
+    pub brute_force: bool,
     #[arg(long)]
     pub no_border: bool,
     /// Flat colour instead of Phong lighting.
@@ -490,6 +494,9 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
         scene.view.zoom = z;
     }
     let r = &mut scene.render;
+    if args.brute_force {
+        r.brute_force = true;
+    }
     if args.no_silhouette {
         r.silhouette.enabled = false;
     }

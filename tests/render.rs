@@ -105,6 +105,63 @@ fn gpu_and_cpu_renders_agree() {
     }
 }
 
+#[test]
+fn brute_force_setting_draws_the_same_picture() {
+    // render.brute_force (--brute-force, the viewer's checkbox): every ray marched across the
+    // domain with the finest leaves' step, on the GPU and on the CPU.
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["fig-3-9-left", "duocylinder"].contains(n))
+    {
+        let scene = small(&scene);
+        let mut brute = scene.clone();
+        brute.render.brute_force = true;
+        // The setting reaches the shader: the brute-force flag, and the finest leaves' step.
+        let (_, params, tree) = common::build(&brute, brute.tree.into());
+        let h = fourfold::tree::Hierarchy::from_tree(&tree);
+        let camera = Camera::new(&brute.domain, &brute.view, 40, 40);
+        let u = fourfold::render::Uniforms::new(
+            &camera,
+            &brute.render,
+            &brute.domain,
+            &h,
+            &params,
+            Default::default(),
+        );
+        let finest = h.levels.len() as u32 - 1;
+        assert_ne!(
+            u.control[2] & fourfold::render::uniforms::FLAG_BRUTE_FORCE,
+            0
+        );
+        assert_eq!(u.counts[3], brute.render.steps << finest);
+        let tiles = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+        for device in [Device::Gpu(&gpu), Device::Cpu] {
+            let b = render_scene(&brute, 40, 40, device, Default::default()).unwrap();
+            let close = tiles
+                .rgba
+                .chunks(4)
+                .zip(b.rgba.chunks(4))
+                .filter(|(a, b)| a.iter().zip(*b).all(|(x, y)| x.abs_diff(*y) <= 16))
+                .count() as f64
+                / 1600.0;
+            let bg = scene.render.background.0;
+            let same_cover = coverage(&tiles.rgba, bg)
+                .iter()
+                .zip(coverage(&b.rgba, bg))
+                .filter(|(a, b)| **a == *b)
+                .count() as f64
+                / 1600.0;
+            eprintln!("{name}: colour {close:.3}, coverage {same_cover:.3}");
+            assert!(
+                same_cover >= 0.99,
+                "{name}: coverage agrees on {same_cover}"
+            );
+            assert!(close >= 0.90, "{name}: colours agree on {close}");
+        }
+    }
+}
+
 /// Pixels that are not background.
 fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
     rgba.chunks(4).map(|p| p[..3] != background).collect()

@@ -12,7 +12,7 @@ use super::camera::Camera;
 use super::codegen;
 use super::gpu::{Gpu, RayCaster};
 use super::tiles::TileLists;
-use super::uniforms::{FrameOptions, Uniforms};
+use super::uniforms::{FLAG_BRUTE_FORCE, FrameOptions, Uniforms};
 
 /// Milliseconds per stage.
 #[derive(Debug, Clone, Default)]
@@ -168,14 +168,17 @@ fn gpu_frame(
     let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    caster.set_tiles(
-        gpu,
-        Some(&TileLists::build_within(
-            hierarchy,
-            camera,
-            gpu.tile_entry_budget(),
-        )),
-    );
+    // (Brute force reads no tile lists.)
+    if uniforms.control[2] & FLAG_BRUTE_FORCE == 0 {
+        caster.set_tiles(
+            gpu,
+            Some(&TileLists::build_within(
+                hierarchy,
+                camera,
+                gpu.tile_entry_budget(),
+            )),
+        );
+    }
     let rgba = caster.render_rgba(gpu, uniforms)?;
     times.frame_ms = ms(t);
     Ok((rgba, gpu.adapter.clone()))

@@ -70,7 +70,8 @@ pub struct FrameOptions {
     /// Frame counter: new ray offsets for progressive refinement.
     pub frame: u32,
     /// March every ray across the whole domain (the benchmark's baseline), with the step
-    /// count per unit length that the leaves of `brute_force_level` would use.
+    /// count per unit length that the leaves of `brute_force_level` would use. (With
+    /// `RenderSettings::brute_force`, the hierarchy's finest level.)
     pub brute_force_level: Option<u32>,
 }
 
@@ -103,9 +104,14 @@ impl Uniforms {
             flags |= FLAG_RANDOM;
         }
         let mut brute_steps = 0;
-        if let Some(level) = options.brute_force_level {
+        let finest = hierarchy.levels.len().saturating_sub(1) as u32;
+        let brute_level = options
+            .brute_force_level
+            .or(render.brute_force.then_some(finest));
+        if let Some(level) = brute_level {
             flags |= FLAG_BRUTE_FORCE;
-            brute_steps = render.steps.saturating_mul(1 << level.min(16));
+            // (At most 2^16 steps per ray, so that a fine tree cannot make one frame endless.)
+            brute_steps = render.steps.saturating_mul(1 << level.min(16)).min(1 << 16);
         }
         let mut levels = [LevelInfo::zeroed(); LEVEL_SLOTS];
         // (The CPU reference reads this table; the shader computes a level's box from

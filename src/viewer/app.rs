@@ -447,6 +447,11 @@ impl FourfoldApp {
             ui.radio_value(&mut r.sampling, Sampling::Stratified, "stratified");
             ui.radio_value(&mut r.sampling, Sampling::Random, "random");
         });
+        ui.checkbox(&mut r.brute_force, "brute force (march the whole domain)")
+            .on_hover_text(
+                "March every ray across the domain with the finest leaves' step instead of \
+                 testing the tree's leaves: the same picture, often faster",
+            );
         ui.horizontal(|ui| {
             ui.label("background");
             color_edit(ui, &mut r.background);

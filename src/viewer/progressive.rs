@@ -322,15 +322,18 @@ impl Progressive {
             };
             if self.stage_started.is_none() {
                 self.stage_started = Some(Instant::now());
-                // The leaves of each screen tile, for this stage's resolution and view.
-                caster.set_tiles(
-                    gpu,
-                    Some(&TileLists::build_within(
-                        hierarchy,
-                        &camera,
-                        gpu.tile_entry_budget(),
-                    )),
-                );
+                // The leaves of each screen tile, for this stage's resolution and view
+                // (brute force reads none).
+                if !session.scene.render.brute_force {
+                    caster.set_tiles(
+                        gpu,
+                        Some(&TileLists::build_within(
+                            hierarchy,
+                            &camera,
+                            gpu.tile_entry_budget(),
+                        )),
+                    );
+                }
             }
             let mut render = session.scene.render;
             render.rays = stage.rays;
