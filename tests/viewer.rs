@@ -238,3 +238,26 @@ fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
     assert!(frames > 0);
     assert!(h.state().session.tree_summary().contains("node budget hit"));
 }
+
+#[test]
+fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let pipelines = h.state().session.counters.pipelines;
+    h.get_by_label_contains("brute force").click_accesskit();
+    h.step();
+    {
+        // The picture keeps its mode until the new pipeline is warmed up in the background.
+        let app = h.state();
+        assert!(
+            app.session.scene.render.brute_force || app.session.pending_brute_force == Some(true),
+            "the checkbox did nothing"
+        );
+    }
+    settle(&mut h);
+    let app = h.state();
+    assert!(app.session.scene.render.brute_force);
+    assert_eq!(app.session.pending_brute_force, None);
+    assert_eq!(app.session.counters.pipelines, pipelines + 1);
+    assert!(!app.progressive.paint().layers.is_empty());
+}

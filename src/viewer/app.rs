@@ -447,11 +447,15 @@ impl FourfoldApp {
             ui.radio_value(&mut r.sampling, Sampling::Stratified, "stratified");
             ui.radio_value(&mut r.sampling, Sampling::Random, "random");
         });
-        ui.checkbox(&mut r.brute_force, "brute force (march the whole domain)")
+        // Applied when a pipeline warmed up for it is ready (see Session::set_brute_force).
+        let mut brute = self.session.pending_brute_force.unwrap_or(r.brute_force);
+        let toggled = ui
+            .checkbox(&mut brute, "brute force (march the whole domain)")
             .on_hover_text(
                 "March every ray across the domain with the finest leaves' step instead of \
                  testing the tree's leaves: the same picture, often faster",
-            );
+            )
+            .changed();
         ui.horizontal(|ui| {
             ui.label("background");
             color_edit(ui, &mut r.background);
@@ -490,6 +494,9 @@ impl FourfoldApp {
             );
             color_edit(ui, &mut r.border.color);
         });
+        if toggled {
+            self.session.set_brute_force(brute, self.gpu.as_ref());
+        }
     }
 
     fn status_line(&self, ui: &mut egui::Ui) {

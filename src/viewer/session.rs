@@ -63,6 +63,8 @@ struct JobResult {
     caster: Option<Result<RayCaster, String>>,
     tree_ms: f64,
     pipeline_ms: f64,
+    /// The brute-force setting the pipeline was warmed up for.
+    brute_force: bool,
 }
 
 /// A background build in flight.
@@ -101,6 +103,9 @@ pub struct Session {
     generation: u64,
     /// The edit whose timing runs from its text change (`Instant`) to its first frame.
     pub edit_started: Option<Instant>,
+    /// A brute-force setting waiting for its pipeline (warmed up in the background, so that
+    /// the window never waits for a driver compiling it at its first draw).
+    pub pending_brute_force: Option<bool>,
 }
 
 impl Session {
@@ -122,6 +127,7 @@ impl Session {
             job: None,
             generation: 0,
             edit_started: None,
+            pending_brute_force: None,
         }
     }
 
@@ -210,6 +216,25 @@ impl Session {
         self.start_job(formula, shader, false, gpu, Instant::now(), 0.0, 0.0);
     }
 
+    /// Switches brute force on or off once a caster warmed up for it is ready (until then the
+    /// picture keeps its mode).
+    pub fn set_brute_force(&mut self, on: bool, gpu: Option<&Gpu>) {
+        if self
+            .pending_brute_force
+            .unwrap_or(self.scene.render.brute_force)
+            == on
+        {
+            return;
+        }
+        match (self.formula.clone(), self.shader.clone()) {
+            (Some(formula), Some(shader)) if gpu.is_some() => {
+                self.pending_brute_force = Some(on);
+                self.start_job(formula, shader, true, gpu, Instant::now(), 0.0, 0.0);
+            }
+            _ => self.scene.render.brute_force = on,
+        }
+    }
+
     /// Replaces the whole scene (a preset or a file) and builds it.
     pub fn load_scene(&mut self, scene: Scene, gpu: Option<&Gpu>) {
         let text = scene.formula.clone();
@@ -243,7 +268,13 @@ impl Session {
         let settings = self.scene.tree.into();
         let gpu = gpu.cloned();
         // When the shader is new, the pipeline is made here too, off the UI thread.
-        let make_pipeline = new_shader || self.caster.is_none();
+        // (Also while a brute-force switch waits for its pipeline: this job replaces the one
+        // that was making it.)
+        let make_pipeline =
+            new_shader || self.caster.is_none() || self.pending_brute_force.is_some();
+        let brute_force = self
+            .pending_brute_force
+            .unwrap_or(self.scene.render.brute_force);
         {
             let (cancel, progress) = (cancel.clone(), progress.clone());
             let (formula, shader) = (formula.clone(), shader.clone());
@@ -269,13 +300,15 @@ impl Session {
                                     // One 1x1 draw here, so that a driver that compiles the
                                     // shader at its first draw (llvmpipe) does it off the UI
                                     // thread.
-                                    warm_up(gpu, &mut caster, hierarchy).map(|()| caster)
+                                    warm_up(gpu, &mut caster, hierarchy, brute_force)
+                                        .map(|()| caster)
                                 }),
                         ),
                         _ => None,
                     };
                     let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
                     let _ = sender.send(JobResult {
+                        brute_force,
                         generation,
                         formula,
                         shader,
@@ -328,6 +361,7 @@ impl Session {
                 return false;
             }
         };
+        let new_caster = result.caster.is_some();
         match result.caster {
             Some(Ok(caster)) => {
                 self.caster = Some(caster);
@@ -347,6 +381,10 @@ impl Session {
             }
         }
         self.counters.trees += 1;
+        if new_caster || self.pending_brute_force.is_none() {
+            self.scene.render.brute_force = result.brute_force;
+            self.pending_brute_force = None;
+        }
         self.formula = Some(result.formula);
         self.shader = Some(result.shader);
         self.tree_params = result.params;
@@ -393,9 +431,16 @@ impl Session {
     }
 }
 
-/// Draws one pixel with the pipeline the viewer draws with (tile lists bound: empty ones).
-fn warm_up(gpu: &Gpu, caster: &mut RayCaster, hierarchy: &Hierarchy) -> Result<(), String> {
-    let scene = Scene::from_formula("0");
+/// Draws one pixel with the pipeline the viewer will draw with: brute force, or tile lists
+/// (empty ones bound).
+fn warm_up(
+    gpu: &Gpu,
+    caster: &mut RayCaster,
+    hierarchy: &Hierarchy,
+    brute_force: bool,
+) -> Result<(), String> {
+    let mut scene = Scene::from_formula("0");
+    scene.render.brute_force = brute_force;
     let camera = crate::render::Camera::new(&scene.domain, &scene.view, 1, 1);
     caster.set_tiles(gpu, Some(&TileLists::build(&Hierarchy::default(), &camera)));
     let uniforms = crate::render::Uniforms::new(
