@@ -74,20 +74,7 @@ fn gpu_and_cpu_renders_agree() {
         let scene = small(&scene);
         let g = render_scene(&scene, 48, 48, Device::Gpu(&gpu), Default::default()).unwrap();
         let c = render_scene(&scene, 48, 48, Device::Cpu, Default::default()).unwrap();
-        let close = g
-            .rgba
-            .chunks(4)
-            .zip(c.rgba.chunks(4))
-            .filter(|(a, b)| a.iter().zip(*b).all(|(x, y)| x.abs_diff(*y) <= 12))
-            .count();
-        let fraction = close as f64 / (48.0 * 48.0);
-        let bg = scene.render.background.0;
-        let same_cover = coverage(&g.rgba, bg)
-            .iter()
-            .zip(coverage(&c.rgba, bg))
-            .filter(|(a, b)| **a == *b)
-            .count() as f64
-            / (48.0 * 48.0);
+        let (fraction, same_cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
         eprintln!("{name}: colour {fraction:.3}, coverage {same_cover:.3}");
         // Which pixels show M must agree; colours may differ where F's f32 (GPU) and f64
         // (CPU) values put a root on different sides of another ray's, so a different set
@@ -138,20 +125,8 @@ fn brute_force_setting_draws_the_same_picture() {
         let tiles = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
         for device in [Device::Gpu(&gpu), Device::Cpu] {
             let b = render_scene(&brute, 40, 40, device, Default::default()).unwrap();
-            let close = tiles
-                .rgba
-                .chunks(4)
-                .zip(b.rgba.chunks(4))
-                .filter(|(a, b)| a.iter().zip(*b).all(|(x, y)| x.abs_diff(*y) <= 16))
-                .count() as f64
-                / 1600.0;
-            let bg = scene.render.background.0;
-            let same_cover = coverage(&tiles.rgba, bg)
-                .iter()
-                .zip(coverage(&b.rgba, bg))
-                .filter(|(a, b)| **a == *b)
-                .count() as f64
-                / 1600.0;
+            let (close, same_cover) =
+                agreement(&tiles.rgba, &b.rgba, scene.render.background.0, 16);
             eprintln!("{name}: colour {close:.3}, coverage {same_cover:.3}");
             assert!(
                 same_cover >= 0.99,
@@ -160,6 +135,23 @@ fn brute_force_setting_draws_the_same_picture() {
             assert!(close >= 0.90, "{name}: colours agree on {close}");
         }
     }
+}
+
+/// Shares of pixels whose colours agree within `tolerance` per channel, and of pixels that
+/// agree on showing M (not the background).
+fn agreement(a: &[u8], b: &[u8], background: [u8; 3], tolerance: u8) -> (f64, f64) {
+    let n = (a.len() / 4) as f64;
+    let close = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| p.iter().zip(*q).all(|(x, y)| x.abs_diff(*y) <= tolerance))
+        .count() as f64;
+    let cover = coverage(a, background)
+        .iter()
+        .zip(coverage(b, background))
+        .filter(|(p, q)| **p == *q)
+        .count() as f64;
+    (close / n, cover / n)
 }
 
 /// Pixels that are not background.

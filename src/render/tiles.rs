@@ -86,6 +86,11 @@ fn pixel_range(c: f32, half: f32, pixels: u32) -> Option<(u32, u32)> {
     (p0 <= p1).then_some((p0 as u32, p1 as u32))
 }
 
+/// The tile rows (side `t`) whose pixel rows the footprint may reach; None if off screen.
+fn tile_rows(f: &Footprint, r: &Reach, t: u32, h: u32) -> Option<(u32, u32)> {
+    pixel_range(f.cy, r.hy, h).map(|(y0, y1)| (y0 / t, y1 / t))
+}
+
 /// The tiles (side `t`) of tile row `ty` that may hold a pixel the footprint reaches:
 /// the pixel rows of the tile give the least vertical gap, hence the widest chord of the
 /// disk; None if none.
@@ -125,10 +130,10 @@ impl Bins<'_> {
         for &k in &self.members[band] {
             let f = &self.feet[k as usize];
             let r = &self.reach[f.level as usize];
-            let Some((y0, y1)) = pixel_range(f.cy, r.hy, self.h) else {
+            let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
                 continue;
             };
-            for ty in (y0 / self.tile).max(r0)..=(y1 / self.tile).min(r1) {
+            for ty in ty0.max(r0)..=ty1.min(r1) {
                 if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
                     let row = (ty * self.tiles_x) as usize - base;
                     for tx in tx0..=tx1 {
@@ -233,10 +238,6 @@ impl TileLists {
         let band_rows = tiles_y.div_ceil(64).max(1);
         let band_tiles = (band_rows * tiles_x) as usize;
         let bands = tiles_y.div_ceil(band_rows) as usize;
-        let rows = |f: &Footprint| {
-            let r = &reach[f.level as usize];
-            pixel_range(f.cy, r.hy, h).map(|(y0, y1)| (y0 / tile, y1 / tile))
-        };
         // Each band's footprints, in order: per chunk of footprints in parallel, then joined
         // per band in chunk order.
         const CHUNK: usize = 1 << 16;
@@ -246,7 +247,7 @@ impl TileLists {
             .map(|(c, chunk)| {
                 let mut per_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
                 for (k, f) in chunk.iter().enumerate() {
-                    if let Some((ty0, ty1)) = rows(f) {
+                    if let Some((ty0, ty1)) = tile_rows(f, &reach[f.level as usize], tile, h) {
                         for band in (ty0 / band_rows)..=(ty1 / band_rows) {
                             per_band[band as usize].push((c * CHUNK + k) as u32);
                         }
