@@ -261,3 +261,26 @@ fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
     assert_eq!(app.session.counters.pipelines, pipelines + 1);
     assert!(!app.progressive.paint().layers.is_empty());
 }
+
+#[test]
+fn a_picture_converges_with_one_binning_per_resolution() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !h.state().progressive.converged() {
+        h.step();
+        assert!(
+            Instant::now() < deadline,
+            "the picture did not converge in 120 s"
+        );
+    }
+    let app = h.state();
+    // A preview, maybe a half-size pass, then the full size: the accumulated full-size passes
+    // (same view, new ray offsets) reuse one set of leaf lists.
+    assert!(
+        (2..=3).contains(&app.progressive.binnings),
+        "{} binnings for one picture",
+        app.progressive.binnings
+    );
+    assert!(app.progressive.full_quality());
+}

@@ -8,12 +8,15 @@
 //! square tiles, as many per UI frame as fit in the time budget. Any change (view, settings,
 //! new tree) starts again from the preview, while the last picture stays on screen.
 
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, TryRecvError};
 use std::time::Instant;
 
 use eframe::{egui, egui_wgpu};
 
 use crate::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, TileLists, Uniforms};
 use crate::scene::Scene;
+use crate::tree::Hierarchy;
 
 use super::session::Session;
 
@@ -56,6 +59,17 @@ pub struct Paint {
     pub layers: Vec<Done>,
 }
 
+/// Which stage texture and view a set of leaf lists is for.
+type BinKey = (usize, String);
+
+/// Leaf lists being binned on a worker thread (the binning of a full-size view takes longer
+/// than a UI frame).
+struct Binning {
+    key: BinKey,
+    lists: Receiver<TileLists>,
+    started: Instant,
+}
+
 /// The progressive renderer's state.
 pub struct Progressive {
     /// Screen size in pixels.
@@ -82,6 +96,12 @@ pub struct Progressive {
     /// Set when the first stage of a new picture generation completed.
     pub first_frame_of: Option<u64>,
     generation: u64,
+    /// The leaf lists the ray caster holds, and the binning in flight.
+    binned: Option<BinKey>,
+    binning: Option<Binning>,
+    /// Wall time of the last binning, milliseconds, and how many were started.
+    pub binning_ms: Option<f64>,
+    pub binnings: u64,
 }
 
 impl Default for Progressive {
@@ -103,6 +123,10 @@ impl Default for Progressive {
             preview_ms: None,
             first_frame_of: None,
             generation: 0,
+            binned: None,
+            binning: None,
+            binning_ms: None,
+            binnings: 0,
         }
     }
 }
@@ -181,6 +205,7 @@ impl Progressive {
         self.key = None;
         self.completed = None;
         self.shown = None;
+        self.binned = None;
     }
 
     /// The texture of each divisor.
@@ -283,9 +308,10 @@ impl Progressive {
         let params = session.tree_params.clone();
         while self.stage < self.stages.len() {
             let stage = self.stages[self.stage];
-            let tex = &self.textures[Self::texture_index(stage.div)];
-            let cols = tex.width.div_ceil(self.tile);
-            let rows = tex.height.div_ceil(self.tile);
+            let index = Self::texture_index(stage.div);
+            let (width, height) = (self.textures[index].width, self.textures[index].height);
+            let cols = width.div_ceil(self.tile);
+            let rows = height.div_ceil(self.tile);
             if self.next_tile >= cols * rows {
                 // Stage complete.
                 let wall = self
@@ -311,28 +337,19 @@ impl Progressive {
             if started.elapsed().as_secs_f64() * 1e3 >= budget_ms {
                 return true;
             }
-            let camera = Camera::new(
-                &session.scene.domain,
-                &session.scene.view,
-                tex.width,
-                tex.height,
-            );
+            let camera = Camera::new(&session.scene.domain, &session.scene.view, width, height);
             let (Some(caster), Some(hierarchy)) = (&mut session.caster, &session.hierarchy) else {
                 return false;
             };
             if self.stage_started.is_none() {
                 self.stage_started = Some(Instant::now());
-                // The leaves of each screen tile, for this stage's resolution and view
-                // (brute force reads none).
-                if !session.scene.render.brute_force {
-                    caster.set_tiles(
-                        gpu,
-                        Some(&TileLists::build_within(
-                            hierarchy,
-                            &camera,
-                            gpu.tile_entry_budget(),
-                        )),
-                    );
+            }
+            // The leaves of each screen tile, for this stage's resolution and view (brute
+            // force reads none). Binned once per texture and view, off the UI thread.
+            if !session.scene.render.brute_force {
+                let key = (index, self.key.clone().unwrap_or_default());
+                if !self.lists_ready(gpu, caster, hierarchy, &camera, key) {
+                    return true;
                 }
             }
             let mut render = session.scene.render;
@@ -349,8 +366,9 @@ impl Progressive {
                 },
             );
             let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
-            // As many squares of this row as fit in what is left of the budget.
-            let left = (budget_ms - started.elapsed().as_secs_f64() * 1e3).max(1.0);
+            // As many squares of this row as fit in what is left of the budget (with a
+            // margin: squares vary, and an overrun costs the window a frame).
+            let left = (0.5 * (budget_ms - started.elapsed().as_secs_f64() * 1e3)).max(1.0);
             let run = match self.unit_ms {
                 None => 1,
                 Some(u) => ((left / u.max(1e-3)) as u32).clamp(1, cols - tx),
@@ -363,7 +381,7 @@ impl Progressive {
             caster.encode_pass(
                 gpu,
                 &mut encoder,
-                &tex.view,
+                &self.textures[index].view,
                 &uniforms,
                 Pass {
                     region: Some(region),
@@ -379,8 +397,8 @@ impl Progressive {
                 Some(u) if per_unit < u => 0.8 * u + 0.2 * per_unit,
                 _ => per_unit,
             });
-            let w = (run * self.tile).min(tex.width - region[0]);
-            let h = self.tile.min(tex.height - region[1]);
+            let w = (run * self.tile).min(width - region[0]);
+            let h = self.tile.min(height - region[1]);
             let rays = f64::from(w * h * stage.rays);
             if run_ms > 0.05 {
                 let measured = rays / run_ms;
@@ -393,6 +411,59 @@ impl Progressive {
             self.next_tile += run;
         }
         false
+    }
+
+    /// Whether the caster holds the leaf lists for `key`; if not, starts or polls their
+    /// binning on a worker thread and uploads them once done.
+    fn lists_ready(
+        &mut self,
+        gpu: &Gpu,
+        caster: &mut RayCaster,
+        hierarchy: &Arc<Hierarchy>,
+        camera: &Camera,
+        key: BinKey,
+    ) -> bool {
+        if self.binned.as_ref() == Some(&key) {
+            return true;
+        }
+        if let Some(job) = &self.binning
+            && job.key == key
+        {
+            let lists = match job.lists.try_recv() {
+                Ok(lists) => Some(lists),
+                Err(TryRecvError::Empty) => return false,
+                // The worker died (it cannot, short of running out of memory): draw by the
+                // stackless walk, which needs no lists.
+                Err(TryRecvError::Disconnected) => None,
+            };
+            self.binning_ms = Some(job.started.elapsed().as_secs_f64() * 1e3);
+            caster.set_tiles(gpu, lists.as_ref());
+            self.binning = None;
+            self.binned = Some(key);
+            return true;
+        }
+        // A new view: bin it (a stale job finishes on its own; its result is dropped).
+        let (send, lists) = std::sync::mpsc::channel();
+        let (shared, view, budget) = (hierarchy.clone(), *camera, gpu.tile_entry_budget());
+        let worker = std::thread::Builder::new()
+            .name("fourfold binning".into())
+            .spawn(move || {
+                let _ = send.send(TileLists::build_within(&shared, &view, budget));
+            });
+        self.binnings += 1;
+        if worker.is_ok() {
+            self.binning = Some(Binning {
+                key,
+                lists,
+                started: Instant::now(),
+            });
+            return false;
+        }
+        // No thread to be had: bin here.
+        let lists = TileLists::build_within(hierarchy, camera, budget);
+        caster.set_tiles(gpu, Some(&lists));
+        self.binned = Some(key);
+        true
     }
 
     /// The layers to paint, bottom first: the last completed stage's texture whole, then the
