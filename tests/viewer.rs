@@ -244,6 +244,10 @@ fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
     let mut h = harness(small_scene());
     settle(&mut h);
     let pipelines = h.state().session.counters.pipelines;
+    // The rendering settings start folded.
+    assert!(h.query_by_label_contains("brute force").is_none());
+    h.get_by_label_contains("Rendering").click();
+    h.step();
     h.get_by_label_contains("brute force").click_accesskit();
     h.step();
     {

@@ -27,7 +27,7 @@ const KEY_UI: &str = "fourfold.ui";
 
 /// The UI frame time the viewer aims at: 20 frames per second with a margin. Ray casting gets
 /// what the rest of a frame (egui's widgets, the picture blit, presenting) leaves of it.
-const FRAME_TARGET_MS: f64 = 45.0;
+const FRAME_TARGET_MS: f64 = 40.0;
 /// Ray casting per UI frame at least (so the picture always progresses) and at most.
 const RAY_BUDGET_MS: [f64; 2] = [3.0, 20.0];
 
@@ -396,7 +396,7 @@ impl FourfoldApp {
     /// Domain and tree settings; true when the tree must be rebuilt.
     fn tree_controls(&mut self, ui: &mut egui::Ui) -> bool {
         let mut changed = false;
-        ui.heading("Domain");
+        ui.label(RichText::new("Domain").strong());
         let scene = &mut self.session.scene;
         let mut axes = scene.domain.axes();
         for (axis, name) in axes.iter_mut().zip(["x", "y", "z", "w"]) {
@@ -419,7 +419,7 @@ impl FourfoldApp {
             });
         }
         scene.domain = crate::scene::Domain::from_axes(axes);
-        ui.heading("Tree");
+        ui.label(RichText::new("Tree").strong());
         let t = &mut scene.tree;
         changed |= ui
             .add(egui::Slider::new(&mut t.max_level, 1..=MAX_TREE_LEVEL).text("max level"))
@@ -441,7 +441,6 @@ impl FourfoldApp {
     }
 
     fn render_controls(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Rendering");
         let r = &mut self.session.scene.render;
         ui.add(
             egui::Slider::new(&mut r.rays, 1..=MAX_RAYS)
@@ -662,12 +661,13 @@ impl FourfoldApp {
         if std::env::var_os("FOURFOLD_TRACE").is_some() {
             eprintln!(
                 "ui frame {:.1} ms, ray casting {:.1} ms (budget {:.1}), throughput {:.0} rays/ms, \
-                 last binning {:.0} ms",
+                 last binning {:.0} ms, stage/square {:?}",
                 self.ui_frame_ms,
                 step_ms,
                 budget_ms,
                 self.progressive.throughput(),
-                self.progressive.binning_ms.unwrap_or(0.0)
+                self.progressive.binning_ms.unwrap_or(0.0),
+                self.progressive.position()
             );
         }
         if let Some(g) = self.progressive.first_frame_of
@@ -735,9 +735,14 @@ impl eframe::App for FourfoldApp {
                     ui.separator();
                     self.view_controls(ui);
                     ui.separator();
-                    rebuild |= self.tree_controls(ui);
-                    ui.separator();
-                    self.render_controls(ui);
+                    // Closed at first: every widget on screen costs egui's shader per pixel
+                    // (a few ms per section on a software GPU), and these are set less often.
+                    egui::CollapsingHeader::new(RichText::new("Domain and tree").heading())
+                        .id_salt("fourfold domain and tree")
+                        .show(ui, |ui| rebuild |= self.tree_controls(ui));
+                    egui::CollapsingHeader::new(RichText::new("Rendering").heading())
+                        .id_salt("fourfold rendering")
+                        .show(ui, |ui| self.render_controls(ui));
                 });
             });
         if rebuild {

@@ -148,6 +148,11 @@ impl Progressive {
         self.completed == Some(self.stages.len().saturating_sub(1)) && !self.stages.is_empty()
     }
 
+    /// Where the drawing is: the stage, and squares done in it (for FOURFOLD_TRACE).
+    pub fn position(&self) -> (usize, u32) {
+        (self.stage, self.next_tile)
+    }
+
     /// 0..1: how far the current picture is.
     pub fn fraction(&self) -> f32 {
         if self.stages.is_empty() {
@@ -305,6 +310,7 @@ impl Progressive {
             self.plan(&session.scene, interacting);
         }
         let started = Instant::now();
+        let mut runs = 0;
         let params = session.tree_params.clone();
         while self.stage < self.stages.len() {
             let stage = self.stages[self.stage];
@@ -334,7 +340,11 @@ impl Progressive {
                 self.plan_tile();
                 continue;
             }
-            if started.elapsed().as_secs_f64() * 1e3 >= budget_ms {
+            // Stop when the budget is spent, or (after at least one run, so that the picture
+            // always progresses) when what is left would not hold half a square more.
+            let spent = started.elapsed().as_secs_f64() * 1e3;
+            let half_square = 0.5 * self.unit_ms.unwrap_or(0.0);
+            if spent >= budget_ms || (runs > 0 && budget_ms - spent < half_square) {
                 return true;
             }
             let camera = Camera::new(&session.scene.domain, &session.scene.view, width, height);
@@ -409,6 +419,7 @@ impl Progressive {
                 };
             }
             self.next_tile += run;
+            runs += 1;
         }
         false
     }
@@ -466,17 +477,14 @@ impl Progressive {
         true
     }
 
-    /// The layers to paint, bottom first: the last completed stage's texture whole, then the
-    /// tiles done of the stage in progress (if it draws into a different texture).
+    /// The layers to paint, bottom first: the last completed stage's texture below the rows
+    /// the stage in progress has done (each window pixel is blitted about once: on a software
+    /// GPU every layer costs its area), then those rows, if that stage draws into a different
+    /// texture.
     pub fn paint(&self) -> Paint {
         let mut layers = Vec::new();
-        if let Some(i) = self.shown {
-            let t = &self.textures[i];
-            layers.push(Done {
-                texture: i,
-                rect: [0, 0, t.width, t.height],
-            });
-        }
+        // The part of the picture's height done by the stage in progress, 0..1.
+        let mut covered = 0.0;
         if let Some(stage) = self.stages.get(self.stage) {
             let i = Self::texture_index(stage.div);
             if self.shown != Some(i) && self.next_tile > 0 {
@@ -485,23 +493,44 @@ impl Progressive {
                 let full_rows = self.next_tile / cols;
                 let partial = self.next_tile % cols;
                 let rows_h = (full_rows * self.tile).min(t.height);
-                if rows_h > 0 {
+                // The blit filters bilinearly, so a layer stops one texel short of texels not
+                // drawn yet (else a dark seam shows along the edge).
+                let short =
+                    |end: u32, limit: u32| if end > 0 && end < limit { end - 1 } else { end };
+                let shown_h = short(rows_h, t.height);
+                if shown_h > 0 {
                     layers.push(Done {
                         texture: i,
-                        rect: [0, 0, t.width, rows_h],
+                        rect: [0, 0, t.width, shown_h],
                     });
+                    covered = f64::from(shown_h) / f64::from(t.height);
                 }
-                if partial > 0 && rows_h < t.height {
+                let partial_w = (partial * self.tile).min(t.width);
+                let partial_h = self.tile.min(t.height - rows_h);
+                if partial > 0 && rows_h < t.height && partial_w > 1 && partial_h > 1 {
                     layers.push(Done {
                         texture: i,
                         rect: [
                             0,
-                            rows_h,
-                            (partial * self.tile).min(t.width),
-                            self.tile.min(t.height - rows_h),
+                            shown_h,
+                            short(partial_w, t.width),
+                            short(rows_h + partial_h, t.height) - shown_h,
                         ],
                     });
                 }
+            }
+        }
+        if let Some(i) = self.shown {
+            let t = &self.textures[i];
+            let top = ((covered * f64::from(t.height)).floor() as u32).min(t.height);
+            if top < t.height {
+                layers.insert(
+                    0,
+                    Done {
+                        texture: i,
+                        rect: [0, top, t.width, t.height - top],
+                    },
+                );
             }
         }
         Paint { layers }
