@@ -8,9 +8,7 @@ use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
 use crate::tree::{Hierarchy, hierarchy::LEAF_BIT};
 
-use super::uniforms::{
-    FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms,
-};
+use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
 type V4 = [f32; 4];
 
@@ -247,7 +245,7 @@ fn render_pixel(
         hits: Vec::with_capacity(16),
         k_max: u.size[3].clamp(1, 16) as usize,
     };
-    if u.control[2] & FLAG_BRUTE_FORCE != 0 {
+    if u.brute_force() {
         pixel.trace_box(o, u.domain_lo, u.domain_hi, u.counts[3]);
     } else {
         let mut i = 0usize;

@@ -8,7 +8,7 @@ use crate::tree::{Hierarchy, SphereNode};
 
 use super::codegen::Shader;
 use super::tiles::TileLists;
-use super::uniforms::{FLAG_BRUTE_FORCE, Uniforms};
+use super::uniforms::Uniforms;
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -304,7 +304,7 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let mode = if uniforms.control[2] & FLAG_BRUTE_FORCE != 0 {
+        let mode = if uniforms.brute_force() {
             Mode::BruteForce
         } else if self.tiled() {
             Mode::Tiles

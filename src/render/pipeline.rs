@@ -12,7 +12,7 @@ use super::camera::Camera;
 use super::codegen;
 use super::gpu::{Gpu, RayCaster};
 use super::tiles::TileLists;
-use super::uniforms::{FLAG_BRUTE_FORCE, FrameOptions, Uniforms};
+use super::uniforms::{FrameOptions, Uniforms};
 
 /// Milliseconds per stage.
 #[derive(Debug, Clone, Default)]
@@ -169,7 +169,7 @@ fn gpu_frame(
     times.pipeline_ms = ms(t);
     let t = Instant::now();
     // (Brute force reads no tile lists.)
-    if uniforms.control[2] & FLAG_BRUTE_FORCE == 0 {
+    if !uniforms.brute_force() {
         caster.set_tiles(
             gpu,
             Some(&TileLists::build_within(

@@ -76,6 +76,11 @@ pub struct FrameOptions {
 }
 
 impl Uniforms {
+    /// Whether the frame marches every ray across the domain (no tree leaves read).
+    pub fn brute_force(&self) -> bool {
+        self.control[2] & FLAG_BRUTE_FORCE != 0
+    }
+
     pub fn new(
         camera: &Camera,
         render: &RenderSettings,

@@ -28,8 +28,10 @@ const KEY_UI: &str = "fourfold.ui";
 /// The UI frame time the viewer aims at: 20 frames per second with a margin. Ray casting gets
 /// what the rest of a frame (egui's widgets, the picture blit, presenting) leaves of it.
 const FRAME_TARGET_MS: f64 = 40.0;
-/// Ray casting per UI frame at least (so the picture always progresses) and at most.
+/// Ray casting per UI frame at least (so the picture always progresses) and at most, and at
+/// most while the user drags (a quicker preview).
 const RAY_BUDGET_MS: [f64; 2] = [3.0, 20.0];
+const RAY_BUDGET_DRAGGING_MS: f64 = 12.0;
 
 /// UI settings that survive a restart besides the scene.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -642,7 +644,11 @@ impl FourfoldApp {
         let mut more = false;
         let step_started = Instant::now();
         let rest_ms = (self.ui_frame_ms - self.ray_ms).max(0.0);
-        let cap = if interacting { 12.0 } else { RAY_BUDGET_MS[1] };
+        let cap = if interacting {
+            RAY_BUDGET_DRAGGING_MS
+        } else {
+            RAY_BUDGET_MS[1]
+        };
         let budget_ms = (FRAME_TARGET_MS - rest_ms).clamp(RAY_BUDGET_MS[0], cap);
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {
             let mut renderer = renderer.write();

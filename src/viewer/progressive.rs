@@ -59,8 +59,8 @@ pub struct Paint {
     pub layers: Vec<Done>,
 }
 
-/// Which stage texture and view a set of leaf lists is for.
-type BinKey = (usize, String);
+/// Which stage texture and plan (view, settings, picture) a set of leaf lists is for.
+type BinKey = (usize, u64);
 
 /// Leaf lists being binned on a worker thread (the binning of a full-size view takes longer
 /// than a UI frame).
@@ -85,8 +85,9 @@ pub struct Progressive {
     completed: Option<usize>,
     /// The texture of the last completed stage of any plan: what is on screen.
     shown: Option<usize>,
-    /// What the stages were planned for; a different key restarts.
+    /// What the stages were planned for; a different key restarts. Plans made so far.
     key: Option<String>,
+    plans: u64,
     /// Measured throughput (rays per millisecond), for sizing previews and tiles.
     rays_per_ms: f64,
     stage_started: Option<Instant>,
@@ -117,6 +118,7 @@ impl Default for Progressive {
             completed: None,
             shown: None,
             key: None,
+            plans: 0,
             rays_per_ms: 50.0,
             stage_started: None,
             full_ms: None,
@@ -210,7 +212,6 @@ impl Progressive {
         self.key = None;
         self.completed = None;
         self.shown = None;
-        self.binned = None;
     }
 
     /// The texture of each divisor.
@@ -219,6 +220,7 @@ impl Progressive {
     }
 
     fn plan(&mut self, scene: &Scene, interacting: bool) {
+        self.plans += 1;
         let rays = scene.render.rays.max(1);
         let pixels = |div: u32| {
             f64::from(self.size[0].div_ceil(div)) * f64::from(self.size[1].div_ceil(div))
@@ -354,14 +356,6 @@ impl Progressive {
             if self.stage_started.is_none() {
                 self.stage_started = Some(Instant::now());
             }
-            // The leaves of each screen tile, for this stage's resolution and view (brute
-            // force reads none). Binned once per texture and view, off the UI thread.
-            if !session.scene.render.brute_force {
-                let key = (index, self.key.clone().unwrap_or_default());
-                if !self.lists_ready(gpu, caster, hierarchy, &camera, key) {
-                    return true;
-                }
-            }
             let mut render = session.scene.render;
             render.rays = stage.rays;
             let uniforms = Uniforms::new(
@@ -375,6 +369,13 @@ impl Progressive {
                     brute_force_level: None,
                 },
             );
+            // The leaves of each screen tile, for this stage's resolution and view (brute
+            // force reads none). Binned once per texture and plan, off the UI thread.
+            if !uniforms.brute_force()
+                && !self.lists_ready(gpu, caster, hierarchy, &camera, (index, self.plans))
+            {
+                return true;
+            }
             let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
             // As many squares of this row as fit in what is left of the budget (with a
             // margin: squares vary, and an overrun costs the window a frame).
