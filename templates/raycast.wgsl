@@ -41,6 +41,7 @@ struct Uniforms {
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
+    march: vec4<u32>,     // march level, finest level, unused x2 (see visit)
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -264,8 +265,8 @@ struct Tracer {
     hits: Hits,
 }
 
-// Tests candidate node i against the pixel's observer plane; on a leaf that passes, makes it
-// the current leaf. Returns the next node of a walk (i + 1 to descend, the skip otherwise).
+// Tests candidate node i against the pixel's observer plane; on a box to march (a leaf or a
+// node at the march level) that passes, makes it the current leaf. Returns the next node of a walk (i + 1 to descend, the skip otherwise).
 fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
@@ -290,10 +291,19 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
     if (!near && MODE == 1u) {
         (*tr).more = false;
     }
-    if (meets && near && (node.info & LEAF) != 0u) {
-        start_leaf(tr, c - half, c + half, r, q, u.control.x);
+    // A leaf, or a node at the march level, is marched as one box; a node at the march
+    // level with the finest level's step length (the steps of its span times 2^levels up,
+    // at most 2^16), and its subtree is skipped.
+    let level = node.info & 255u;
+    let leaf = (node.info & LEAF) != 0u;
+    let boxed = leaf || level >= u.march.x;
+    let up = min(u.march.y - min(level, u.march.y), 16u);
+    let steps = u.control.x;
+    let fine = select(65536u, steps << up, steps <= (65536u >> up));
+    if (meets && near && boxed) {
+        start_leaf(tr, c - half, c + half, r, q, select(fine, steps, leaf));
     }
-    return select(node.skip, i + 1u, meets && near);
+    return select(node.skip, i + 1u, meets && near && !boxed);
 }
 
 // Makes [lo, hi] the current leaf: only the rays that can meet its sphere (centre at q in
@@ -345,8 +355,11 @@ fn step(tr: ptr<function, Tracer>) {
             (*tr).more = false;
         }
     }
-    // The next ray of the leaf.
-    if ((*tr).leaf_on && !(*tr).ray_on && (*tr).rj < (*tr).rcount) {
+    // The next ray of the leaf that meets its box (a loop: rays that miss cost no step).
+    loop {
+        if (!((*tr).leaf_on && !(*tr).ray_on && (*tr).rj < (*tr).rcount)) {
+            break;
+        }
         let j = (*tr).rj;
         (*tr).rj = j + 1u;
         let k = select(j, u32((((*tr).k0 + i32(j)) % ni + ni) % ni), (*tr).stratified);

@@ -160,6 +160,71 @@ fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
 }
 
 #[test]
+fn marching_coarser_boxes_draws_the_leaves_picture() {
+    // The ray caster marches the nodes two levels above the finest leaves, at the finest
+    // leaves' step: the same picture as marching the leaves, on the GPU (tile lists and
+    // the walk of the hierarchy) and on the CPU.
+    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
+    use fourfold::tree::{Hierarchy, hierarchy::MARCH_LEVELS_ABOVE_FINEST};
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["glome", "fig-3-9-left", "tiger"].contains(n))
+    {
+        let mut scene = small(&scene);
+        scene.tree.min_level = 5;
+        let (formula, params, tree) = common::build(&scene, scene.tree.into());
+        let shader = codegen::generate(&formula).unwrap();
+        let h = Hierarchy::from_tree(&tree);
+        let finest = h.finest_level();
+        assert_eq!(h.march_level, finest - MARCH_LEVELS_ABOVE_FINEST);
+        let leaves = h.clone().with_march_level(finest);
+        assert!(
+            h.march_boxes() * 4 < leaves.march_boxes(),
+            "{name}: {} boxes against {} leaves",
+            h.march_boxes(),
+            leaves.march_boxes()
+        );
+        let camera = Camera::new(&scene.domain, &scene.view, 48, 48);
+        let mut pictures = Vec::new();
+        for h in [&leaves, &h] {
+            let u = Uniforms::new(
+                &camera,
+                &scene.render,
+                &scene.domain,
+                h,
+                &params,
+                FrameOptions::default(),
+            );
+            let mut caster = RayCaster::new(&gpu, &shader, h).unwrap();
+            caster.set_tiles(&gpu, Some(&TileLists::build(h, &camera)));
+            let tiles = caster.render_rgba(&gpu, &u).unwrap();
+            caster.set_tiles(&gpu, None);
+            let walk = caster.render_rgba(&gpu, &u).unwrap();
+            let reference = cpu::render_rgba(&formula, &params, h, &u);
+            for (what, picture) in [("tiles", &tiles), ("walk", &walk)] {
+                let (close, cover) = agreement(picture, &reference, scene.render.background.0, 12);
+                eprintln!(
+                    "{name} march level {}: {what} vs CPU {close:.3} {cover:.3}",
+                    h.march_level
+                );
+                assert!(
+                    cover >= 0.99 && close >= 0.90,
+                    "{name}: {what} vs CPU: {close} {cover}"
+                );
+            }
+            pictures.push(reference);
+        }
+        let (close, cover) = agreement(&pictures[0], &pictures[1], scene.render.background.0, 16);
+        eprintln!("{name}: leaves vs coarser boxes {close:.3} {cover:.3}");
+        assert!(
+            cover >= 0.98 && close >= 0.90,
+            "{name}: leaves vs coarser boxes: colour {close}, coverage {cover}"
+        );
+    }
+}
+
+#[test]
 fn the_glome_covers_exactly_its_disk_at_any_angles() {
     let gpu = gpu();
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
@@ -353,12 +418,16 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
             for lists in [&exact, &coarse] {
                 check_tile_lists(name, &h, &camera, lists);
             }
+            // Lists of the leaves themselves (the march level at the finest level).
+            let leaves = h.clone().with_march_level(h.finest_level());
+            check_tile_lists(name, &leaves, &camera, &TileLists::build(&leaves, &camera));
         }
     }
 }
 
-/// Every leaf that passes the shader's pixel test (sphere and box support along v1, v2) is
-/// in the pixel's tile list, once, and each list is nearest first (by |q| − r).
+/// Every box the ray caster marches (`Hierarchy::marches`) that passes the shader's pixel
+/// test (sphere and box support along v1, v2) is in the pixel's tile list, once; no other
+/// node is; and each list is nearest first (by |q| − r).
 fn check_tile_lists(
     name: &str,
     h: &fourfold::tree::Hierarchy,
@@ -376,6 +445,10 @@ fn check_tile_lists(
     for ty in 0..lists.tiles_y {
         for tx in 0..lists.tiles_x {
             let list = lists.tile(tx, ty);
+            assert!(
+                list.iter().all(|&i| h.marches(&h.nodes[i as usize])),
+                "{name}: a node that is not marched in tile ({tx}, {ty})"
+            );
             let mut seen = std::collections::HashSet::new();
             assert!(
                 list.iter().all(|i| seen.insert(*i)),
@@ -392,7 +465,7 @@ fn check_tile_lists(
             let o = camera.origin(f64::from(px), f64::from(py));
             let list = lists.tile(px / t, py / t);
             for (i, node) in h.nodes.iter().enumerate() {
-                if !node.is_leaf() {
+                if !h.marches(node) {
                     continue;
                 }
                 let info = &h.levels[node.level() as usize];

@@ -6,7 +6,10 @@ use rayon::prelude::*;
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
-use crate::tree::{Hierarchy, hierarchy::LEAF_BIT};
+use crate::tree::{
+    Hierarchy,
+    hierarchy::{LEAF_BIT, march_steps},
+};
 
 use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
@@ -259,10 +262,20 @@ fn render_pixel(
                 i = node.skip as usize;
                 continue;
             }
-            if node.meta & LEAF_BIT != 0 {
+            // As the shader's `visit`: leaves and nodes at the march level are marched whole.
+            let depth = node.meta & 255;
+            let leaf = node.meta & LEAF_BIT != 0;
+            if leaf || depth >= u.march[0] {
                 let lo = sub(node.center, level.half);
                 let hi = add(node.center, level.half);
-                pixel.trace_box(o, lo, hi, u.control[0]);
+                let steps = if leaf {
+                    u.control[0]
+                } else {
+                    march_steps(u.control[0], u.march[1] - depth.min(u.march[1]))
+                };
+                pixel.trace_box(o, lo, hi, steps);
+                i = node.skip as usize;
+                continue;
             }
             i += 1;
         }

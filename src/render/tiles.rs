@@ -1,5 +1,7 @@
-//! Screen tiles: for each square block of pixels, the leaves whose sphere can meet the
-//! observer plane of some pixel in it. Built on the CPU per view (one pass over the leaves),
+//! Screen tiles: for each square block of pixels, the boxes the ray caster marches (the
+//! nodes at the hierarchy's march level and the leaves above it, see
+//! `Hierarchy::march_level`; "leaves" below) whose sphere can meet the observer plane of some
+//! pixel in it. Built on the CPU per view (one pass over the leaves),
 //! so that each pixel tests only its tile's leaves instead of walking the hierarchy: the walk's
 //! inner-node tests (16 children per passing node) were most of a frame on a software GPU.
 //!
@@ -180,7 +182,9 @@ impl TileLists {
             .enumerate()
             .filter_map(|(i, node)| {
                 let level = node.level();
-                let r = reach.get(level as usize).filter(|_| node.is_leaf())?;
+                let r = reach
+                    .get(level as usize)
+                    .filter(|_| hierarchy.marches(node))?;
                 let rel: [f64; 4] =
                     std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
                 let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };

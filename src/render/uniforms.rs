@@ -1,5 +1,5 @@
 //! The uniform block the ray caster reads, laid out exactly as `Uniforms` in
-//! `templates/raycast.wgsl` (1072 bytes), and how a scene fills it.
+//! `templates/raycast.wgsl` (1088 bytes), and how a scene fills it.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -52,6 +52,9 @@ pub struct Uniforms {
     /// Half extents of a level-0 box before padding (root[1] is the padding): the shader
     /// computes a level's box from them (see `Hierarchy::base_half`).
     pub half0: [f32; 4],
+    /// The hierarchy's march level, its finest level (see `Hierarchy::march_level`), unused
+    /// x2.
+    pub march: [u32; 4],
     pub levels: [LevelInfo; LEVEL_SLOTS],
     pub params: [[f32; 4]; 16],
 }
@@ -169,6 +172,7 @@ impl Uniforms {
             ],
             tiling: [0; 4],
             half0: hierarchy.base_half,
+            march: [hierarchy.march_level, finest, 0, 0],
             levels,
             params: packed,
         }
