@@ -2,14 +2,17 @@
 //!
 //! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
 //! 1. the chapter's scene and the glome at SIZE² (default 512) with 8, 16 and 32 rays, drawn
-//!    with the per-tile leaf lists (the default; the CPU binning of the leaves into the lists
-//!    is included and shown), with the per-pixel walk of the sphere hierarchy (only with
+//!    with the per-tile lists of the boxes to march (the default: the nodes two levels above
+//!    the finest leaves; the CPU binning of the boxes into the lists is included and shown),
+//!    the same with the leaves themselves as the boxes (the previous design: march level =
+//!    finest level), with the per-pixel walk of the sphere hierarchy (only with
 //!    FOURFOLD_BENCH_WALK=1: slow on a software GPU), and by the brute-force variant (no
 //!    hierarchy: every ray marched across the whole domain with the step count per unit
 //!    length of the level's leaves, its own pipeline with the same march code), at
 //!    tree levels 5, 6 and 7 (uniform trees, so the leaf size is the level's), as a ratio, with
 //!    the share of pixels on which the two pictures agree;
-//! 2. how the frame time grows with pixels, rays and tree level (glome).
+//! 2. how the frame time grows with pixels, rays and tree level (glome);
+//! 3. the frame time by march level (levels 0 to 4 above the finest, 256², 16 rays, level 6).
 //!
 //! Environment: FOURFOLD_BENCH_SIZE (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
 //! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_SCENES (default
@@ -82,6 +85,8 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
 enum Method {
     /// Per-tile leaf lists binned on the CPU (the default; binning time included).
     Tiles,
+    /// The same, marching the finest leaves themselves.
+    Leaves,
     /// Each pixel walks the sphere hierarchy.
     Walk,
     /// No hierarchy: every ray marched across the domain (steps of the level's leaves).
@@ -90,10 +95,27 @@ enum Method {
 
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
+    let march = p.hierarchy.march_level;
+    if method == Method::Leaves {
+        p.hierarchy.march_level = p.hierarchy.finest_level();
+    }
+    let out = frame_at(gpu, p, size, rays, method);
+    p.hierarchy.march_level = march;
+    out
+}
+
+fn frame_at(
+    gpu: &Gpu,
+    p: &mut Prepared,
+    size: u32,
+    rays: u32,
+    method: Method,
+) -> (f64, f64, Vec<u8>) {
     let brute = match method {
         Method::Brute(level) => Some(level),
         _ => None,
     };
+    let tiled = matches!(method, Method::Tiles | Method::Leaves);
     let mut render = p.scene.render;
     render.rays = rays;
     let camera = Camera::new(&p.scene.domain, &p.scene.view, size, size);
@@ -110,13 +132,13 @@ fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (
     );
     let runs = env_u32("FOURFOLD_BENCH_RUNS", 2).max(1);
     // Warm-up in the same mode (llvmpipe compiles a pipeline at its first draw).
-    let lists = (method == Method::Tiles).then(|| TileLists::build(&p.hierarchy, &camera));
+    let lists = tiled.then(|| TileLists::build(&p.hierarchy, &camera));
     p.caster.set_tiles(gpu, lists.as_ref());
     let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
     let mut best = (f64::INFINITY, 0.0);
     for _ in 0..runs {
         let t = Instant::now();
-        if method == Method::Tiles {
+        if tiled {
             let lists = TileLists::build(&p.hierarchy, &camera);
             p.caster.set_tiles(gpu, Some(&lists));
         }
@@ -166,9 +188,9 @@ fn main() {
     println!("adapter: {}", gpu.adapter);
     println!("\n## Hierarchy vs brute force, {size}x{size}\n");
     println!(
-        "| scene | level | leaves | rays | tiles ms (CPU binning) | walk ms | brute force ms | brute/tiles | brute/walk | same colour | same coverage | pixels cut (tiles/walk/brute) |"
+        "| scene | level | leaves | boxes marched | rays | tiles ms (CPU binning) | leaves ms (CPU binning) | walk ms | brute force ms | brute/tiles | brute/leaves | leaves/tiles | brute/walk | same colour | same coverage | pixels cut (tiles/walk/brute) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     // The walk (the fallback when tile lists exceed the device's buffer limit) is slow on a
     // software GPU; FOURFOLD_BENCH_WALK=1 includes it.
     let with_walk = std::env::var("FOURFOLD_BENCH_WALK").is_ok_and(|v| v == "1");
@@ -180,6 +202,7 @@ fn main() {
             let background = p.scene.render.background.0;
             for &rays in &ray_counts {
                 let (tiles, binning, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
+                let (leaves, leaf_binning, _) = frame(&gpu, &mut p, size, rays, Method::Leaves);
                 let (walk, _, w) = if with_walk {
                     frame(&gpu, &mut p, size, rays, Method::Walk)
                 } else {
@@ -188,9 +211,12 @@ fn main() {
                 let (slow, _, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
                 println!(
-                    "| {name} | {level} | {} | {rays} | {tiles:.0} ({binning:.0}) | {walk:.0} | {slow:.0} | {:.1}x | {:.1}x | {:.1}% | {:.1}% | {} / {} / {} |",
+                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {leaves:.0} ({leaf_binning:.0}) | {walk:.0} | {slow:.0} | {:.1}x | {:.1}x | {:.1}x | {:.1}x | {:.1}% | {:.1}% | {} / {} / {} |",
                     p.leaves,
+                    p.hierarchy.march_boxes(),
                     slow / tiles,
+                    slow / leaves,
+                    leaves / tiles,
                     slow / walk,
                     100.0 * colour,
                     100.0 * cover,
@@ -225,5 +251,22 @@ fn main() {
     for level in [4, 5, 6, 7] {
         let mut p = prepare(&gpu, "glome", level);
         row(&mut p, 256, 16, level);
+    }
+    println!("\n## Frame time by march level (256², 16 rays, uniform level-6 trees)\n");
+    println!(
+        "| scene | levels above the finest | boxes marched | ms (CPU binning) | brute force ms |"
+    );
+    println!("|---|---|---|---|---|");
+    for name in ["fig-3-9-left", "glome"] {
+        let mut p = prepare(&gpu, name, 6);
+        let (brute, _, _) = frame(&gpu, &mut p, 256, 16, Method::Brute(6));
+        for up in 0..=4 {
+            p.hierarchy.march_level = 6 - up;
+            let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
+            println!(
+                "| {name} | {up} | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
+                p.hierarchy.march_boxes()
+            );
+        }
     }
 }

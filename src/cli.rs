@@ -536,7 +536,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}\ntimes (ms): parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}\nwrote {} ({width}x{height})",
+        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
         picture.tree.nodes,
         picture.tree.leaves,
@@ -544,6 +544,13 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
             " (node budget hit)"
         } else {
             ""
+        },
+        match picture.marched {
+            Some((level, boxes)) => format!("; marched as {boxes} boxes down to level {level}"),
+            None if picture.tree.nodes > 0 => {
+                "; brute force: every ray marched across the domain".to_string()
+            }
+            None => String::new(),
         },
         t.parse_ms,
         t.tree_ms,
