@@ -14,7 +14,8 @@
 //! 2. how the frame time grows with pixels, rays and tree level (glome);
 //! 3. the frame time by march level (levels 0 to 4 above the finest, 256², 16 rays, level 6).
 //!
-//! Environment: FOURFOLD_BENCH_SIZE (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
+//! Environment: FOURFOLD_BENCH_LEAVES=0 skips the leaves column, FOURFOLD_BENCH_SIZE
+//! (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
 //! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_SCENES (default
 //! "fig-3-9-left,glome"), FOURFOLD_BENCH_QUICK=1 skips the growth table.
 //! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
@@ -46,9 +47,33 @@ fn env_u32(name: &str, default: u32) -> u32 {
 struct Prepared {
     scene: Scene,
     params: Vec<f64>,
+    /// The default hierarchy (down to the march level) and its caster.
     hierarchy: Hierarchy,
     caster: RayCaster,
+    /// Every node down to the leaves and its caster (built when first needed; None inside
+    /// if the device cannot hold it).
+    full: Option<Option<(Hierarchy, RayCaster)>>,
+    tree: Tree16,
+    shader: codegen::Shader,
     leaves: u64,
+}
+
+impl Prepared {
+    /// Swaps the full hierarchy and its caster in or out; false if the device can't hold it.
+    fn swap_full(&mut self, gpu: &Gpu) -> bool {
+        let full = self.full.get_or_insert_with(|| {
+            let h = Hierarchy::from_tree_at(&self.tree, u32::MAX);
+            RayCaster::new(gpu, &self.shader, &h).ok().map(|c| (h, c))
+        });
+        match full {
+            Some((h, c)) => {
+                std::mem::swap(&mut self.hierarchy, h);
+                std::mem::swap(&mut self.caster, c);
+                true
+            }
+            None => false,
+        }
+    }
 }
 
 fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
@@ -76,7 +101,10 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
         params,
         hierarchy,
         caster,
+        full: None,
         leaves: tree.stats.leaves,
+        tree,
+        shader,
     }
 }
 
@@ -95,12 +123,14 @@ enum Method {
 
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
-    let march = p.hierarchy.march_level;
-    if method == Method::Leaves {
-        p.hierarchy.march_level = p.hierarchy.finest_level();
+    if method != Method::Leaves {
+        return frame_at(gpu, p, size, rays, method);
+    }
+    if !p.swap_full(gpu) {
+        return (f64::NAN, f64::NAN, Vec::new());
     }
     let out = frame_at(gpu, p, size, rays, method);
-    p.hierarchy.march_level = march;
+    p.swap_full(gpu);
     out
 }
 
@@ -194,6 +224,9 @@ fn main() {
     // The walk (the fallback when tile lists exceed the device's buffer limit) is slow on a
     // software GPU; FOURFOLD_BENCH_WALK=1 includes it.
     let with_walk = std::env::var("FOURFOLD_BENCH_WALK").is_ok_and(|v| v == "1");
+    // Marching the leaves themselves bins millions of them per frame at level 7;
+    // FOURFOLD_BENCH_LEAVES=0 leaves that column out.
+    let with_leaves = std::env::var("FOURFOLD_BENCH_LEAVES").map_or(true, |v| v != "0");
     let scenes =
         std::env::var("FOURFOLD_BENCH_SCENES").unwrap_or_else(|_| "fig-3-9-left,glome".to_string());
     for name in scenes.split(',').map(str::trim) {
@@ -202,7 +235,11 @@ fn main() {
             let background = p.scene.render.background.0;
             for &rays in &ray_counts {
                 let (tiles, binning, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
-                let (leaves, leaf_binning, _) = frame(&gpu, &mut p, size, rays, Method::Leaves);
+                let (leaves, leaf_binning, _) = if with_leaves {
+                    frame(&gpu, &mut p, size, rays, Method::Leaves)
+                } else {
+                    (f64::NAN, 0.0, Vec::new())
+                };
                 let (walk, _, w) = if with_walk {
                     frame(&gpu, &mut p, size, rays, Method::Walk)
                 } else {
@@ -260,6 +297,9 @@ fn main() {
     for name in ["fig-3-9-left", "glome"] {
         let mut p = prepare(&gpu, name, 6);
         let (brute, _, _) = frame(&gpu, &mut p, 256, 16, Method::Brute(6));
+        if !p.swap_full(&gpu) {
+            continue;
+        }
         for up in 0..=4 {
             p.hierarchy.march_level = 6 - up;
             let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);

@@ -318,6 +318,8 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         let mut value = serde_json::to_value(s).expect("stats serialise");
         value["tree_bytes"] = value["bytes"].clone();
         value["bytes"] = hierarchy.bytes().into();
+        value["march_level"] = hierarchy.march_level.into();
+        value["gpu_nodes"] = hierarchy.nodes.len().into();
         value["max_level"] = settings.max_level.into();
         value["min_level"] = settings.min_level.into();
         value["node_budget"] = settings.node_budget.into();
@@ -341,10 +343,12 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         ));
     }
     out.push_str(&format!(
-        "\nnodes {}, leaves {}, hierarchy {} bytes, {} interval evaluations, built in {:.1} ms\n",
+        "\nnodes {}, leaves {}, hierarchy for the GPU {} bytes ({} nodes down to the march level {}), {} interval evaluations, built in {:.1} ms\n",
         s.nodes,
         s.leaves,
         hierarchy.bytes(),
+        hierarchy.nodes.len(),
+        hierarchy.march_level,
         s.interval_evaluations,
         s.build_ms
     ));

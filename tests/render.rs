@@ -178,7 +178,7 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
         let h = Hierarchy::from_tree(&tree);
         let finest = h.finest_level();
         assert_eq!(h.march_level, finest - MARCH_LEVELS_ABOVE_FINEST);
-        let leaves = h.clone().with_march_level(finest);
+        let leaves = Hierarchy::from_tree_at(&tree, finest);
         assert!(
             h.march_boxes() * 4 < leaves.march_boxes(),
             "{name}: {} boxes against {} leaves",
@@ -419,7 +419,7 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
                 check_tile_lists(name, &h, &camera, lists);
             }
             // Lists of the leaves themselves (the march level at the finest level).
-            let leaves = h.clone().with_march_level(h.finest_level());
+            let leaves = Hierarchy::from_tree_at(&tree, h.finest_level());
             check_tile_lists(name, &leaves, &camera, &TileLists::build(&leaves, &camera));
         }
     }

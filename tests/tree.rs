@@ -160,8 +160,34 @@ fn hierarchy_spheres_nest_and_skips_walk_depth_first() {
     };
     for (name, scene) in example_scenes() {
         let (_, _, tree) = build(&scene, settings);
-        let h = Hierarchy::from_tree(&tree);
+        let h = Hierarchy::from_tree_at(&tree, u32::MAX);
+        assert_eq!(h.march_level, h.finest_level());
         assert_eq!(h.nodes.len() as u64, tree.stats.nodes, "{name}");
+        // The default hierarchy stops at the march level: the same nodes, in the same order,
+        // without the deeper ones, with skips that step over the same subtrees.
+        let cut = Hierarchy::from_tree(&tree);
+        assert_eq!(cut.march_level, h.finest_level().saturating_sub(2));
+        let kept: Vec<usize> = (0..h.nodes.len())
+            .filter(|&i| h.nodes[i].level() <= cut.march_level)
+            .collect();
+        assert_eq!(cut.nodes.len(), kept.len(), "{name}: nodes kept");
+        let new_index = |old: usize| kept.partition_point(|&k| k < old);
+        for (j, &i) in kept.iter().enumerate() {
+            let (a, b) = (&h.nodes[i], &cut.nodes[j]);
+            assert_eq!((a.center, a.meta), (b.center, b.meta), "{name}: node {i}");
+            assert_eq!(
+                b.skip as usize,
+                new_index(a.skip as usize),
+                "{name}: skip of {i}"
+            );
+            if b.level() == cut.march_level {
+                assert_eq!(
+                    b.skip as usize,
+                    j + 1,
+                    "{name}: march box {j} keeps children"
+                );
+            }
+        }
         // Parent of each node, from the depth-first order and skips.
         let mut visits = vec![0u32; h.nodes.len()];
         let mut stack: Vec<usize> = Vec::new();

@@ -77,8 +77,9 @@ pub struct Hierarchy {
     /// The level at which the ray caster stops descending: a node at this level is marched
     /// as one box, with the step count per unit length of the finest level (so the same
     /// samples per length as its leaves would get); a leaf above it is marched as a leaf
-    /// (the chapter's m steps per span). Nodes below it are never visited. By default the
-    /// finest level minus [`MARCH_LEVELS_ABOVE_FINEST`].
+    /// (the chapter's m steps per span). Nodes below it are not kept (`nodes` ends there),
+    /// but `levels` still describes every level of the tree. By default the finest level
+    /// minus [`MARCH_LEVELS_ABOVE_FINEST`]; it may be set coarser afterwards, not finer.
     pub march_level: u32,
     /// The rule behind `levels[l].half`, in f32 as the shader computes it (instead of reading
     /// the table): `base_half · 2^-l + pad`, `base_half` padded relatively and `pad` more
@@ -88,8 +89,18 @@ pub struct Hierarchy {
 }
 
 impl Hierarchy {
-    /// Flattens `tree` (empty tree → empty hierarchy).
+    /// Flattens `tree` (empty tree → empty hierarchy) down to the default march level, the
+    /// finest level minus [`MARCH_LEVELS_ABOVE_FINEST`]: the ray caster never visits deeper
+    /// nodes, so they are not kept (a GPU buffer 64x smaller, and trees too large for the
+    /// device as a whole fit).
     pub fn from_tree(tree: &Tree16) -> Self {
+        let finest = tree.levels.len().saturating_sub(1) as u32;
+        Self::from_tree_at(tree, finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST))
+    }
+
+    /// Flattens `tree` down to `march_level` (clamped to the finest level; the finest level
+    /// keeps every node and marches the leaves themselves).
+    pub fn from_tree_at(tree: &Tree16, march_level: u32) -> Self {
         let axes = tree.domain.axes();
         let size = axes.map(|a| a.hi - a.lo);
         let lo = axes.map(|a| a.lo);
@@ -115,7 +126,8 @@ impl Hierarchy {
                 }
             })
             .collect();
-        let march_level = (levels.len() as u32 - 1).saturating_sub(MARCH_LEVELS_ABOVE_FINEST);
+        let march_level = march_level.min(levels.len() as u32 - 1);
+        let depth = (march_level as usize + 1).min(tree.levels.len());
         if tree.is_empty() {
             return Self {
                 nodes: Vec::new(),
@@ -125,9 +137,12 @@ impl Hierarchy {
                 pad,
             };
         }
-        // Subtree sizes, bottom-up.
-        let mut subtree: Vec<Vec<u32>> = tree.levels.iter().map(|l| vec![1; l.len()]).collect();
-        for l in (0..tree.levels.len().saturating_sub(1)).rev() {
+        // Subtree sizes down to the march level, bottom-up.
+        let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
+            .iter()
+            .map(|l| vec![1; l.len()])
+            .collect();
+        for l in (0..depth.saturating_sub(1)).rev() {
             let (here, below) = subtree.split_at_mut(l + 1);
             for (i, b) in tree.levels[l].iter().enumerate() {
                 let children =
@@ -135,7 +150,8 @@ impl Hierarchy {
                 here[l][i] += below[0][children].iter().sum::<u32>();
             }
         }
-        let mut nodes = Vec::with_capacity(tree.stats.nodes as usize);
+        let kept: usize = tree.levels[..depth].iter().map(Vec::len).sum();
+        let mut nodes = Vec::with_capacity(kept);
         let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
         while let Some((l, i)) = stack.pop() {
             let b = &tree.levels[l as usize][i as usize];
@@ -150,8 +166,10 @@ impl Hierarchy {
                 skip: index + subtree[l as usize][i as usize],
                 meta: l | if leaf { LEAF_BIT } else { 0 },
             });
-            for c in (0..u32::from(b.child_count)).rev() {
-                stack.push((l + 1, b.first_child + c));
+            if l < march_level {
+                for c in (0..u32::from(b.child_count)).rev() {
+                    stack.push((l + 1, b.first_child + c));
+                }
             }
         }
         Self {
@@ -161,13 +179,6 @@ impl Hierarchy {
             base_half,
             pad,
         }
-    }
-
-    /// The same hierarchy marched at `level` (clamped to the finest level): the finest
-    /// leaves themselves at the finest level, fewer and larger boxes above it.
-    pub fn with_march_level(mut self, level: u32) -> Self {
-        self.march_level = level.min(self.finest_level());
-        self
     }
 
     /// The deepest level of the tree.
