@@ -69,6 +69,11 @@ pub fn level_half(base: [f32; 4], pad: f32, level: u32) -> [f32; 4] {
 /// table); one level less deep or one more was slower.
 pub const MARCH_LEVELS_ABOVE_FINEST: u32 = 2;
 
+/// Most nodes at the default march level: the binning of the boxes into per-pixel lists
+/// runs on the CPU for every view, in time about proportional to their number. (The glome
+/// and the chapter's scene at level 7 march from level 4 under this rule.)
+pub const MARCH_BOXES: usize = 32_768;
+
 /// The flattened hierarchy: nodes in depth-first order, and the per-level table.
 #[derive(Debug, Clone, Default)]
 pub struct Hierarchy {
@@ -89,13 +94,19 @@ pub struct Hierarchy {
 }
 
 impl Hierarchy {
-    /// Flattens `tree` (empty tree → empty hierarchy) down to the default march level, the
-    /// finest level minus [`MARCH_LEVELS_ABOVE_FINEST`]: the ray caster never visits deeper
-    /// nodes, so they are not kept (a GPU buffer 64x smaller, and trees too large for the
-    /// device as a whole fit).
+    /// Flattens `tree` (empty tree → empty hierarchy) down to the default march level:
+    /// [`MARCH_LEVELS_ABOVE_FINEST`] above the finest level, or higher where that level holds
+    /// more than [`MARCH_BOXES`] nodes. The ray caster never visits deeper nodes, so they are
+    /// not kept (a GPU buffer 64x smaller or more, and trees too large for the device as a
+    /// whole fit).
     pub fn from_tree(tree: &Tree16) -> Self {
-        let finest = tree.levels.len().saturating_sub(1) as u32;
-        Self::from_tree_at(tree, finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST))
+        let finest = tree.levels.len().saturating_sub(1);
+        let deepest = finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST as usize);
+        let level = (0..=deepest)
+            .rev()
+            .find(|&l| tree.levels.get(l).is_none_or(|v| v.len() <= MARCH_BOXES))
+            .unwrap_or(0);
+        Self::from_tree_at(tree, level as u32)
     }
 
     /// Flattens `tree` down to `march_level` (clamped to the finest level; the finest level
