@@ -112,8 +112,8 @@ pub struct RenderArgs {
     pub zoom: Option<f64>,
     #[arg(long)]
     pub no_silhouette: bool,
-    /// March every ray across the whole domain (finest leaves' step) instead of testing the
-    /// tree's leaves: the same picture, often faster.
+    /// March every ray across the whole domain (finest leaves' step) instead of the tree's
+    /// boxes: the same picture, faster on some scenes and shallow trees.
     #[arg(long)]
     pub brute_force: bool,
     #[arg(long)]

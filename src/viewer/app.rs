@@ -463,7 +463,7 @@ impl FourfoldApp {
             .checkbox(&mut brute, "brute force (march the whole domain)")
             .on_hover_text(
                 "March every ray across the domain with the finest leaves' step instead of \
-                 testing the tree's leaves: the same picture, often faster",
+                 the tree's boxes: the same picture, faster on some scenes and shallow trees",
             )
             .changed();
         ui.horizontal(|ui| {
