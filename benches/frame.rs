@@ -17,7 +17,7 @@
 //! Environment: FOURFOLD_BENCH_LEAVES=0 skips the leaves column, FOURFOLD_BENCH_SIZE
 //! (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
 //! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_SCENES (default
-//! "fig-3-9-left,glome"), FOURFOLD_BENCH_QUICK=1 skips the growth table.
+//! "fig-3-9-left,glome"), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
 //! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
 
 use std::sync::atomic::AtomicBool;
@@ -111,7 +111,8 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
 /// How a frame finds its leaves.
 #[derive(Clone, Copy, PartialEq)]
 enum Method {
-    /// Per-tile leaf lists binned on the CPU (the default; binning time included).
+    /// Per-tile lists of the boxes to march, binned on the CPU (the default; binning time
+    /// included).
     Tiles,
     /// The same, marching the finest leaves themselves.
     Leaves,

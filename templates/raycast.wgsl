@@ -266,7 +266,8 @@ struct Tracer {
 }
 
 // Tests candidate node i against the pixel's observer plane; on a box to march (a leaf or a
-// node at the march level) that passes, makes it the current leaf. Returns the next node of a walk (i + 1 to descend, the skip otherwise).
+// node at the march level) that passes, makes it the current leaf. Returns the next node of
+// a walk (i + 1 to descend, the skip otherwise).
 fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);

@@ -63,10 +63,11 @@ pub fn level_half(base: [f32; 4], pad: f32, level: u32) -> [f32; 4] {
 ///
 /// Per pixel, a box costs far more than a sample of F in the march (a memory read, the
 /// pixel test, the rays that can meet it), and the boxes near a pixel's observer plane
-/// multiply about 2x per level, the per-view binning of them 8x. Marching level-(L−2)
-/// boxes at the step of level L measured 4.6x faster than marching the level-L leaves on
-/// the chapter's scene and 2.5x on the glome (`cargo bench --bench frame`, the march-level
-/// table); one level less deep or one more was slower.
+/// multiply about 2x per level, the per-view binning of them 8x. At 256², level 6, 16 rays
+/// (`cargo bench --bench frame`, the march-level table), level-(L−2) boxes marched at the
+/// step of level L drew the chapter's scene 5.6x and the glome 2.0x faster than the level-L
+/// leaves; one level up was 1.7x and 1.3x slower than two, three about the same as two,
+/// four faster on the chapter's scene and slower on the glome.
 pub const MARCH_LEVELS_ABOVE_FINEST: u32 = 2;
 
 /// Most nodes at the default march level: the binning of the boxes into per-pixel lists
@@ -201,20 +202,6 @@ impl Hierarchy {
     /// or any node at it).
     pub fn marches(&self, node: &SphereNode) -> bool {
         node.level() <= self.march_level && (node.is_leaf() || node.level() == self.march_level)
-    }
-
-    /// Steps per span of a box the ray caster marches: `steps` for a leaf, and for a node at
-    /// the march level the count that gives it the finest level's step length (at most
-    /// 2^16).
-    pub fn march_steps(&self, node: &SphereNode, steps: u32) -> u32 {
-        if node.is_leaf() {
-            steps
-        } else {
-            march_steps(
-                steps,
-                self.finest_level() - node.level().min(self.finest_level()),
-            )
-        }
     }
 
     /// Boxes the ray caster marches.
