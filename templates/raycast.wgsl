@@ -41,7 +41,7 @@ struct Uniforms {
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
-    march: vec4<u32>,     // march level, finest level, unused x2 (see visit)
+    march: vec4<u32>,     // march level, steps per span of a node there (see visit), unused x2
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -292,17 +292,12 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
     if (!near && MODE == 1u) {
         (*tr).more = false;
     }
-    // A leaf, or a node at the march level, is marched as one box; a node at the march
-    // level with the finest level's step length (the steps of its span times 2^levels up,
-    // at most 2^16), and its subtree is skipped.
-    let level = node.info & 255u;
+    // A leaf, or a node at the march level, is marched as one box (a node there with the
+    // finest leaves' step length, u.march.y steps per span), and its subtree is skipped.
     let leaf = (node.info & LEAF) != 0u;
-    let boxed = leaf || level >= u.march.x;
-    let up = min(u.march.y - min(level, u.march.y), 16u);
-    let steps = u.control.x;
-    let fine = select(65536u, steps << up, steps <= (65536u >> up));
+    let boxed = leaf || (node.info & 255u) >= u.march.x;
     if (meets && near && boxed) {
-        start_leaf(tr, c - half, c + half, r, q, select(fine, steps, leaf));
+        start_leaf(tr, c - half, c + half, r, q, select(u.march.y, u.control.x, leaf));
     }
     return select(node.skip, i + 1u, meets && near && !boxed);
 }

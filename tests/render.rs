@@ -116,7 +116,7 @@ fn brute_force_setting_draws_the_same_picture() {
             &params,
             Default::default(),
         );
-        let finest = h.levels.len() as u32 - 1;
+        let finest = h.finest_level();
         assert_ne!(
             u.control[2] & fourfold::render::uniforms::FLAG_BRUTE_FORCE,
             0

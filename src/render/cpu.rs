@@ -6,10 +6,7 @@ use rayon::prelude::*;
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
-use crate::tree::{
-    Hierarchy,
-    hierarchy::{LEAF_BIT, march_steps},
-};
+use crate::tree::Hierarchy;
 
 use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
@@ -255,7 +252,7 @@ fn render_pixel(
         let n = u.counts[0] as usize;
         while i < n {
             let node = &h.nodes[i];
-            let level = &u.levels[(node.meta & 255) as usize];
+            let level = &u.levels[node.level() as usize];
             let rel = sub(node.center, o);
             let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
             if a * a + b * b > level.radius * level.radius {
@@ -263,15 +260,13 @@ fn render_pixel(
                 continue;
             }
             // As the shader's `visit`: leaves and nodes at the march level are marched whole.
-            let depth = node.meta & 255;
-            let leaf = node.meta & LEAF_BIT != 0;
-            if leaf || depth >= u.march[0] {
+            if node.is_leaf() || node.level() >= u.march[0] {
                 let lo = sub(node.center, level.half);
                 let hi = add(node.center, level.half);
-                let steps = if leaf {
+                let steps = if node.is_leaf() {
                     u.control[0]
                 } else {
-                    march_steps(u.control[0], u.march[1] - depth.min(u.march[1]))
+                    u.march[1]
                 };
                 pixel.trace_box(o, lo, hi, steps);
                 i = node.skip as usize;

@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::scene::{RenderSettings, Sampling};
-use crate::tree::{Hierarchy, LevelInfo};
+use crate::tree::{Hierarchy, LevelInfo, hierarchy::march_steps};
 
 use super::camera::Camera;
 
@@ -52,8 +52,8 @@ pub struct Uniforms {
     /// Half extents of a level-0 box before padding (root[1] is the padding): the shader
     /// computes a level's box from them (see `Hierarchy::base_half`).
     pub half0: [f32; 4],
-    /// The hierarchy's march level, its finest level (see `Hierarchy::march_level`), unused
-    /// x2.
+    /// The hierarchy's march level (see `Hierarchy::march_level`), the steps per span of a
+    /// node there that is not a leaf (the finest leaves' step length), unused x2.
     pub march: [u32; 4],
     pub levels: [LevelInfo; LEVEL_SLOTS],
     pub params: [[f32; 4]; 16],
@@ -112,14 +112,14 @@ impl Uniforms {
             flags |= FLAG_RANDOM;
         }
         let mut brute_steps = 0;
-        let finest = hierarchy.levels.len().saturating_sub(1) as u32;
+        let finest = hierarchy.finest_level();
         let brute_level = options
             .brute_force_level
             .or(render.brute_force.then_some(finest));
         if let Some(level) = brute_level {
             flags |= FLAG_BRUTE_FORCE;
             // (At most 2^16 steps per ray, so that a fine tree cannot make one frame endless.)
-            brute_steps = render.steps.saturating_mul(1 << level.min(16)).min(1 << 16);
+            brute_steps = march_steps(render.steps, level);
         }
         let mut levels = [LevelInfo::zeroed(); LEVEL_SLOTS];
         // (The CPU reference reads this table; the shader computes a level's box from
@@ -172,7 +172,12 @@ impl Uniforms {
             ],
             tiling: [0; 4],
             half0: hierarchy.base_half,
-            march: [hierarchy.march_level, finest, 0, 0],
+            march: [
+                hierarchy.march_level,
+                march_steps(render.steps, finest - hierarchy.march_level.min(finest)),
+                0,
+                0,
+            ],
             levels,
             params: packed,
         }
