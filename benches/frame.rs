@@ -17,7 +17,9 @@
 //! Environment: FOURFOLD_BENCH_LEAVES=0 skips the leaves column, FOURFOLD_BENCH_SIZE
 //! (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
 //! FOURFOLD_BENCH_RAYS (default "8,16,32"), FOURFOLD_BENCH_SCENES (default
-//! "fig-3-9-left,glome"), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
+//! "fig-3-9-left,glome"; an example's name or a scene file's path ending in .toml),
+//! FOURFOLD_BENCH_STEPS and FOURFOLD_BENCH_ITERS (steps per span and bisection iterations,
+//! default the scene's), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
 //! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
 
 use std::sync::atomic::AtomicBool;
@@ -77,7 +79,12 @@ impl Prepared {
 }
 
 fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
-    let scene = Scene::example(name).unwrap();
+    // An example's name, or the path of a scene file.
+    let scene = if name.ends_with(".toml") {
+        Scene::load(std::path::Path::new(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+    } else {
+        Scene::example(name).unwrap_or_else(|| panic!("no example scene named {name}"))
+    };
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
     let params = scene.param_values(&formula.param_names());
     let tree = Tree16::build(
@@ -149,6 +156,8 @@ fn frame_at(
     let tiled = matches!(method, Method::Tiles | Method::Leaves);
     let mut render = p.scene.render;
     render.rays = rays;
+    render.bisection_iters = env_u32("FOURFOLD_BENCH_ITERS", render.bisection_iters);
+    render.steps = env_u32("FOURFOLD_BENCH_STEPS", render.steps);
     let camera = Camera::new(&p.scene.domain, &p.scene.view, size, size);
     let uniforms = Uniforms::new(
         &camera,
@@ -248,14 +257,33 @@ fn main() {
                 };
                 let (slow, _, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
+                // A column left out shows a dash.
+                let ms = |v: f64, binning: f64| {
+                    if v.is_nan() {
+                        "–".to_string()
+                    } else if binning > 0.0 {
+                        format!("{v:.0} ({binning:.0})")
+                    } else {
+                        format!("{v:.0}")
+                    }
+                };
+                let ratio = |v: f64| {
+                    if v.is_nan() {
+                        "–".to_string()
+                    } else {
+                        format!("{v:.1}x")
+                    }
+                };
                 println!(
-                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {leaves:.0} ({leaf_binning:.0}) | {walk:.0} | {slow:.0} | {:.1}x | {:.1}x | {:.1}x | {:.1}x | {:.1}% | {:.1}% | {} / {} / {} |",
+                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {} | {} | {slow:.0} | {} | {} | {} | {} | {:.1}% | {:.1}% | {} / {} / {} |",
                     p.leaves,
                     p.hierarchy.march_boxes(),
-                    slow / tiles,
-                    slow / leaves,
-                    leaves / tiles,
-                    slow / walk,
+                    ms(leaves, leaf_binning),
+                    ms(walk, 0.0),
+                    ratio(slow / tiles),
+                    ratio(slow / leaves),
+                    ratio(leaves / tiles),
+                    ratio(slow / walk),
                     100.0 * colour,
                     100.0 * cover,
                     cut(&a),

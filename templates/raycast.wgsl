@@ -223,52 +223,119 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
 }
 
 
-// The pixel's work as one flat state machine (SPEC.md §5.2-§5.4): candidates (from a tile's
-// leaf list, a walk of the hierarchy, or for the brute-force baseline the whole domain as one
-// box) → the rays that can meet the current leaf → equal steps along the current ray → the
-// bisection of a sign change. Each step of the machine evaluates F exactly once. A SIMD
-// rasterizer (llvmpipe) runs every branch of a loop body for all its pixels, so nested loops
-// would pay for all inner work on every outer iteration; one loop doing one small step of
-// whatever each pixel is at keeps all lanes busy (on GPUs too: fewer idle lanes).
+// The pixel's work (SPEC.md §5.2-§5.4), as nested loops: candidates (a screen tile's list of
+// boxes, a walk of the hierarchy, or for the brute-force baseline the whole domain as one
+// box) → the rays that can meet the box → equal steps along the ray → the bisection of a
+// sign change. A SIMD rasterizer (llvmpipe) or a GPU runs a loop for a group of pixels
+// until none of them needs it, so the loops pay off when the group's pixels do the same
+// work at the same time: the pixels of a tile read the same list in the same order, try
+// the same rays of each box (by index) and march them with the same step count.
 struct Tracer {
     o: vec4<f32>,
     pixel_seed: u32,
     offset: f32,
     k_max: u32,
-    cand: u32,     // next candidate: list position or node index
-    cand_end: u32,
-    more: bool,    // candidates remain
-    // The current leaf.
-    leaf_on: bool,
-    lo: vec4<f32>,
-    hi: vec4<f32>,
-    steps: u32,
-    stratified: bool,
-    k0: i32,       // first stratified ray that can meet it
-    rj: u32,       // rays of it tried so far
-    rcount: u32,   // rays to try
-    // The current ray.
-    ray_on: bool,
-    k: u32,
-    d: vec4<f32>,
-    t0: f32,
-    dt: f32,
-    s: u32,        // step: 0 evaluates t0, s >= 1 evaluates t0 + s dt
-    ta: f32,
-    fa: f32,
-    // The current bisection (of [ta, t0 + s dt]).
-    bis: bool,
-    blo: f32,
-    bhi: f32,
-    bflo: f32,
-    fb: f32,       // F at the step's end, where the march resumes
     hits: Hits,
+    k: u32, // the ray being marched (for insert_hit)
 }
 
-// Tests candidate node i against the pixel's observer plane; on a box to march (a leaf or a
-// node at the march level) that passes, makes it the current leaf. Returns the next node of
-// a walk (i + 1 to descend, the skip otherwise).
-fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
+// Marches the ray o + t d over [t0, t1] in `steps` equal steps, bisecting each sign change
+// (Algorithm 3.1) and keeping the root among the K nearest; stops beyond the K kept.
+fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32) {
+    let dt = (t1 - t0) / f32(steps);
+    let iters = u.control.y;
+    var ta = t0;
+    var fa = ff_f((*tr).o + ta * d);
+    var s = 1u;
+    loop {
+        // March to the next sign change, the span's end, or a point beyond the K kept.
+        // (Loops, not branches: a SIMD rasterizer skips a loop that no pixel of the group
+        // needs, but runs a branch's body for all of them whatever its condition.)
+        var tb = ta;
+        var fb = fa;
+        var found = false;
+        loop {
+            if (s > steps || ta >= (*tr).hits.far) {
+                break;
+            }
+            tb = t0 + f32(s) * dt;
+            fb = ff_f((*tr).o + tb * d);
+            if (fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0)) {
+                found = true;
+                break;
+            }
+            ta = tb;
+            fa = fb;
+            s = s + 1u;
+        }
+        if (!found) {
+            break;
+        }
+        // Bisect [ta, tb] (Algorithm 3.1): stop at a tiny |F| or after the set iterations;
+        // the last midpoint is the root (the middle of the step with no iterations).
+        var bisecting = true;
+        var lo = ta;
+        var hi = tb;
+        var flo = fa;
+        var tm = 0.5 * (lo + hi);
+        var it = 0u;
+        loop {
+            if (!bisecting || it >= iters) {
+                break;
+            }
+            tm = 0.5 * (lo + hi);
+            let fm = ff_f((*tr).o + tm * d);
+            if (abs(fm) < u.root.x) {
+                bisecting = false;
+            } else if ((fm < 0.0) == (flo < 0.0)) {
+                lo = tm;
+                flo = fm;
+            } else {
+                hi = tm;
+            }
+            it = it + 1u;
+        }
+        insert_hit(tr, tm);
+        // The march goes on from the step's end.
+        ta = tb;
+        fa = fb;
+        s = s + 1u;
+    }
+}
+
+// Tries the rays that can meet the box [lo, hi] (sphere of radius `radius`, centre at q in
+// the observer plane from o) and marches each over its span in the box.
+fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, radius: f32, q: vec2<f32>, steps: u32) {
+    let n = u.size.z;
+    let ni = i32(n);
+    let dist = length(q);
+    // Stratified rays are at angles TAU (k + offset) / n: the sphere, seen from o, spans
+    // [phi - delta, phi + delta], so only the k in that range are tried (with a margin).
+    // Random rays (or o inside the sphere): all n, each clipped to the box.
+    let stratified = (u.control.z & 8u) == 0u && dist > radius;
+    let phi = atan2(q.y, q.x);
+    let delta = asin(min(radius / max(dist, 1e-30), 1.0)) + 1e-3;
+    let scale = f32(n) / TAU;
+    let k0 = i32(ceil((phi - delta) * scale - (*tr).offset));
+    let k1 = i32(floor((phi + delta) * scale - (*tr).offset));
+    let rcount = select(n, u32(clamp(k1 - k0 + 1, 0, ni)), stratified);
+    let nsteps = max(steps, 1u);
+    for (var j = 0u; j < rcount; j = j + 1u) {
+        let k = select(j, u32(((k0 + i32(j)) % ni + ni) % ni), stratified);
+        let dir = ray_dir2(k, n, (*tr).pixel_seed, (*tr).offset);
+        let d = dir.x * u.n1 + dir.y * u.n2;
+        let span = clip_to_box((*tr).o, d, lo, hi);
+        if (span.x < span.y && span.x < (*tr).hits.far) {
+            (*tr).k = k;
+            march_ray(tr, d, span.x, span.y, nsteps);
+        }
+    }
+}
+
+// Tests node i against the pixel's observer plane and marches it if it is a box to march
+// (a leaf or a node at the march level) that passes. Returns whether it passes, and
+// (.y) whether anything in it can be nearer than the K hits kept.
+fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
     // The level's box and sphere, computed rather than read from u.levels (a table read at a
@@ -284,157 +351,22 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> u32 {
     let b = dot(rel, u.v2);
     let support = vec2<f32>(dot(half, abs(u.v1)), dot(half, abs(u.v2))) * 1.00001;
     let meets = a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
-    // Nothing in the sphere is nearer than |q| - r: once K hits are kept, farther ones
-    // (subtrees, for a walk) are skipped whole; tile lists are nearest first, so there the
-    // rest of the list goes too.
+    // Nothing in the sphere is nearer than |q| - r.
     let q = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     let near = length(q) - r < (*tr).hits.far;
-    if (!near && MODE == 1u) {
-        (*tr).more = false;
-    }
     // A leaf, or a node at the march level, is marched as one box (a node there with the
-    // finest leaves' step length, u.march.y steps per span), and its subtree is skipped.
+    // finest leaves' step length, u.march.y steps per span).
     let leaf = (node.info & LEAF) != 0u;
     let boxed = leaf || (node.info & 255u) >= u.march.x;
-    if (meets && near && boxed) {
-        start_leaf(tr, c - half, c + half, r, q, select(u.march.y, u.control.x, leaf));
-    }
-    return select(node.skip, i + 1u, meets && near && !boxed);
-}
-
-// Makes [lo, hi] the current leaf: only the rays that can meet its sphere (centre at q in
-// the observer plane, from o) will be tried.
-fn start_leaf(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, radius: f32, q: vec2<f32>, steps: u32) {
-    let n = u.size.z;
-    let dist = length(q);
-    (*tr).leaf_on = true;
-    (*tr).lo = lo;
-    (*tr).hi = hi;
-    (*tr).steps = max(steps, 1u);
-    (*tr).rj = 0u;
-    // Stratified rays are at angles TAU (k + offset) / n: the sphere, seen from o, spans
-    // [phi - delta, phi + delta], so only the k in that range are tried (with a margin).
-    // Random rays (or o inside the sphere): all n, each with a 2D test first.
-    (*tr).stratified = (u.control.z & 8u) == 0u && dist > radius;
-    let phi = atan2(q.y, q.x);
-    let delta = asin(min(radius / max(dist, 1e-30), 1.0)) + 1e-3;
-    let scale = f32(n) / TAU;
-    let k0 = i32(ceil((phi - delta) * scale - (*tr).offset));
-    let k1 = i32(floor((phi + delta) * scale - (*tr).offset));
-    (*tr).k0 = k0;
-    (*tr).rcount = select(n, u32(clamp(k1 - k0 + 1, 0, i32(n))), (*tr).stratified);
-}
-
-// One step of the machine.
-fn step(tr: ptr<function, Tracer>) {
-    let n = u.size.z;
-    let ni = i32(n);
-    // A leaf whose rays are all tried is done.
-    if ((*tr).leaf_on && !(*tr).ray_on && (*tr).rj >= (*tr).rcount) {
-        (*tr).leaf_on = false;
-    }
-    // The next candidate.
-    if (!(*tr).leaf_on && (*tr).more) {
-        if (MODE == 0u) {
-            let c = 0.5 * (u.domain_lo + u.domain_hi);
-            let half = 0.5 * (u.domain_hi - u.domain_lo);
-            let rel = c - (*tr).o;
-            start_leaf(tr, u.domain_lo, u.domain_hi, length(half), vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), u.counts.w);
-            (*tr).more = false;
-        } else if (MODE == 1u) {
-            _ = visit(tr, tiles[u.tiling.w + (*tr).cand]);
-            (*tr).cand = (*tr).cand + 1u;
-        } else {
-            (*tr).cand = visit(tr, (*tr).cand);
-        }
-        if ((*tr).cand >= (*tr).cand_end) {
-            (*tr).more = false;
-        }
-    }
-    // The next ray of the leaf that meets its box (a loop: rays that miss cost no step).
+    var go = meets && near && boxed;
     loop {
-        if (!((*tr).leaf_on && !(*tr).ray_on && (*tr).rj < (*tr).rcount)) {
+        if (!go) {
             break;
         }
-        let j = (*tr).rj;
-        (*tr).rj = j + 1u;
-        let k = select(j, u32((((*tr).k0 + i32(j)) % ni + ni) % ni), (*tr).stratified);
-        let dir = ray_dir2(k, n, (*tr).pixel_seed, (*tr).offset);
-        let d = dir.x * u.n1 + dir.y * u.n2;
-        let span = clip_to_box((*tr).o, d, (*tr).lo, (*tr).hi);
-        if (span.x < span.y && span.x < (*tr).hits.far) {
-            (*tr).ray_on = true;
-            (*tr).k = k;
-            (*tr).d = d;
-            (*tr).t0 = span.x;
-            (*tr).dt = (span.y - span.x) / f32((*tr).steps);
-            (*tr).s = 0u;
-            (*tr).bis = false;
-        }
+        trace_box(tr, c - half, c + half, r, q, select(u.march.y, u.control.x, leaf));
+        go = false;
     }
-    // March the ray (up to all its steps) until a sign change, its end, or a point farther
-    // than the K hits kept. (Loops, not branches: a SIMD rasterizer skips a loop no pixel
-    // needs after one pass, but runs a branch's body whatever its condition.)
-    var marching = (*tr).ray_on && !(*tr).bis;
-    loop {
-        if (!marching) {
-            break;
-        }
-        let t = (*tr).t0 + f32((*tr).s) * (*tr).dt;
-        let f = ff_f((*tr).o + t * (*tr).d);
-        let fa = (*tr).fa;
-        if ((*tr).s > 0u && fa * f <= 0.0 && !(fa == 0.0 && f == 0.0)) {
-            // A sign change on [ta, t]: bisect it.
-            (*tr).bis = true;
-            (*tr).blo = (*tr).ta;
-            (*tr).bhi = t;
-            (*tr).bflo = fa;
-            (*tr).fb = f;
-            marching = false;
-        } else {
-            (*tr).ta = t;
-            (*tr).fa = f;
-            (*tr).s = (*tr).s + 1u;
-            if ((*tr).s > (*tr).steps || t >= (*tr).hits.far) {
-                (*tr).ray_on = false;
-                marching = false;
-            }
-        }
-    }
-    // Bisection (Algorithm 3.1): stop at a tiny |F| or after the set iterations; the last
-    // midpoint is the root (the middle of the step with no iterations).
-    let iters = u.control.y;
-    var tm = 0.5 * ((*tr).blo + (*tr).bhi);
-    var it = 0u;
-    var bisecting = (*tr).bis;
-    loop {
-        if (!bisecting || it >= iters) {
-            break;
-        }
-        tm = 0.5 * ((*tr).blo + (*tr).bhi);
-        let fm = ff_f((*tr).o + tm * (*tr).d);
-        if (abs(fm) < u.root.x) {
-            bisecting = false;
-        } else if ((fm < 0.0) == ((*tr).bflo < 0.0)) {
-            (*tr).blo = tm;
-            (*tr).bflo = fm;
-        } else {
-            (*tr).bhi = tm;
-        }
-        it = it + 1u;
-    }
-    if ((*tr).bis) {
-        insert_hit(tr, tm);
-        (*tr).bis = false;
-        // The march goes on from the step's end, unless every later root is farther than
-        // the K kept.
-        (*tr).ta = (*tr).t0 + f32((*tr).s) * (*tr).dt;
-        (*tr).fa = (*tr).fb;
-        (*tr).s = (*tr).s + 1u;
-        if ((*tr).s > (*tr).steps || (*tr).ta >= (*tr).hits.far) {
-            (*tr).ray_on = false;
-        }
-    }
+    return vec2<bool>(meets, near);
 }
 
 @vertex
@@ -460,23 +392,39 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     tr.hits.far = inf;
     // Where the candidates come from: the brute-force baseline, this pixel's tile list, or
     // a walk of the hierarchy.
-    tr.cand_end = u.counts.x;
-    if (MODE == 1u) {
-        let tile = px / max(u.tiling.x, 1u);
-        let t = tile.x + tile.y * u.tiling.y;
-        tr.cand = tiles[t];
-        tr.cand_end = tiles[t + 1u];
-    }
-    if (MODE == 0u) {
-        tr.cand_end = 1u;
-    }
-    tr.more = tr.cand < tr.cand_end && u.size.z > 0u;
     // (llvmpipe stops all loops of an invocation after 65535 iterations in all: see below.)
-    loop {
-        if (!tr.more && !tr.leaf_on) {
-            break;
+    if (u.size.z > 0u) {
+        if (MODE == 0u) {
+            let c = 0.5 * (u.domain_lo + u.domain_hi);
+            let half = 0.5 * (u.domain_hi - u.domain_lo);
+            let rel = c - tr.o;
+            trace_box(&tr, u.domain_lo, u.domain_hi, length(half), vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), u.counts.w);
+        } else if (MODE == 1u) {
+            // The list is nearest first: past the first box that cannot hold a hit nearer
+            // than the K kept, none can.
+            let tile = px / max(u.tiling.x, 1u);
+            let t = tile.x + tile.y * u.tiling.y;
+            let end = tiles[t + 1u];
+            for (var c = tiles[t]; c < end; c = c + 1u) {
+                let v = visit(&tr, tiles[u.tiling.w + c]);
+                if (!v.y) {
+                    break;
+                }
+            }
+        } else {
+            // Depth first: a node that passes is entered (its subtree follows it), one that
+            // fails, or a box marched whole, is skipped past.
+            var i = 0u;
+            loop {
+                if (i >= u.counts.x) {
+                    break;
+                }
+                let node = nodes[i];
+                let v = visit(&tr, i);
+                let boxed = (node.info & LEAF) != 0u || (node.info & 255u) >= u.march.x;
+                i = select(node.skip, i + 1u, v.x && v.y && !boxed);
+            }
         }
-        step(&tr);
     }
     // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
     // once when the iteration cap is spent; the pixel is then marked with alpha 254/255 so

@@ -396,6 +396,7 @@ fn no_adapter_gives_a_clear_message_not_a_panic() {
 #[test]
 fn tile_lists_hold_every_leaf_a_pixel_can_see() {
     use fourfold::render::TileLists;
+    use fourfold::render::tiles::{MAX_TILE, MIN_TILE};
     use fourfold::tree::Hierarchy;
     for (name, scene) in example_scenes().into_iter().take(4) {
         let scene = small(&scene);
@@ -403,19 +404,19 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
         let h = Hierarchy::from_tree(&tree);
         for (w, hgt) in [(40, 24), (97, 61)] {
             let camera = Camera::new(&scene.domain, &scene.view, w, hgt);
-            // One-pixel tiles, and larger ones forced by a small entry budget.
-            let exact = TileLists::build(&h, &camera);
-            let coarse = TileLists::build_within(&h, &camera, exact.entries() / 8);
+            // The smallest tiles, and larger ones forced by a small entry budget.
+            let finest = TileLists::build(&h, &camera);
+            let coarse = TileLists::build_within(&h, &camera, finest.entries() / 8);
             assert_eq!(
-                exact.tile, 1,
-                "{name}: small lists should use one-pixel tiles"
+                finest.tile, MIN_TILE,
+                "{name}: small lists should use the smallest tiles"
             );
             assert!(
-                coarse.tile > 1 && coarse.tile <= 16,
+                coarse.tile > MIN_TILE && coarse.tile <= MAX_TILE,
                 "{name}: tile {}",
                 coarse.tile
             );
-            for lists in [&exact, &coarse] {
+            for lists in [&finest, &coarse] {
                 check_tile_lists(name, &h, &camera, lists);
             }
             // Lists of the leaves themselves (the march level at the finest level).
