@@ -445,7 +445,7 @@ fn check_tile_lists(
     };
     for ty in 0..lists.tiles_y {
         for tx in 0..lists.tiles_x {
-            let list = lists.tile(tx, ty);
+            let list = lists.tile_nodes(tx, ty);
             assert!(
                 list.iter().all(|&i| h.marches(&h.nodes[i as usize])),
                 "{name}: a node that is not marched in tile ({tx}, {ty})"
@@ -464,7 +464,7 @@ fn check_tile_lists(
     for py in 0..camera.height {
         for px in 0..camera.width {
             let o = camera.origin(f64::from(px), f64::from(py));
-            let list = lists.tile(px / t, py / t);
+            let list = lists.tile_nodes(px / t, py / t);
             for (i, node) in h.nodes.iter().enumerate() {
                 if !h.marches(node) {
                     continue;

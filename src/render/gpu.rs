@@ -2,12 +2,13 @@
 //! storage buffer (per tree), and a uniform block per frame. Offscreen rendering returns an
 //! RGBA image; the viewer draws with the same pipeline into its own target.
 
+use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
 use crate::tree::{Hierarchy, SphereNode};
 
 use super::codegen::Shader;
-use super::tiles::TileLists;
+use super::tiles::{BoxRecord, TileLists};
 use super::uniforms::Uniforms;
 
 /// The colour format the ray caster writes.
@@ -152,6 +153,8 @@ pub struct RayCaster {
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
     tiles: wgpu::Buffer,
+    /// The records of the boxes the tile lists index.
+    boxes: wgpu::Buffer,
     /// `Uniforms::tiling` for the tile lists bound (zero: walk the hierarchy).
     tiling: [u32; 4],
     bind_group: wgpu::BindGroup,
@@ -183,6 +186,7 @@ impl RayCaster {
                 buffer_entry(0, wgpu::BufferBindingType::Uniform),
                 buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
+                buffer_entry(3, wgpu::BufferBindingType::Storage { read_only: true }),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -202,7 +206,8 @@ impl RayCaster {
         });
         let nodes = node_buffer(gpu, hierarchy)?;
         let tiles = tile_buffer(gpu, &[0, 0]);
-        let bind_group = bind_group(device, &layout, &uniforms, &nodes, &tiles);
+        let boxes = box_buffer(gpu, &[]);
+        let bind_group = bind_group(device, &layout, [&uniforms, &nodes, &tiles, &boxes]);
         Ok(Self {
             target,
             module,
@@ -216,6 +221,7 @@ impl RayCaster {
             uniforms,
             nodes,
             tiles,
+            boxes,
             tiling: [0; 4],
             bind_group,
         })
@@ -234,21 +240,25 @@ impl RayCaster {
     pub fn set_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         match lists {
-            Some(l) if (l.data.len() as u64) * 4 <= limit && !l.data.is_empty() => {
+            Some(l)
+                if (l.data.len() as u64) * 4 <= limit
+                    && std::mem::size_of_val(l.boxes.as_slice()) as u64 <= limit
+                    && !l.data.is_empty() =>
+            {
                 self.tiles = tile_buffer(gpu, &l.data);
+                self.boxes = box_buffer(gpu, &l.boxes);
                 self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
             }
             _ => {
                 self.tiles = tile_buffer(gpu, &[0, 0]);
+                self.boxes = box_buffer(gpu, &[]);
                 self.tiling = [0; 4];
             }
         }
         self.bind_group = bind_group(
             &gpu.device,
             &self.layout,
-            &self.uniforms,
-            &self.nodes,
-            &self.tiles,
+            [&self.uniforms, &self.nodes, &self.tiles, &self.boxes],
         );
     }
 
@@ -570,29 +580,40 @@ fn tile_buffer(gpu: &Gpu, data: &[u32]) -> wgpu::Buffer {
         })
 }
 
+/// The box records of one view's tile lists (one zeroed record when there are none: a
+/// binding can't be empty).
+fn box_buffer(gpu: &Gpu, boxes: &[BoxRecord]) -> wgpu::Buffer {
+    let placeholder = [BoxRecord::zeroed()];
+    let boxes = if boxes.is_empty() {
+        &placeholder
+    } else {
+        boxes
+    };
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fourfold boxes"),
+            contents: bytemuck::cast_slice(boxes),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
+/// Bindings 0 to 3: uniforms, hierarchy, tile lists, box records.
 fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    uniforms: &wgpu::Buffer,
-    nodes: &wgpu::Buffer,
-    tiles: &wgpu::Buffer,
+    buffers: [&wgpu::Buffer; 4],
 ) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .zip(0u32..)
+        .map(|(buffer, binding)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("fourfold bind group"),
         layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniforms.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: nodes.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: tiles.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     })
 }

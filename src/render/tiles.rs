@@ -20,6 +20,7 @@
 //! serves all tiles, and a pixel stops at the first leaf that cannot hold a hit nearer than
 //! the K it keeps: every later one is at least as far (nearest-first with early exit).
 
+use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
 use crate::tree::Hierarchy;
@@ -37,16 +38,41 @@ pub const MIN_TILE: u32 = 4;
 /// fit (96 MiB).
 pub const MAX_ENTRIES: usize = 24 << 20;
 
+/// One box of a view's lists as the shader reads it (binding 3): the parts of its pixel
+/// test and of its choice of rays that are the same for every pixel, worked out once per
+/// view instead of per pixel (the angles cost a pixel more than the rest of a visit).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct BoxRecord {
+    /// The centre minus the domain's centre, projected on v1 and v2 (the pixel whose origin
+    /// is at offset (sx, sy) along them sees the centre at (a − sx, b − sy)); |q| − r, the
+    /// least distance of a hit in the box (q: the centre projected on n1, n2; r: the
+    /// sphere's radius).
+    pub view: [f32; 3],
+    /// The level (bits 0–7) and leaf flag (bit 8), as in `SphereNode`.
+    pub level: u32,
+    /// The angle of q in the observer plane, and the half angle the sphere spans seen from
+    /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
+    pub angles: [f32; 2],
+    /// The node's index in the hierarchy.
+    pub node: u32,
+    pub unused: u32,
+    /// The box's centre.
+    pub center: [f32; 4],
+}
+
 /// The per-tile leaf lists of one view.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct TileLists {
     /// Tile side in pixels, a power of two in MIN_TILE..=MAX_TILE: the smallest whose lists
     /// fit in MAX_ENTRIES (larger tiles hold more boxes per pixel but fewer in all).
     pub tile: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
-    /// `tiles_x·tiles_y + 1` offsets, then the leaf indices.
+    /// `tiles_x·tiles_y + 1` offsets, then the entries: indices in `boxes`.
     pub data: Vec<u32>,
+    /// The boxes on screen, nearest first (by |q| − r).
+    pub boxes: Vec<BoxRecord>,
 }
 
 /// A leaf on screen: the centre of its projection in pixel units (pixel (px, py) has its
@@ -109,6 +135,35 @@ fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u
     Some((x0 / t, x1 / t))
 }
 
+/// The record of node `i` for `camera` (see [`BoxRecord`]).
+fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32) -> BoxRecord {
+    let node = &hierarchy.nodes[i as usize];
+    let level = node.level();
+    let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
+    let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
+    let (q1, q2) = (dot(&camera.n1), dot(&camera.n2));
+    let dist = q1.hypot(q2);
+    // As the shader's radius (a little larger than the level's, for its rounding).
+    let radius = f64::from(hierarchy.levels[level as usize].radius) * 1.000_01;
+    let delta = if dist > radius {
+        (radius / dist).asin() + 1e-3
+    } else {
+        -1.0
+    };
+    BoxRecord {
+        view: [
+            dot(&camera.v1) as f32,
+            dot(&camera.v2) as f32,
+            (dist - f64::from(hierarchy.levels[level as usize].radius)) as f32,
+        ],
+        level: node.meta,
+        angles: [q2.atan2(q1) as f32, delta as f32],
+        node: i,
+        unused: 0,
+        center: node.center,
+    }
+}
+
 /// The footprints of one view, by band of tile rows.
 struct Bins<'a> {
     feet: &'a [Footprint],
@@ -124,8 +179,8 @@ struct Bins<'a> {
 }
 
 impl Bins<'_> {
-    /// Calls `each(tile index within the band, leaf)` for every tile of `band` that each of
-    /// its footprints reaches, footprints in order.
+    /// Calls `each(tile index within the band, footprint index)` for every tile of `band`
+    /// that each of its footprints reaches, footprints in order.
     fn each(&self, band: usize, mut each: impl FnMut(usize, u32)) {
         let r0 = band as u32 * self.band_rows;
         let r1 = (r0 + self.band_rows).min(self.tiles_y) - 1;
@@ -140,7 +195,7 @@ impl Bins<'_> {
                 if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
                     let row = (ty * self.tiles_x) as usize - base;
                     for tx in tx0..=tx1 {
-                        each(row + tx as usize, f.leaf);
+                        each(row + tx as usize, k);
                     }
                 }
             }
@@ -312,15 +367,28 @@ impl TileLists {
                     fill[t] += 1;
                 });
             });
+        let boxes = feet
+            .par_iter()
+            .map(|f| record(hierarchy, camera, f.leaf))
+            .collect();
         Self {
             tile,
             tiles_x,
             tiles_y,
             data,
+            boxes,
         }
     }
 
-    /// The leaf indices of tile (tx, ty).
+    /// The hierarchy's node indices of tile (tx, ty)'s boxes, in list order.
+    pub fn tile_nodes(&self, tx: u32, ty: u32) -> Vec<u32> {
+        self.tile(tx, ty)
+            .iter()
+            .map(|&b| self.boxes[b as usize].node)
+            .collect()
+    }
+
+    /// The entries (indices in `boxes`) of tile (tx, ty).
     pub fn tile(&self, tx: u32, ty: u32) -> &[u32] {
         let tiles = (self.tiles_x * self.tiles_y) as usize;
         let t = (ty * self.tiles_x + tx) as usize;
