@@ -136,7 +136,7 @@ impl Default for Pass {
 pub enum Mode {
     /// The brute-force baseline: no hierarchy, the domain as one box.
     BruteForce = 0,
-    /// The leaves of the pixel's tile list (the default).
+    /// The boxes of the pixel's tile list (the default).
     Tiles = 1,
     /// A walk of the whole sphere hierarchy (when no tile lists are bound).
     Walk = 2,
@@ -235,7 +235,7 @@ impl RayCaster {
         Ok(())
     }
 
-    /// Binds per-tile leaf lists for one view (or none: each pixel walks the hierarchy).
+    /// Binds per-tile box lists and box records for one view (or none: each pixel walks the hierarchy).
     /// Lists over the device's storage-buffer limit are dropped for the walk.
     pub fn set_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
         let limit = gpu.device.limits().max_storage_buffer_binding_size;

@@ -61,7 +61,7 @@ pub struct BoxRecord {
     pub center: [f32; 4],
 }
 
-/// The per-tile leaf lists of one view.
+/// The per-tile box lists of one view, and the records of the boxes they index.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TileLists {
     /// Tile side in pixels, a power of two in MIN_TILE..=MAX_TILE: the smallest whose lists

@@ -65,12 +65,12 @@ pub fn level_half(base: [f32; 4], pad: f32, level: u32) -> [f32; 4] {
 /// pixel test, the rays that can meet it), and the boxes near a pixel's observer plane
 /// multiply about 2x per level, the per-view binning of them 8x. At 256², level 6, 16 rays
 /// (`cargo bench --bench frame`, the march-level table), level-(L−2) boxes marched at the
-/// step of level L drew the chapter's scene 5.6x and the glome 2.0x faster than the level-L
-/// leaves; one level up was 1.7x and 1.3x slower than two, three about the same as two,
-/// four faster on the chapter's scene and slower on the glome.
+/// step of level L drew the chapter's scene 8.2x and the glome 4.5x faster than the level-L
+/// leaves; one level up was 2.0x and 1.7x slower than two, three about the same as two,
+/// four the same on the chapter's scene and 1.4x slower on the glome.
 pub const MARCH_LEVELS_ABOVE_FINEST: u32 = 2;
 
-/// Most nodes at the default march level: the binning of the boxes into per-pixel lists
+/// Most nodes at the default march level: the binning of the boxes into per-tile lists
 /// runs on the CPU for every view, in time about proportional to their number. (The glome
 /// and the chapter's scene at level 7 march from level 4 under this rule.)
 pub const MARCH_BOXES: usize = 32_768;

@@ -59,7 +59,7 @@ pub struct Paint {
     pub layers: Vec<Done>,
 }
 
-/// Which stage texture and plan (view, settings, picture) a set of leaf lists is for.
+/// Which stage texture and plan (view, settings, picture) a set of tile lists is for.
 type BinKey = (usize, u64);
 
 /// Leaf lists being binned on a worker thread (the binning of a full-size view takes longer
@@ -97,7 +97,7 @@ pub struct Progressive {
     /// Set when the first stage of a new picture generation completed.
     pub first_frame_of: Option<u64>,
     generation: u64,
-    /// The leaf lists the ray caster holds, and the binning in flight.
+    /// The tile lists the ray caster holds, and the binning in flight.
     binned: Option<BinKey>,
     binning: Option<Binning>,
     /// Wall time of the last binning, milliseconds, and how many were started.
@@ -425,7 +425,7 @@ impl Progressive {
         false
     }
 
-    /// Whether the caster holds the leaf lists for `key`; if not, starts or polls their
+    /// Whether the caster holds the tile lists for `key`; if not, starts or polls their
     /// binning on a worker thread and uploads them once done.
     fn lists_ready(
         &mut self,
