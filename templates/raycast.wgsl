@@ -355,66 +355,65 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
     }
 }
 
-// Tests node i against the pixel's observer plane and marches it if it is a box to march
-// (a leaf or a node at the march level) that passes. Returns whether it passes, and
-// (.y) whether anything in it can be nearer than the K hits kept.
+// The half extents of a box at the level in `info` (bits 0-7), as u.levels[level].half,
+// computed rather than read (a table read at a varying index costs a gather per component
+// on a SIMD rasterizer); and the radius of the sphere around a box, with a margin.
+fn level_half(info: u32) -> vec4<f32> {
+    let scale = bitcast<f32>((127u - (info & 255u)) << 23u); // 2^-level, exact
+    return u.half0 * scale + vec4<f32>(u.root.y);
+}
+
+fn sphere_radius(half: vec4<f32>) -> f32 {
+    return length(half) * 1.000001;
+}
+
+// Whether a box (half extents `half`, sphere radius r) whose centre lies at (a, b) from the
+// pixel's origin along v1 and v2 can meet the pixel's observer plane. Its sphere meets the
+// plane iff (a, b) is within r: one 2D test for all rays of the pixel. The box itself must
+// also reach the pixel along v1 and along v2 (its support).
+fn meets_plane(a: f32, b: f32, half: vec4<f32>, r: f32) -> bool {
+    let support = vec2<f32>(dot(half, abs(u.v1)), dot(half, abs(u.v2))) * 1.00001;
+    return a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
+}
+
+// The step count for a box: a leaf's (the chapter's m per span), or at the march level the
+// finest leaves' step length (u.march.y steps per span).
+fn box_steps(info: u32) -> u32 {
+    return select(u.march.y, u.control.x, (info & LEAF) != 0u);
+}
+
+// Tests node i of the hierarchy against the pixel's observer plane and marches it if it is
+// a box to march (a leaf, or a node at the march level, whose subtree is then skipped) that
+// passes. Returns whether it passes, and (.y) whether anything in it can be nearer than the
+// K hits kept (nothing in the sphere is nearer than |q| - r).
 fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
-    // The level's box and sphere, computed rather than read from u.levels (a table read at a
-    // varying index costs a gather per component on a SIMD rasterizer).
-    let scale = bitcast<f32>((127u - (node.info & 255u)) << 23u); // 2^-level, exact
-    let half = u.half0 * scale + vec4<f32>(u.root.y);
-    let r = length(half) * 1.000001;
-    // The sphere meets the pixel's observer plane iff its centre, projected on v1 and v2, is
-    // within its radius of the pixel: one 2D test for all rays of the pixel. The box itself
-    // must also reach the pixel along v1 and along v2 (its support).
+    let half = level_half(node.info);
+    let r = sphere_radius(half);
     let rel = c - (*tr).o;
-    let a = dot(rel, u.v1);
-    let b = dot(rel, u.v2);
-    let support = vec2<f32>(dot(half, abs(u.v1)), dot(half, abs(u.v2))) * 1.00001;
-    let meets = a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
-    // Nothing in the sphere is nearer than |q| - r.
+    let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, r);
     let q = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     let near = length(q) - r < (*tr).hits.far;
-    // A leaf, or a node at the march level, is marched as one box (a node there with the
-    // finest leaves' step length, u.march.y steps per span).
-    let leaf = (node.info & LEAF) != 0u;
-    let boxed = leaf || (node.info & 255u) >= u.march.x;
-    var go = meets && near && boxed;
-    loop {
-        if (!go) {
-            break;
-        }
-        trace_box(tr, c - half, c + half, angles(q, r), select(u.march.y, u.control.x, leaf));
-        go = false;
+    let boxed = (node.info & LEAF) != 0u || (node.info & 255u) >= u.march.x;
+    if (meets && near && boxed) {
+        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info));
     }
     return vec2<bool>(meets, near);
 }
 
-// Tests box record i of the tile lists against the pixel's observer plane (as `visit`,
-// with the parts that are the same for every pixel read from the record) and marches it
-// if it passes. Returns whether anything in it can be nearer than the K hits kept.
+// Tests box record i of the tile lists as `visit` tests a node, with what is the same for
+// every pixel read from the record, and marches it if it passes. Returns whether anything
+// in it can be nearer than the K hits kept.
 fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let view = boxes[i].view;
     let level = boxes[i].level;
-    let scale = bitcast<f32>((127u - (level & 255u)) << 23u); // 2^-level, exact
-    let half = u.half0 * scale + vec4<f32>(u.root.y);
-    let r = length(half) * 1.000001;
-    let a = view.x - (*tr).shift.x;
-    let b = view.y - (*tr).shift.y;
-    let support = vec2<f32>(dot(half, abs(u.v1)), dot(half, abs(u.v2))) * 1.00001;
-    let meets = a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
+    let half = level_half(level);
+    let meets = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
     let near = view.z < (*tr).hits.far;
-    var go = meets && near;
-    loop {
-        if (!go) {
-            break;
-        }
+    if (meets && near) {
         let c = boxes[i].center;
-        let steps = select(u.march.y, u.control.x, (level & LEAF) != 0u);
-        trace_box(tr, c - half, c + half, boxes[i].angles, steps);
-        go = false;
+        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level));
     }
     return near;
 }
