@@ -192,6 +192,27 @@ fn frame_at(
     (best.0, best.1, rgba)
 }
 
+/// A table cell of milliseconds, with the binning in brackets where there is one; a dash for
+/// a column left out (NaN).
+fn ms(v: f64, binning: f64) -> String {
+    if v.is_nan() {
+        "–".to_string()
+    } else if binning > 0.0 {
+        format!("{v:.0} ({binning:.0})")
+    } else {
+        format!("{v:.0}")
+    }
+}
+
+/// A table cell of a ratio; a dash where a column was left out (NaN).
+fn ratio(v: f64) -> String {
+    if v.is_nan() {
+        "–".to_string()
+    } else {
+        format!("{v:.1}x")
+    }
+}
+
 /// Pixels the driver cut short (alpha 254, see templates/raycast.wgsl).
 fn cut(rgba: &[u8]) -> usize {
     rgba.chunks(4).filter(|p| p[3] != 255).count()
@@ -257,23 +278,6 @@ fn main() {
                 };
                 let (slow, _, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
-                // A column left out shows a dash.
-                let ms = |v: f64, binning: f64| {
-                    if v.is_nan() {
-                        "–".to_string()
-                    } else if binning > 0.0 {
-                        format!("{v:.0} ({binning:.0})")
-                    } else {
-                        format!("{v:.0}")
-                    }
-                };
-                let ratio = |v: f64| {
-                    if v.is_nan() {
-                        "–".to_string()
-                    } else {
-                        format!("{v:.1}x")
-                    }
-                };
                 println!(
                     "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {} | {} | {slow:.0} | {} | {} | {} | {} | {:.1}% | {:.1}% | {} / {} / {} |",
                     p.leaves,

@@ -11,8 +11,8 @@
 //! a disk of radius r / pixel_size around the projected centre, cut by a rectangle: the leaf
 //! goes into every tile with a pixel centre in both (the same tests as the shader's, padded
 //! for its f32 rounding). Layout, one `u32` buffer:
-//! `[offset of tile 0, …, offset of tile T, leaf indices…]`, offsets counted from the start of
-//! the leaf indices.
+//! `[offset of tile 0, …, offset of tile T, entries…]`, offsets counted from the start of
+//! the entries, each entry an index in the view's box records (see [`BoxRecord`]).
 //!
 //! Each tile's leaves are in order of their least possible distance from the pixel's origin in
 //! the observer plane, |q| − r, where q is the projection of the centre on (n1, n2). That
@@ -75,16 +75,26 @@ pub struct TileLists {
     pub boxes: Vec<BoxRecord>,
 }
 
-/// A leaf on screen: the centre of its projection in pixel units (pixel (px, py) has its
-/// centre at (px + 0.5, py + 0.5)), its level, and its sort key.
+/// A box on screen: the centre of its projection in pixel units (pixel (px, py) has its
+/// centre at (px + 0.5, py + 0.5)), its level, its sort key, and where its record is (kept
+/// apart, so that sorting moves small footprints).
 #[derive(Debug, Clone, Copy)]
 struct Footprint {
     /// |q| − r as an order-preserving integer (see `order_key`).
     key: u32,
-    leaf: u32,
+    /// The node's index, the tie-break of the order.
+    node: u32,
+    /// Index of its record among the view's records, in node order.
+    slot: u32,
     cx: f32,
     cy: f32,
     level: u32,
+}
+
+impl Footprint {
+    fn level(&self) -> usize {
+        self.level as usize
+    }
 }
 
 /// A level's sizes in pixel units, padded a little for the shader's f32 rounding: the
@@ -135,27 +145,21 @@ fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u
     Some((x0 / t, x1 / t))
 }
 
-/// The record of node `i` for `camera` (see [`BoxRecord`]).
-fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32) -> BoxRecord {
+/// The record of node `i`, given its centre minus the camera's centre projected on v1, v2,
+/// n1 and n2 (see [`BoxRecord`]).
+fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
     let node = &hierarchy.nodes[i as usize];
-    let level = node.level();
-    let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
-    let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
-    let (q1, q2) = (dot(&camera.n1), dot(&camera.n2));
+    let level_radius = f64::from(hierarchy.levels[node.level() as usize].radius);
     let dist = q1.hypot(q2);
     // As the shader's radius (a little larger than the level's, for its rounding).
-    let radius = f64::from(hierarchy.levels[level as usize].radius) * 1.000_01;
+    let radius = level_radius * 1.000_01;
     let delta = if dist > radius {
         (radius / dist).asin() + 1e-3
     } else {
         -1.0
     };
     BoxRecord {
-        view: [
-            dot(&camera.v1) as f32,
-            dot(&camera.v2) as f32,
-            (dist - f64::from(hierarchy.levels[level as usize].radius)) as f32,
-        ],
+        view: [a as f32, b as f32, (dist - level_radius) as f32],
         level: node.meta,
         angles: [q2.atan2(q1) as f32, delta as f32],
         node: i,
@@ -187,7 +191,7 @@ impl Bins<'_> {
         let base = band * (self.band_rows * self.tiles_x) as usize;
         for &k in &self.members[band] {
             let f = &self.feet[k as usize];
-            let r = &self.reach[f.level as usize];
+            let r = &self.reach[f.level()];
             let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
                 continue;
             };
@@ -232,7 +236,7 @@ impl TileLists {
                 }
             })
             .collect();
-        let mut feet: Vec<Footprint> = hierarchy
+        let (mut feet, records): (Vec<Footprint>, Vec<BoxRecord>) = hierarchy
             .nodes
             .par_iter()
             .enumerate()
@@ -249,27 +253,34 @@ impl TileLists {
                 let cy = (0.5 * f64::from(h) - dot(&v2) / s) as f32;
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
-                let (q1, q2) = (dot(&n1), dot(&n2));
-                let key =
-                    (q1 * q1 + q2 * q2).sqrt() - f64::from(hierarchy.levels[level as usize].radius);
-                Some(Footprint {
-                    key: order_key(key as f32),
-                    leaf: i as u32,
+                let record = record(
+                    hierarchy,
+                    i as u32,
+                    [dot(&v1), dot(&v2), dot(&n1), dot(&n2)],
+                );
+                let foot = Footprint {
+                    key: order_key(record.view[2]),
+                    node: i as u32,
+                    slot: 0,
                     cx,
                     cy,
                     level,
-                })
+                };
+                Some((foot, record))
             })
-            .collect();
+            .unzip();
+        for (slot, f) in feet.iter_mut().enumerate() {
+            f.slot = slot as u32;
+        }
         // Nearest first; the counting sort into the tiles below keeps that order.
-        feet.par_sort_unstable_by_key(|f| (u64::from(f.key) << 32) | u64::from(f.leaf));
+        feet.par_sort_unstable_by_key(|f| (u64::from(f.key) << 32) | u64::from(f.node));
         // The smallest tile side whose lists fit (estimated from the rectangles, for every
         // side in one pass).
         const SIDES: usize = (MAX_TILE.ilog2() - MIN_TILE.ilog2() + 1) as usize;
         let estimates = feet
             .par_iter()
             .map(|f| {
-                let r = &reach[f.level as usize];
+                let r = &reach[f.level()];
                 let mut n = [0usize; SIDES];
                 if let (Some((x0, x1)), Some((y0, y1))) =
                     (pixel_range(f.cx, r.hx, w), pixel_range(f.cy, r.hy, h))
@@ -307,7 +318,7 @@ impl TileLists {
             .map(|(c, chunk)| {
                 let mut per_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
                 for (k, f) in chunk.iter().enumerate() {
-                    if let Some((ty0, ty1)) = tile_rows(f, &reach[f.level as usize], tile, h) {
+                    if let Some((ty0, ty1)) = tile_rows(f, &reach[f.level()], tile, h) {
                         for band in (ty0 / band_rows)..=(ty1 / band_rows) {
                             per_band[band as usize].push((c * CHUNK + k) as u32);
                         }
@@ -367,10 +378,7 @@ impl TileLists {
                     fill[t] += 1;
                 });
             });
-        let boxes = feet
-            .par_iter()
-            .map(|f| record(hierarchy, camera, f.leaf))
-            .collect();
+        let boxes = feet.iter().map(|f| records[f.slot as usize]).collect();
         Self {
             tile,
             tiles_x,

@@ -174,7 +174,7 @@ impl Uniforms {
             half0: hierarchy.base_half,
             march: [
                 hierarchy.march_level,
-                march_steps(render.steps, finest - hierarchy.march_level.min(finest)),
+                march_steps(render.steps, finest.saturating_sub(hierarchy.march_level)),
                 0,
                 0,
             ],
