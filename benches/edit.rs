@@ -69,7 +69,8 @@ fn main() {
                 None,
             )
             .unwrap();
-            let hierarchy = Hierarchy::from_tree(&tree);
+            let mut hierarchy = Hierarchy::from_tree(&tree);
+            hierarchy.bound_slopes(&f, &params);
             let tree_ms = ms(t);
             let t = Instant::now();
             let mut caster = RayCaster::new(&gpu, &shader, &hierarchy).unwrap();

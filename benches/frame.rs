@@ -48,6 +48,7 @@ fn env_u32(name: &str, default: u32) -> u32 {
 
 struct Prepared {
     scene: Scene,
+    formula: CompiledFormula,
     params: Vec<f64>,
     /// The default hierarchy (down to the march level) and its caster.
     hierarchy: Hierarchy,
@@ -64,7 +65,8 @@ impl Prepared {
     /// Swaps the full hierarchy and its caster in or out; false if the device can't hold it.
     fn swap_full(&mut self, gpu: &Gpu) -> bool {
         let full = self.full.get_or_insert_with(|| {
-            let h = Hierarchy::from_tree_at(&self.tree, u32::MAX);
+            let mut h = Hierarchy::from_tree_at(&self.tree, u32::MAX);
+            h.bound_slopes(&self.formula, &self.params);
             RayCaster::new(gpu, &self.shader, &h).ok().map(|c| (h, c))
         });
         match full {
@@ -100,11 +102,25 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
         None,
     )
     .unwrap();
-    let hierarchy = Hierarchy::from_tree(&tree);
+    // FOURFOLD_BENCH_MARCH_UP: march that many levels above the finest instead of the default.
+    let mut hierarchy = match std::env::var("FOURFOLD_BENCH_MARCH_UP") {
+        Ok(up) => {
+            let up: u32 = up
+                .parse()
+                .expect("FOURFOLD_BENCH_MARCH_UP: a number of levels");
+            Hierarchy::from_tree_at(
+                &tree,
+                tree.levels.len().saturating_sub(1 + up as usize) as u32,
+            )
+        }
+        Err(_) => Hierarchy::from_tree(&tree),
+    };
+    hierarchy.bound_slopes(&formula, &params);
     let shader = codegen::generate(&formula).unwrap();
     let caster = RayCaster::new(gpu, &shader, &hierarchy).unwrap();
     Prepared {
         scene,
+        formula,
         params,
         hierarchy,
         caster,
@@ -121,7 +137,9 @@ enum Method {
     /// Per-tile lists of the boxes to march, binned on the CPU (the default; binning time
     /// included).
     Tiles,
-    /// The same, marching the finest leaves themselves.
+    /// The same without the slope bounds: every sample of the march taken.
+    Unskipped,
+    /// The same as Tiles, marching the finest leaves themselves.
     Leaves,
     /// Each pixel walks the sphere hierarchy.
     Walk,
@@ -131,6 +149,12 @@ enum Method {
 
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
+    if method == Method::Unskipped {
+        let slopes = std::mem::take(&mut p.hierarchy.slopes);
+        let out = frame_at(gpu, p, size, rays, method);
+        p.hierarchy.slopes = slopes;
+        return out;
+    }
     if method != Method::Leaves {
         return frame_at(gpu, p, size, rays, method);
     }
@@ -153,7 +177,7 @@ fn frame_at(
         Method::Brute(level) => Some(level),
         _ => None,
     };
-    let tiled = matches!(method, Method::Tiles | Method::Leaves);
+    let tiled = matches!(method, Method::Tiles | Method::Unskipped | Method::Leaves);
     let mut render = p.scene.render;
     render.rays = rays;
     render.bisection_iters = env_u32("FOURFOLD_BENCH_ITERS", render.bisection_iters);
@@ -249,9 +273,9 @@ fn main() {
     println!("adapter: {}", gpu.adapter);
     println!("\n## Hierarchy vs brute force, {size}x{size}\n");
     println!(
-        "| scene | level | leaves | boxes marched | rays | tiles ms (CPU binning) | leaves ms (CPU binning) | walk ms | brute force ms | brute/tiles | brute/leaves | leaves/tiles | brute/walk | same colour | same coverage | pixels cut (tiles/walk/brute) |"
+        "| scene | level | leaves | boxes marched | rays | tiles ms (CPU binning) | no skip ms | leaves ms (CPU binning) | walk ms | brute force ms | brute/tiles | no skip/tiles | brute/leaves | leaves/tiles | brute/walk | same colour | same coverage | same as no skip | pixels cut (tiles/walk/brute) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     // The walk (the fallback when tile lists exceed the device's buffer limit) is slow on a
     // software GPU; FOURFOLD_BENCH_WALK=1 includes it.
     let with_walk = std::env::var("FOURFOLD_BENCH_WALK").is_ok_and(|v| v == "1");
@@ -266,6 +290,7 @@ fn main() {
             let background = p.scene.render.background.0;
             for &rays in &ray_counts {
                 let (tiles, binning, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
+                let (unskipped, _, u) = frame(&gpu, &mut p, size, rays, Method::Unskipped);
                 let (leaves, leaf_binning, _) = if with_leaves {
                     frame(&gpu, &mut p, size, rays, Method::Leaves)
                 } else {
@@ -278,18 +303,21 @@ fn main() {
                 };
                 let (slow, _, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
+                let same = a.chunks(4).zip(u.chunks(4)).filter(|(x, y)| x == y).count();
                 println!(
-                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {} | {} | {slow:.0} | {} | {} | {} | {} | {:.1}% | {:.1}% | {} / {} / {} |",
+                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {unskipped:.0} | {} | {} | {slow:.0} | {} | {} | {} | {} | {} | {:.1}% | {:.1}% | {:.2}% | {} / {} / {} |",
                     p.leaves,
                     p.hierarchy.march_boxes(),
                     ms(leaves, leaf_binning),
                     ms(walk, 0.0),
                     ratio(slow / tiles),
+                    ratio(unskipped / tiles),
                     ratio(slow / leaves),
                     ratio(leaves / tiles),
                     ratio(slow / walk),
                     100.0 * colour,
                     100.0 * cover,
+                    100.0 * same as f64 / (a.len() / 4) as f64,
                     cut(&a),
                     cut(&w),
                     cut(&b)
@@ -333,7 +361,7 @@ fn main() {
         if !p.swap_full(&gpu) {
             continue;
         }
-        for up in 0..=4 {
+        for up in 0..=6 {
             p.hierarchy.march_level = 6 - up;
             let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
             println!(

@@ -62,8 +62,7 @@ struct BoxRecord {
     view: vec3<f32>,   // centre minus u.center projected on v1, v2; |q| - r
     level: u32,        // bits 0-7 level, bit 8 leaf
     angles: vec2<f32>, // angle of q in the observer plane; half angle of the sphere (-1: all rays)
-    node: u32,         // index in the hierarchy
-    unused: u32,
+    slope: vec2<f32>,  // bounds on |grad F . n1| and |grad F . n2| in the box (+inf: none)
     center: vec4<f32>,
 }
 
@@ -84,6 +83,10 @@ const TAU: f32 = 6.28318530718;
 // the uniform so that no compiler folds it away.
 fn ff_nan() -> f32 {
     return bitcast<f32>(u.counts.z);
+}
+
+fn ff_inf() -> f32 {
+    return bitcast<f32>(0x7f800000u);
 }
 
 fn ff_param(i: u32) -> f32 {
@@ -255,8 +258,14 @@ struct Tracer {
 
 // Marches the ray o + t d over [t0, t1] in `steps` equal steps, bisecting each sign change
 // (Algorithm 3.1) and keeping the root among the K nearest; stops beyond the K kept.
-fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32) {
+// `slope` bounds |dF/dt| on the span (+inf: no bound). With the tile lists (MODE 1) the march
+// steps over the samples that cannot differ in sign from the last one: none lies within
+// |F| / slope of it. That finds the sign changes, and so the roots, of the plain march,
+// with fewer samples of F (the CPU reference marches every sample).
+fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, slope: f32) {
     let dt = (t1 - t0) / f32(steps);
+    // Samples per unit of |F| that are sure to keep its sign (with a margin for rounding).
+    let reach = 0.999 / (slope * dt);
     let iters = u.control.y;
     var ta = t0;
     var fa = ff_f((*tr).o + ta * d);
@@ -269,6 +278,14 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         var fb = fa;
         var found = false;
         loop {
+            if (MODE == 1u) {
+                // Samples s .. s + j - 1 keep fa's sign: the pair to test is (s + j - 1, s + j).
+                // (NaN or a zero F, or no bound, give j = 0.)
+                let m = abs(fa) * reach;
+                let j = select(0u, u32(min(m, f32(steps))), m >= 1.0);
+                s = s + j;
+                ta = select(ta, t0 + f32(s - 1u) * dt, j > 0u);
+            }
             if (s > steps || ta >= (*tr).hits.far) {
                 break;
             }
@@ -327,8 +344,9 @@ fn angles(q: vec2<f32>, r: f32) -> vec2<f32> {
 }
 
 // Tries the rays that can meet the box [lo, hi] (its sphere seen at angles `ang` from o,
-// see `angles`) and marches each over its span in the box.
-fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32) {
+// see `angles`) and marches each over its span in the box. `slope` bounds |grad F . n1| and
+// |grad F . n2| in the box (see BoxRecord).
+fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec2<f32>) {
     let n = u.size.z;
     let ni = i32(n);
     // Stratified rays are at angles TAU (k + offset) / n: only the k within the sphere's
@@ -350,7 +368,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
         let span = clip_to_box((*tr).o, d, lo, hi);
         if (span.x < span.y && span.x < (*tr).hits.far) {
             (*tr).k = k;
-            march_ray(tr, d, span.x, span.y, nsteps);
+            march_ray(tr, d, span.x, span.y, nsteps, dot(abs(dir), slope));
         }
     }
 }
@@ -397,7 +415,7 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & LEAF) != 0u || (node.info & 255u) >= u.march.x;
     if (meets && near && boxed) {
-        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info));
+        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), vec2<f32>(ff_inf()));
     }
     return vec2<bool>(meets, near);
 }
@@ -413,7 +431,7 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let near = view.z < (*tr).hits.far;
     if (meets && near) {
         let c = boxes[i].center;
-        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level));
+        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope);
     }
     return near;
 }
@@ -437,7 +455,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     tr.pixel_seed = pcg(px.x + pcg(px.y + pcg(u.control.w + 7919u * u.counts.y)));
     tr.offset = rand01(tr.pixel_seed ^ 0x9e3779b9u);
     tr.k_max = max(min(u.size.w, MAX_HITS), 1u);
-    let inf = bitcast<f32>(0x7f800000u);
+    let inf = ff_inf();
     tr.hits.t = array<f32, 16>(inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf);
     tr.hits.far = inf;
     // Where the candidates come from: the brute-force baseline, this pixel's tile list, or
@@ -448,7 +466,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             let c = 0.5 * (u.domain_lo + u.domain_hi);
             let half = 0.5 * (u.domain_hi - u.domain_lo);
             let rel = c - tr.o;
-            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w);
+            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec2<f32>(ff_inf()));
         } else if (MODE == 1u) {
             // The list is nearest first: past the first box that cannot hold a hit nearer
             // than the K kept, none can.

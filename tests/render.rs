@@ -225,6 +225,75 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
 }
 
 #[test]
+fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
+    // With slope bounds the march skips samples that cannot change sign: the roots found,
+    // and so the picture, must be those of the plain march (the same sign changes of the
+    // same samples), pixel for pixel but for f32 ties.
+    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms};
+    use fourfold::tree::Hierarchy;
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["glome", "fig-3-11", "tiger", "duocylinder"].contains(n))
+    {
+        let mut scene = small(&scene);
+        scene.tree.min_level = 5;
+        let (formula, params, tree) = common::build(&scene, scene.tree.into());
+        let shader = codegen::generate(&formula).unwrap();
+        let mut h = Hierarchy::from_tree(&tree);
+        h.bound_slopes(&formula, &params);
+        let bounded = h
+            .slopes
+            .iter()
+            .filter(|s| s.iter().all(|v| v.is_finite()))
+            .count();
+        assert!(
+            bounded * 2 > h.nodes.len(),
+            "{name}: {bounded} of {} bounded",
+            h.nodes.len()
+        );
+        let camera = Camera::new(&scene.domain, &scene.view, 64, 64);
+        let u = Uniforms::new(
+            &camera,
+            &scene.render,
+            &scene.domain,
+            &h,
+            &params,
+            FrameOptions::default(),
+        );
+        let mut caster = RayCaster::new(&gpu, &shader, &h).unwrap();
+        caster.set_tiles(&gpu, Some(&TileLists::build(&h, &camera)));
+        let skipping = caster.render_rgba(&gpu, &u).unwrap();
+        let slopes = std::mem::take(&mut h.slopes);
+        caster.set_tiles(&gpu, Some(&TileLists::build(&h, &camera)));
+        let plain = caster.render_rgba(&gpu, &u).unwrap();
+        assert!(!slopes.is_empty());
+        let same = skipping
+            .chunks(4)
+            .zip(plain.chunks(4))
+            .filter(|(a, b)| a == b)
+            .count();
+        let covered = coverage(&plain, scene.render.background.0)
+            .iter()
+            .filter(|c| **c)
+            .count();
+        eprintln!(
+            "{name}: {same} of {} pixels the same, {covered} covered",
+            64 * 64
+        );
+        assert!(
+            covered > 64 * 64 / 20,
+            "{name}: too little on screen to tell"
+        );
+        assert!(
+            same * 1000 >= 999 * 64 * 64,
+            "{name}: {same} of {} pixels the same",
+            64 * 64
+        );
+    }
+}
+
+#[test]
 fn the_glome_covers_exactly_its_disk_at_any_angles() {
     let gpu = gpu();
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");

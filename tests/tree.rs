@@ -304,3 +304,106 @@ fn no_surface_gives_an_empty_tree() {
     assert!(tree.is_empty());
     assert!(Hierarchy::from_tree(&tree).is_empty());
 }
+
+#[test]
+fn slope_bounds_hold_at_sampled_points_of_every_box() {
+    // Hierarchy::slopes bound |∂F/∂x_k| over each box: the ray caster steps over samples
+    // on that promise, so a bound below a real slope would lose roots.
+    let mut eval = PointEvaluator::new();
+    let mut rng = Rng(2024);
+    for (name, scene) in example_scenes() {
+        let (f, params, tree) = build(
+            &scene,
+            BuildSettings {
+                max_level: 4,
+                min_level: 3,
+                node_budget: 200_000,
+            },
+        );
+        let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
+        h.bound_slopes(&f, &params);
+        assert_eq!(h.slopes.len(), h.nodes.len(), "{name}");
+        let mut bounded = 0;
+        for (i, node) in h.nodes.iter().enumerate() {
+            let slope = h.slope(i);
+            if slope.iter().all(|s| s.is_finite()) {
+                bounded += 1;
+            }
+            let half = h.levels[node.level() as usize].half;
+            for _ in 0..8 {
+                let p: [f64; 4] = std::array::from_fn(|k| {
+                    let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
+                    rng.range(c - r, c + r)
+                });
+                let mut out = [0.0; 5];
+                eval.eval_into(&f.tape_all, p, &params, &mut out);
+                for k in 0..4 {
+                    if out[k + 1].is_finite() {
+                        assert!(
+                            out[k + 1].abs() <= f64::from(slope[k]),
+                            "{name}: node {i}, ∂F/∂x{k} = {} at {p:?} above its bound {}",
+                            out[k + 1],
+                            slope[k]
+                        );
+                    }
+                }
+            }
+        }
+        eprintln!("{name}: {bounded} of {} boxes bounded", h.nodes.len());
+        // The polynomial examples are smooth: a bound on every box (the ones with sqrt of a
+        // sum of squares have none where it may be 0).
+        if [
+            "glome",
+            "fig-3-9-left",
+            "hyperplane",
+            "duocylinder",
+            "fermat-quartic",
+        ]
+        .contains(&name)
+        {
+            assert_eq!(bounded, h.nodes.len(), "{name}");
+        }
+    }
+}
+
+#[test]
+fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
+    // A bound on the derivative says nothing across a jump or a gap in F's domain: there
+    // the ray caster must take every sample.
+    let domain = Domain::parse_list("-1,1,-1,1,-1,1,-1,1").unwrap();
+    let unbounded_on_the_root = |formula: &str| {
+        let mut scene = Scene::from_formula(formula);
+        scene.domain = domain;
+        let (f, params, tree) = build(
+            &scene,
+            BuildSettings {
+                max_level: 0,
+                min_level: 0,
+                node_budget: 10,
+            },
+        );
+        let mut h = Hierarchy::from_tree(&tree);
+        h.bound_slopes(&f, &params);
+        h.slope(0).iter().all(|s| s.is_infinite())
+    };
+    for formula in [
+        "step(x) - 0.5 + 0*y",
+        "sign(x) + 0.5*y",
+        "atan2(y, x) - 3",
+        "sqrt(x + 0.5)^3 - 0.1 + 0*y",
+        "(x + 0.5)^0.5 - 0.5",
+        "ln(x + 0.5) + y",
+        "asin(2*x) + y",
+        "1/x + y",
+    ] {
+        assert!(unbounded_on_the_root(formula), "{formula}");
+    }
+    for formula in [
+        "x^2 + y^2 + z^2 + w^2 - 1",
+        "sqrt(x + 2) - 1.2",
+        "step(x + 2) - 0.5 + y",
+        "abs(x) - 0.5",
+    ] {
+        assert!(!unbounded_on_the_root(formula), "{formula}");
+    }
+}

@@ -51,6 +51,40 @@ impl IntervalEvaluator {
         }
     }
 
+    /// Whether the function computed by `tape`, just evaluated by [`Self::eval_into`] or
+    /// [`Self::eval`] over a box, is defined and continuous on the whole box as far as the
+    /// enclosures tell: every value is bounded, and every operation with a restricted domain
+    /// or a jump has its operands where it is defined and continuous (sqrt of x ≥ 0, ln of
+    /// x > 0, asin and acos of [-1, 1], real powers of x > 0, no division by or negative
+    /// power of an interval holding 0, sign and step away from 0, atan2 off its cut). Then the
+    /// enclosures of its partial derivatives over the box bound its slope there (the mean
+    /// value inequality holds for a continuous, piecewise differentiable function).
+    pub fn continuous_on_last_box(&self, tape: &Tape) -> bool {
+        let s = |i: u32| self.slots[i as usize];
+        let away_from_zero = |a: Interval| !a.contains_zero();
+        tape.ops().iter().enumerate().all(|(i, op)| {
+            let v = self.slots[i];
+            if v.is_empty() || !v.lo().is_finite() || !v.hi().is_finite() {
+                return false;
+            }
+            match *op {
+                Op::Powi(a, n) => n >= 0 || away_from_zero(s(a)),
+                Op::Unary(UnaryOp::Sqrt, a) => s(a).lo() >= 0.0,
+                Op::Unary(UnaryOp::Ln, a) => s(a).lo() > 0.0,
+                Op::Unary(UnaryOp::Asin | UnaryOp::Acos, a) => {
+                    s(a).lo() >= -1.0 && s(a).hi() <= 1.0
+                }
+                Op::Unary(UnaryOp::Sign | UnaryOp::Step, a) => away_from_zero(s(a)),
+                Op::Binary(BinaryOp::Div, _, b) => away_from_zero(s(b)),
+                Op::Binary(BinaryOp::Pow, a, _) => s(a).lo() > 0.0,
+                Op::Binary(BinaryOp::Atan2, y, x) => {
+                    s(x).lo() > 0.0 || s(y).lo() > 0.0 || s(y).hi() < 0.0
+                }
+                _ => true,
+            }
+        })
+    }
+
     /// The first output of `tape` over `bx`.
     pub fn eval(&mut self, tape: &Tape, bx: &Box4, params: &[f64]) -> Interval {
         let mut out = [Interval::EMPTY];

@@ -119,7 +119,8 @@ pub fn render_compiled(
         &AtomicBool::new(false),
         None,
     )?;
-    let hierarchy = Hierarchy::from_tree(&tree);
+    let mut hierarchy = Hierarchy::from_tree(&tree);
+    hierarchy.bound_slopes(formula, &params);
     times.tree_ms = ms(t);
 
     let camera = Camera::new(&scene.domain, &scene.view, width, height);

@@ -54,9 +54,10 @@ pub struct BoxRecord {
     /// The angle of q in the observer plane, and the half angle the sphere spans seen from
     /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
     pub angles: [f32; 2],
-    /// The node's index in the hierarchy.
-    pub node: u32,
-    pub unused: u32,
+    /// Bounds on |∇F·n1| and |∇F·n2| over the box (from `Hierarchy::slopes`; +∞ when not
+    /// bound): a ray d = c·n1 + s·n2 sees F change by at most |c|·slope[0] + |s|·slope[1]
+    /// per unit length there.
+    pub slope: [f32; 2],
     /// The box's centre.
     pub center: [f32; 4],
 }
@@ -73,6 +74,8 @@ pub struct TileLists {
     pub data: Vec<u32>,
     /// The boxes on screen, nearest first (by |q| − r).
     pub boxes: Vec<BoxRecord>,
+    /// Each box's index in the hierarchy.
+    pub nodes: Vec<u32>,
 }
 
 /// A box on screen: the centre of its projection in pixel units (pixel (px, py) has its
@@ -147,7 +150,7 @@ fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u
 
 /// The record of node `i`, given its centre minus the camera's centre projected on v1, v2,
 /// n1 and n2 (see [`BoxRecord`]).
-fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
+fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
     let node = &hierarchy.nodes[i as usize];
     let level_radius = f64::from(hierarchy.levels[node.level() as usize].radius);
     let dist = q1.hypot(q2);
@@ -162,10 +165,18 @@ fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord 
         view: [a as f32, b as f32, (dist - level_radius) as f32],
         level: node.meta,
         angles: [q2.atan2(q1) as f32, delta as f32],
-        node: i,
-        unused: 0,
+        slope: [camera.n1, camera.n2].map(|n| directional_slope(hierarchy.slope(i as usize), &n)),
         center: node.center,
     }
+}
+
+/// A bound on |∇F·n| from bounds on |∂F/∂x_k|, rounded up (+∞ if any is).
+fn directional_slope(slope: [f32; 4], n: &[f64; 4]) -> f32 {
+    if slope.iter().any(|s| !s.is_finite()) {
+        return f32::INFINITY;
+    }
+    let sum: f64 = (0..4).map(|k| f64::from(slope[k]) * n[k].abs()).sum();
+    (sum * (1.0 + 1e-6)) as f32
 }
 
 /// The footprints of one view, by band of tile rows.
@@ -255,6 +266,7 @@ impl TileLists {
                 pixel_range(cy, r.hy, h)?;
                 let record = record(
                     hierarchy,
+                    camera,
                     i as u32,
                     [dot(&v1), dot(&v2), dot(&n1), dot(&n2)],
                 );
@@ -379,12 +391,14 @@ impl TileLists {
                 });
             });
         let boxes = feet.iter().map(|f| records[f.slot as usize]).collect();
+        let nodes = feet.iter().map(|f| f.node).collect();
         Self {
             tile,
             tiles_x,
             tiles_y,
             data,
             boxes,
+            nodes,
         }
     }
 
@@ -392,7 +406,7 @@ impl TileLists {
     pub fn tile_nodes(&self, tx: u32, ty: u32) -> Vec<u32> {
         self.tile(tx, ty)
             .iter()
-            .map(|&b| self.boxes[b as usize].node)
+            .map(|&b| self.nodes[b as usize])
             .collect()
     }
 

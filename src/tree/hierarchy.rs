@@ -16,8 +16,11 @@
 //! diagonal (SPEC.md §3: the chapter's full diagonal is twice what is needed).
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 use super::build::Tree16;
+use crate::eval::{Interval, IntervalEvaluator};
+use crate::formula::CompiledFormula;
 
 /// One node of the flattened hierarchy; see the module documentation for the layout.
 #[repr(C)]
@@ -92,6 +95,11 @@ pub struct Hierarchy {
     /// than the f32 rounding of centres.
     pub base_half: [f32; 4],
     pub pad: f32,
+    /// Per node (empty until [`Hierarchy::bound_slopes`]): a bound on |∂F/∂x|, |∂F/∂y|,
+    /// |∂F/∂z|, |∂F/∂w| over the node's (padded) box where F is continuous on it, else +∞. Along a ray in the box F then changes by at most
+    /// slope·|d| per unit length, so the march steps over the samples that cannot change
+    /// sign (see templates/raycast.wgsl, `march_ray`).
+    pub slopes: Vec<[f32; 4]>,
 }
 
 impl Hierarchy {
@@ -147,6 +155,7 @@ impl Hierarchy {
                 march_level,
                 base_half,
                 pad,
+                slopes: Vec::new(),
             };
         }
         // Subtree sizes down to the march level, bottom-up.
@@ -190,7 +199,50 @@ impl Hierarchy {
             march_level,
             base_half,
             pad,
+            slopes: Vec::new(),
         }
+    }
+
+    /// Fills [`Hierarchy::slopes`] for `formula` with parameter values `params` (the ones
+    /// the tree was built with): one interval evaluation of F and one of F and ∇F per node
+    /// (every node, so that the bounds hold whatever the march level is set to later).
+    pub fn bound_slopes(&mut self, formula: &CompiledFormula, params: &[f64]) {
+        let unbounded = [f32::INFINITY; 4];
+        let slopes = self
+            .nodes
+            .par_iter()
+            .map_init(IntervalEvaluator::new, |eval, node| {
+                let half = self.levels[node.level() as usize].half;
+                // (Widened past the f32 rounding of the shader's box and samples.)
+                let bx: [Interval; 4] = std::array::from_fn(|k| {
+                    let (c, h) = (f64::from(node.center[k]), f64::from(half[k]));
+                    let e = (c.abs() + h) * 1e-6;
+                    Interval::new(c - h - e, c + h + e)
+                });
+                eval.eval(&formula.tape_f, &bx, params);
+                if !eval.continuous_on_last_box(&formula.tape_f) {
+                    return unbounded;
+                }
+                let mut out = [Interval::EMPTY; 5];
+                eval.eval_into(&formula.tape_all, &bx, params, &mut out);
+                std::array::from_fn(|k| {
+                    let g = out[k + 1];
+                    let m = g.lo().abs().max(g.hi().abs());
+                    if g.is_empty() || !m.is_finite() {
+                        f32::INFINITY
+                    } else {
+                        // Rounded up past f32's rounding.
+                        (m * (1.0 + 1e-6)) as f32
+                    }
+                })
+            })
+            .collect();
+        self.slopes = slopes;
+    }
+
+    /// Node `i`'s slope bounds (+∞ when not bound).
+    pub fn slope(&self, i: usize) -> [f32; 4] {
+        self.slopes.get(i).copied().unwrap_or([f32::INFINITY; 4])
     }
 
     /// The deepest level of the tree.

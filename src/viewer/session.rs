@@ -290,7 +290,11 @@ impl Session {
                     let tree =
                         Tree16::build(&formula, &params, &domain, settings, &cancel, Some(&report));
                     let tree = match tree {
-                        Ok(tree) => Ok((Hierarchy::from_tree(&tree), tree.stats)),
+                        Ok(tree) => {
+                            let mut hierarchy = Hierarchy::from_tree(&tree);
+                            hierarchy.bound_slopes(&formula, &params);
+                            Ok((hierarchy, tree.stats))
+                        }
                         Err(BuildError::Cancelled) => return,
                         Err(e) => Err(e.to_string()),
                     };
