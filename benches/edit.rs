@@ -69,8 +69,7 @@ fn main() {
                 None,
             )
             .unwrap();
-            let mut hierarchy = Hierarchy::from_tree(&tree);
-            hierarchy.bound_slopes(&f, &params);
+            let hierarchy = Hierarchy::for_formula(&tree, &f, &params);
             let tree_ms = ms(t);
             let t = Instant::now();
             let mut caster = RayCaster::new(&gpu, &shader, &hierarchy).unwrap();

@@ -12,7 +12,8 @@
 //!    tree levels 5, 6 and 7 (uniform trees, so the leaf size is the level's), as a ratio, with
 //!    the share of pixels on which the two pictures agree;
 //! 2. how the frame time grows with pixels, rays and tree level (glome);
-//! 3. the frame time by march level (levels 0 to 4 above the finest, 256², 16 rays, level 6).
+//! 3. the frame time by march level (levels 0 to 6 above the finest, and the default cut,
+//!    256², 16 rays, level 6).
 //!
 //! Environment: FOURFOLD_BENCH_LEAVES=0 skips the leaves column, FOURFOLD_BENCH_SIZE
 //! (default 512), FOURFOLD_BENCH_LEVELS (default "5,6,7"),
@@ -102,20 +103,20 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
         None,
     )
     .unwrap();
-    // FOURFOLD_BENCH_MARCH_UP: march that many levels above the finest instead of the default.
-    let mut hierarchy = match std::env::var("FOURFOLD_BENCH_MARCH_UP") {
+    // FOURFOLD_BENCH_MARCH_UP: march every box that many levels above the finest instead
+    // of the default cut.
+    let hierarchy = match std::env::var("FOURFOLD_BENCH_MARCH_UP") {
         Ok(up) => {
             let up: u32 = up
                 .parse()
                 .expect("FOURFOLD_BENCH_MARCH_UP: a number of levels");
-            Hierarchy::from_tree_at(
-                &tree,
-                tree.levels.len().saturating_sub(1 + up as usize) as u32,
-            )
+            let level = tree.levels.len().saturating_sub(1 + up as usize) as u32;
+            let mut h = Hierarchy::from_tree_at(&tree, level);
+            h.bound_slopes(&formula, &params);
+            h
         }
-        Err(_) => Hierarchy::from_tree(&tree),
+        Err(_) => Hierarchy::for_formula(&tree, &formula, &params),
     };
-    hierarchy.bound_slopes(&formula, &params);
     let shader = codegen::generate(&formula).unwrap();
     let caster = RayCaster::new(gpu, &shader, &hierarchy).unwrap();
     Prepared {
@@ -362,12 +363,19 @@ fn main() {
             continue;
         }
         for up in 0..=6 {
-            p.hierarchy.march_level = 6 - up;
+            p.hierarchy = Hierarchy::from_tree_at(&p.tree, 6 - up);
+            p.hierarchy.bound_slopes(&p.formula, &p.params);
             let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
             println!(
                 "| {name} | {up} | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
                 p.hierarchy.march_boxes()
             );
         }
+        p.hierarchy = Hierarchy::for_formula(&p.tree, &p.formula, &p.params);
+        let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
+        println!(
+            "| {name} | the default cut (2 up, coarser where the slopes allow) | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
+            p.hierarchy.march_boxes()
+        );
     }
 }

@@ -312,7 +312,7 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         build()
     }
     .map_err(|e| Failure::runtime(e.to_string()))?;
-    let hierarchy = crate::tree::Hierarchy::from_tree(&tree);
+    let hierarchy = crate::tree::Hierarchy::for_formula(&tree, &formula, &params);
     let s = &tree.stats;
     if args.json {
         let mut value = serde_json::to_value(s).expect("stats serialise");

@@ -42,7 +42,7 @@ struct Uniforms {
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
-    march: vec4<u32>,     // march level, steps per span of a node there (see visit), unused x2
+    march: vec4<u32>,     // the finest level (see box_steps), unused x3
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -53,14 +53,14 @@ struct SphereNode {
     cz: f32,
     cw: f32,
     skip: u32,
-    info: u32, // bits 0-7 level, bit 8 leaf
+    info: u32, // bits 0-7 level, bit 8 leaf, bit 9 marched as one box
 }
 
 // A box of the tile lists, with what of its tests is the same for every pixel of the view
 // (worked out by fourfold once per view: see BoxRecord in src/render/tiles.rs).
 struct BoxRecord {
     view: vec3<f32>,   // centre minus u.center projected on v1, v2; |q| - r
-    level: u32,        // bits 0-7 level, bit 8 leaf
+    level: u32,        // bits 0-7 level, bit 8 leaf, bit 9 marched
     angles: vec2<f32>, // angle of q in the observer plane; half angle of the sphere (-1: all rays)
     slope: vec2<f32>,  // bounds on |grad F . n1| and |grad F . n2| in the box (+inf: none)
     center: vec4<f32>,
@@ -77,6 +77,7 @@ override MODE: u32 = 1u;
 
 const MAX_HITS: u32 = 16u;
 const LEAF: u32 = 256u;
+const MARCHED: u32 = 512u;
 const TAU: f32 = 6.28318530718;
 
 // Undefined values (sqrt of a negative, x/0, ...) are NaN, as on the CPU; the NaN comes from
@@ -394,14 +395,16 @@ fn meets_plane(a: f32, b: f32, half: vec4<f32>, r: f32) -> bool {
     return a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
 }
 
-// The step count for a box: a leaf's (the chapter's m per span), or at the march level the
-// finest leaves' step length (u.march.y steps per span).
+// The step count for a box: a leaf's (the chapter's m per span), or for a coarser box the
+// finest leaves' step length: m 2^(finest - level) per span, at most 2^16.
 fn box_steps(info: u32) -> u32 {
-    return select(u.march.y, u.control.x, (info & LEAF) != 0u);
+    let up = min(u.march.x - min(info & 255u, u.march.x), 16u);
+    let coarse = select(65536u, u.control.x << up, u.control.x <= (65536u >> up));
+    return select(coarse, u.control.x, (info & LEAF) != 0u);
 }
 
 // Tests node i of the hierarchy against the pixel's observer plane and marches it if it is
-// a box to march (a leaf, or a node at the march level, whose subtree is then skipped) that
+// a box to march (marked by fourfold; its subtree, if any, is not kept) that
 // passes. Returns whether it passes, and (.y) whether anything in it can be nearer than the
 // K hits kept (nothing in the sphere is nearer than |q| - r).
 fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
@@ -413,7 +416,7 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, r);
     let q = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     let near = length(q) - r < (*tr).hits.far;
-    let boxed = (node.info & LEAF) != 0u || (node.info & 255u) >= u.march.x;
+    let boxed = (node.info & MARCHED) != 0u;
     if (meets && near && boxed) {
         trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), vec2<f32>(ff_inf()));
     }
@@ -488,7 +491,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
                 }
                 let node = nodes[i];
                 let v = visit(&tr, i);
-                let boxed = (node.info & LEAF) != 0u || (node.info & 255u) >= u.march.x;
+                let boxed = (node.info & MARCHED) != 0u;
                 i = select(node.skip, i + 1u, v.x && v.y && !boxed);
             }
         }

@@ -161,9 +161,9 @@ fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
 
 #[test]
 fn marching_coarser_boxes_draws_the_leaves_picture() {
-    // The ray caster marches the nodes two levels above the finest leaves, at the finest
-    // leaves' step: the same picture as marching the leaves, on the GPU (tile lists and
-    // the walk of the hierarchy) and on the CPU.
+    // The ray caster marches the nodes two levels above the finest leaves, or coarser ones
+    // where the slope bounds allow, at the finest leaves' step: the same picture as marching
+    // the leaves, on the GPU (tile lists and the walk of the hierarchy) and on the CPU.
     use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
     use fourfold::tree::{Hierarchy, hierarchy::MARCH_LEVELS_ABOVE_FINEST};
     let gpu = gpu();
@@ -185,9 +185,11 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
             h.march_boxes(),
             leaves.march_boxes()
         );
+        // The default cut, coarser where the slope bounds allow, with the slope skip.
+        let adaptive = Hierarchy::for_formula(&tree, &formula, &params);
         let camera = Camera::new(&scene.domain, &scene.view, 48, 48);
         let mut pictures = Vec::new();
-        for h in [&leaves, &h] {
+        for h in [&leaves, &h, &adaptive] {
             let u = Uniforms::new(
                 &camera,
                 &scene.render,
@@ -215,12 +217,17 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
             }
             pictures.push(reference);
         }
-        let (close, cover) = agreement(&pictures[0], &pictures[1], scene.render.background.0, 16);
-        eprintln!("{name}: leaves vs coarser boxes {close:.3} {cover:.3}");
-        assert!(
-            cover >= 0.98 && close >= 0.90,
-            "{name}: leaves vs coarser boxes: colour {close}, coverage {cover}"
-        );
+        for (what, picture) in [
+            ("coarser boxes", &pictures[1]),
+            ("the default cut", &pictures[2]),
+        ] {
+            let (close, cover) = agreement(&pictures[0], picture, scene.render.background.0, 16);
+            eprintln!("{name}: leaves vs {what} {close:.3} {cover:.3}");
+            assert!(
+                cover >= 0.98 && close >= 0.90,
+                "{name}: leaves vs {what}: colour {close}, coverage {cover}"
+            );
+        }
     }
 }
 

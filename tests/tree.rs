@@ -9,6 +9,7 @@ use common::{Rng, build, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
 use fourfold::scene::{Domain, Scene};
+use fourfold::tree::hierarchy::MARCH_BIT;
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
@@ -174,7 +175,16 @@ fn hierarchy_spheres_nest_and_skips_walk_depth_first() {
         let new_index = |old: usize| kept.partition_point(|&k| k < old);
         for (j, &i) in kept.iter().enumerate() {
             let (a, b) = (&h.nodes[i], &cut.nodes[j]);
-            assert_eq!((a.center, a.meta), (b.center, b.meta), "{name}: node {i}");
+            assert_eq!(
+                (a.center, a.meta & !MARCH_BIT),
+                (b.center, b.meta & !MARCH_BIT),
+                "{name}: node {i}"
+            );
+            assert_eq!(
+                b.is_marched(),
+                b.is_leaf() || b.level() == cut.march_level,
+                "{name}: node {j} marched"
+            );
             assert_eq!(
                 b.skip as usize,
                 new_index(a.skip as usize),
@@ -405,5 +415,81 @@ fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
         "abs(x) - 0.5",
     ] {
         assert!(!unbounded_on_the_root(formula), "{formula}");
+    }
+}
+
+#[test]
+fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
+    // Hierarchy::for_formula marches some boxes above the march level: every point of the
+    // tree's leaves must still lie in exactly one marched box, none of which keeps children.
+    let settings = BuildSettings {
+        max_level: 5,
+        min_level: 5,
+        node_budget: 4_000_000,
+    };
+    for (name, scene) in example_scenes() {
+        let (f, params, tree) = build(&scene, settings);
+        let cut = Hierarchy::for_formula(&tree, &f, &params);
+        let full = Hierarchy::from_tree_at(&tree, u32::MAX);
+        assert_eq!(cut.slopes.len(), cut.nodes.len(), "{name}");
+        assert_eq!(
+            cut.nodes[0].skip as usize,
+            cut.nodes.len(),
+            "{name}: root skip"
+        );
+        let key = |n: &fourfold::tree::SphereNode| (n.level(), n.center.map(f32::to_bits));
+        let marched: std::collections::HashSet<_> = cut
+            .nodes
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.is_marched())
+            .map(|(j, n)| {
+                assert_eq!(
+                    n.skip as usize,
+                    j + 1,
+                    "{name}: marched box {j} keeps children"
+                );
+                key(n)
+            })
+            .collect();
+        let unmarched_leaves = cut
+            .nodes
+            .iter()
+            .filter(|n| n.is_leaf() && !n.is_marched())
+            .count();
+        assert_eq!(unmarched_leaves, 0, "{name}");
+        // Every leaf of the full tree: exactly one marched box among it and its ancestors.
+        let mut stack: Vec<usize> = Vec::new();
+        for (i, node) in full.nodes.iter().enumerate() {
+            while stack
+                .last()
+                .is_some_and(|&t| full.nodes[t].skip as usize <= i)
+            {
+                stack.pop();
+            }
+            if node.is_leaf() {
+                let covering = stack
+                    .iter()
+                    .map(|&a| &full.nodes[a])
+                    .chain(std::iter::once(node))
+                    .filter(|n| marched.contains(&key(n)))
+                    .count();
+                assert_eq!(covering, 1, "{name}: leaf {i} in {covering} marched boxes");
+            } else {
+                stack.push(i);
+            }
+        }
+        let uniform = Hierarchy::from_tree(&tree);
+        eprintln!(
+            "{name}: {} boxes marched ({} at the march level {})",
+            cut.march_boxes(),
+            uniform.march_boxes(),
+            uniform.march_level
+        );
+        assert!(cut.march_boxes() <= uniform.march_boxes(), "{name}");
+        // Where F is a polynomial the slopes allow coarser boxes than the march level.
+        if ["glome", "fig-3-9-left", "hyperplane"].contains(&name) {
+            assert!(cut.march_boxes() * 4 <= uniform.march_boxes(), "{name}");
+        }
     }
 }

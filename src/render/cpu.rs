@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
-use crate::tree::Hierarchy;
+use crate::tree::{Hierarchy, hierarchy::march_steps};
 
 use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
@@ -259,14 +259,14 @@ fn render_pixel(
                 i = node.skip as usize;
                 continue;
             }
-            // As the shader's `visit`: leaves and nodes at the march level are marched whole.
-            if node.is_leaf() || node.level() >= u.march[0] {
+            // As the shader's `visit`: the boxes of the cut are marched whole.
+            if node.is_marched() {
                 let lo = sub(node.center, level.half);
                 let hi = add(node.center, level.half);
                 let steps = if node.is_leaf() {
                     u.control[0]
                 } else {
-                    u.march[1]
+                    march_steps(u.control[0], u.march[0].saturating_sub(node.level()))
                 };
                 pixel.trace_box(o, lo, hi, steps);
                 i = node.skip as usize;

@@ -119,8 +119,7 @@ pub fn render_compiled(
         &AtomicBool::new(false),
         None,
     )?;
-    let mut hierarchy = Hierarchy::from_tree(&tree);
-    hierarchy.bound_slopes(formula, &params);
+    let hierarchy = Hierarchy::for_formula(&tree, formula, &params);
     times.tree_ms = ms(t);
 
     let camera = Camera::new(&scene.domain, &scene.view, width, height);

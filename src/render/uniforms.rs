@@ -52,8 +52,9 @@ pub struct Uniforms {
     /// Half extents of a level-0 box before padding (root[1] is the padding): the shader
     /// computes a level's box from them (see `Hierarchy::base_half`).
     pub half0: [f32; 4],
-    /// The hierarchy's march level (see `Hierarchy::march_level`), the steps per span of a
-    /// node there that is not a leaf (the finest leaves' step length), unused x2.
+    /// The finest level of the tree (a marched box at level l that is not a leaf takes
+    /// `march_steps(steps, finest - l)` steps per span: the finest leaves' step length),
+    /// unused x3.
     pub march: [u32; 4],
     pub levels: [LevelInfo; LEVEL_SLOTS],
     pub params: [[f32; 4]; 16],
@@ -172,12 +173,7 @@ impl Uniforms {
             ],
             tiling: [0; 4],
             half0: hierarchy.base_half,
-            march: [
-                hierarchy.march_level,
-                march_steps(render.steps, finest.saturating_sub(hierarchy.march_level)),
-                0,
-                0,
-            ],
+            march: [finest, 0, 0, 0],
             levels,
             params: packed,
         }

@@ -9,7 +9,7 @@
 //! |--------|----------|-----------------------------------------------------------------|
 //! | 0      | center   | centre of the box, f32 × 4 (x, y, z, w)                         |
 //! | 16     | skip     | index of the next node after this node's subtree                 |
-//! | 20     | meta     | bits 0-7: level; bit 8: leaf                                     |
+//! | 20     | meta     | bits 0-7: level; bit 8: leaf; bit 9: marched as one box          |
 //!
 //! A box's half extents and its sphere's radius depend only on its level, so they live in a
 //! per-level table ([`LevelInfo`]) rather than in every node. The radius is half the box's
@@ -34,12 +34,19 @@ pub struct SphereNode {
 /// Bit of `SphereNode::meta` that marks a leaf.
 pub const LEAF_BIT: u32 = 1 << 8;
 
+/// Bit of `SphereNode::meta` that marks a box the ray caster marches whole (its subtree,
+/// if any, is not kept).
+pub const MARCH_BIT: u32 = 1 << 9;
+
 impl SphereNode {
     pub fn level(&self) -> u32 {
         self.meta & 0xff
     }
     pub fn is_leaf(&self) -> bool {
         self.meta & LEAF_BIT != 0
+    }
+    pub fn is_marched(&self) -> bool {
+        self.meta & MARCH_BIT != 0
     }
 }
 
@@ -83,22 +90,23 @@ pub const MARCH_BOXES: usize = 32_768;
 pub struct Hierarchy {
     pub nodes: Vec<SphereNode>,
     pub levels: Vec<LevelInfo>,
-    /// The level at which the ray caster stops descending: a node at this level is marched
-    /// as one box, with the step count per unit length of the finest level (so the same
-    /// samples per length as its leaves would get); a leaf above it is marched as a leaf
-    /// (the chapter's m steps per span). Nodes below it are not kept (`nodes` ends there),
-    /// but `levels` still describes every level of the tree. By default the finest level
-    /// minus [`MARCH_LEVELS_ABOVE_FINEST`]; it may be set coarser afterwards, not finer.
+    /// The deepest level at which the ray caster stops descending: a node at this level, or
+    /// a coarser one the cut marks (`SphereNode::is_marched`), is marched as one box, with
+    /// the step count per unit length of the finest level (so the same samples per length
+    /// as its leaves would get); a leaf above it is marched as a leaf (the chapter's m steps
+    /// per span). Nodes below the cut are not kept, but `levels` still describes every
+    /// level of the tree. By default the finest level minus [`MARCH_LEVELS_ABOVE_FINEST`].
     pub march_level: u32,
     /// The rule behind `levels[l].half`, in f32 as the shader computes it (instead of reading
     /// the table): `base_half · 2^-l + pad`, `base_half` padded relatively and `pad` more
     /// than the f32 rounding of centres.
     pub base_half: [f32; 4],
     pub pad: f32,
-    /// Per node (empty until [`Hierarchy::bound_slopes`]): a bound on |∂F/∂x|, |∂F/∂y|,
-    /// |∂F/∂z|, |∂F/∂w| over the node's (padded) box where F is continuous on it, else +∞. Along a ray in the box F then changes by at most
-    /// slope·|d| per unit length, so the march steps over the samples that cannot change
-    /// sign (see templates/raycast.wgsl, `march_ray`).
+    /// Per node (empty without a formula: see [`Hierarchy::for_formula`] and
+    /// [`Hierarchy::bound_slopes`]): a bound on |∂F/∂x|, |∂F/∂y|, |∂F/∂z|, |∂F/∂w| over the
+    /// node's (padded) box where F is continuous on it, else +∞. Along a ray in the box F
+    /// then changes by at most Σ slope_k·|d_k| per unit length, so the march steps over the
+    /// samples that cannot change sign (see templates/raycast.wgsl, `march_ray`).
     pub slopes: Vec<[f32; 4]>,
 }
 
@@ -107,20 +115,33 @@ impl Hierarchy {
     /// [`MARCH_LEVELS_ABOVE_FINEST`] above the finest level, or higher where that level holds
     /// more than [`MARCH_BOXES`] nodes. The ray caster never visits deeper nodes, so they are
     /// not kept (a GPU buffer 64x smaller or more, and trees too large for the device as a
-    /// whole fit).
+    /// whole fit). No slope bounds: see [`Hierarchy::for_formula`].
     pub fn from_tree(tree: &Tree16) -> Self {
-        let finest = tree.levels.len().saturating_sub(1);
-        let deepest = finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST as usize);
-        let level = (0..=deepest)
-            .rev()
-            .find(|&l| tree.levels.get(l).is_none_or(|v| v.len() <= MARCH_BOXES))
-            .unwrap_or(0);
-        Self::from_tree_at(tree, level as u32)
+        Self::flatten(tree, default_march_level(tree), None)
     }
 
     /// Flattens `tree` down to `march_level` (clamped to the finest level; the finest level
-    /// keeps every node and marches the leaves themselves).
+    /// keeps every node and marches the leaves themselves). No slope bounds.
     pub fn from_tree_at(tree: &Tree16, march_level: u32) -> Self {
+        Self::flatten(tree, march_level, None)
+    }
+
+    /// The hierarchy the ray caster draws `tree` of `formula` (with parameter values
+    /// `params`, the tree's) with: down to the default march level, with slope bounds, and
+    /// coarser where they allow: a node is marched as one box, its subtree dropped, when its
+    /// slope bound is at most [`COARSEN_LOOSENESS`] times the largest of its descendants'
+    /// at the march level. (With slopes the march steps over empty space, so a large box
+    /// costs little more than its descendants would, and saves their visits; where F's
+    /// slope varies or has no bound, as at a singular point, the boxes stay small.)
+    pub fn for_formula(tree: &Tree16, formula: &CompiledFormula, params: &[f64]) -> Self {
+        Self::flatten(tree, default_march_level(tree), Some((formula, params)))
+    }
+
+    fn flatten(
+        tree: &Tree16,
+        march_level: u32,
+        formula: Option<(&CompiledFormula, &[f64])>,
+    ) -> Self {
         let axes = tree.domain.axes();
         let size = axes.map(|a| a.hi - a.lo);
         let lo = axes.map(|a| a.lo);
@@ -148,17 +169,50 @@ impl Hierarchy {
             .collect();
         let march_level = march_level.min(levels.len() as u32 - 1);
         let depth = (march_level as usize + 1).min(tree.levels.len());
+        let mut hierarchy = Self {
+            nodes: Vec::new(),
+            levels,
+            march_level,
+            base_half,
+            pad,
+            slopes: Vec::new(),
+        };
         if tree.is_empty() {
-            return Self {
-                nodes: Vec::new(),
-                levels,
-                march_level,
-                base_half,
-                pad,
-                slopes: Vec::new(),
-            };
+            return hierarchy;
         }
-        // Subtree sizes down to the march level, bottom-up.
+        let centers: Vec<Vec<[f32; 4]>> = tree.levels[..depth]
+            .iter()
+            .enumerate()
+            .map(|(l, boxes)| {
+                let cells = f64::from(1u32 << l);
+                boxes
+                    .iter()
+                    .map(|b| {
+                        std::array::from_fn(|a| {
+                            (lo[a] + size[a] * ((f64::from(b.coords[a]) + 0.5) / cells)) as f32
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        // Slope bounds of every box down to the march level, and which boxes are marched.
+        let slopes: Vec<Vec<[f32; 4]>> = match formula {
+            Some((formula, params)) => centers
+                .iter()
+                .enumerate()
+                .map(|(l, c)| {
+                    let half = hierarchy.levels[l].half;
+                    c.par_iter()
+                        .map_init(IntervalEvaluator::new, |eval, &center| {
+                            box_slope(eval, formula, params, center, half)
+                        })
+                        .collect()
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        let marched = cut(tree, depth, &slopes);
+        // Subtree sizes with that cut, bottom-up.
         let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
             .iter()
             .map(|l| vec![1; l.len()])
@@ -166,75 +220,54 @@ impl Hierarchy {
         for l in (0..depth.saturating_sub(1)).rev() {
             let (here, below) = subtree.split_at_mut(l + 1);
             for (i, b) in tree.levels[l].iter().enumerate() {
+                if marched[l][i] {
+                    continue;
+                }
                 let children =
                     b.first_child as usize..b.first_child as usize + b.child_count as usize;
                 here[l][i] += below[0][children].iter().sum::<u32>();
             }
         }
-        let kept: usize = tree.levels[..depth].iter().map(Vec::len).sum();
+        let kept = subtree[0][0] as usize;
         let mut nodes = Vec::with_capacity(kept);
+        let mut kept_slopes = Vec::with_capacity(if slopes.is_empty() { 0 } else { kept });
         let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
         while let Some((l, i)) = stack.pop() {
-            let b = &tree.levels[l as usize][i as usize];
-            let cells = f64::from(1u32 << l);
-            let center: [f32; 4] = std::array::from_fn(|a| {
-                (lo[a] + size[a] * ((f64::from(b.coords[a]) + 0.5) / cells)) as f32
-            });
+            let (lu, iu) = (l as usize, i as usize);
+            let b = &tree.levels[lu][iu];
             let index = nodes.len() as u32;
             let leaf = b.child_count == 0;
             nodes.push(SphereNode {
-                center,
-                skip: index + subtree[l as usize][i as usize],
-                meta: l | if leaf { LEAF_BIT } else { 0 },
+                center: centers[lu][iu],
+                skip: index + subtree[lu][iu],
+                meta: l
+                    | if leaf { LEAF_BIT } else { 0 }
+                    | if marched[lu][iu] { MARCH_BIT } else { 0 },
             });
-            if l < march_level {
+            if let Some(s) = slopes.get(lu) {
+                kept_slopes.push(s[iu]);
+            }
+            if !marched[lu][iu] {
                 for c in (0..u32::from(b.child_count)).rev() {
                     stack.push((l + 1, b.first_child + c));
                 }
             }
         }
-        Self {
-            nodes,
-            levels,
-            march_level,
-            base_half,
-            pad,
-            slopes: Vec::new(),
-        }
+        hierarchy.nodes = nodes;
+        hierarchy.slopes = kept_slopes;
+        hierarchy
     }
 
     /// Fills [`Hierarchy::slopes`] for `formula` with parameter values `params` (the ones
-    /// the tree was built with): one interval evaluation of F and one of F and ∇F per node
-    /// (every node, so that the bounds hold whatever the march level is set to later).
+    /// the tree was built with), keeping the cut: one interval evaluation of F and one of F
+    /// and ∇F per node.
     pub fn bound_slopes(&mut self, formula: &CompiledFormula, params: &[f64]) {
-        let unbounded = [f32::INFINITY; 4];
         let slopes = self
             .nodes
             .par_iter()
             .map_init(IntervalEvaluator::new, |eval, node| {
                 let half = self.levels[node.level() as usize].half;
-                // (Widened past the f32 rounding of the shader's box and samples.)
-                let bx: [Interval; 4] = std::array::from_fn(|k| {
-                    let (c, h) = (f64::from(node.center[k]), f64::from(half[k]));
-                    let e = (c.abs() + h) * 1e-6;
-                    Interval::new(c - h - e, c + h + e)
-                });
-                eval.eval(&formula.tape_f, &bx, params);
-                if !eval.continuous_on_last_box(&formula.tape_f) {
-                    return unbounded;
-                }
-                let mut out = [Interval::EMPTY; 5];
-                eval.eval_into(&formula.tape_all, &bx, params, &mut out);
-                std::array::from_fn(|k| {
-                    let g = out[k + 1];
-                    let m = g.lo().abs().max(g.hi().abs());
-                    if g.is_empty() || !m.is_finite() {
-                        f32::INFINITY
-                    } else {
-                        // Rounded up past f32's rounding.
-                        (m * (1.0 + 1e-6)) as f32
-                    }
-                })
+                box_slope(eval, formula, params, node.center, half)
             })
             .collect();
         self.slopes = slopes;
@@ -250,10 +283,10 @@ impl Hierarchy {
         self.levels.len().saturating_sub(1) as u32
     }
 
-    /// Whether the ray caster marches `node` as one box (a leaf at or above the march level,
-    /// or any node at it).
+    /// Whether the ray caster marches `node` as one box (a leaf, a node at the march level,
+    /// or one the cut made coarser).
     pub fn marches(&self, node: &SphereNode) -> bool {
-        node.level() <= self.march_level && (node.is_leaf() || node.level() == self.march_level)
+        node.is_marched()
     }
 
     /// Boxes the ray caster marches.
@@ -274,6 +307,99 @@ impl Hierarchy {
     pub fn radius(&self, node: &SphereNode) -> f32 {
         self.levels[node.level() as usize].radius
     }
+}
+
+/// The default march level of `tree` (see [`Hierarchy::from_tree`]).
+fn default_march_level(tree: &Tree16) -> u32 {
+    let finest = tree.levels.len().saturating_sub(1);
+    let deepest = finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST as usize);
+    (0..=deepest)
+        .rev()
+        .find(|&l| tree.levels.get(l).is_none_or(|v| v.len() <= MARCH_BOXES))
+        .unwrap_or(0) as u32
+}
+
+/// How much looser than its descendants' a box's slope bound may be for the box to be
+/// marched whole (see [`Hierarchy::for_formula`]). Chosen on the eight example scenes at
+/// level 6, 256², 16 rays (`cargo bench --bench frame`, runs alternated): 3 was the best or
+/// within noise of it on each; 2 kept 1.2–2x slower cuts on the glome, the chapter's scene
+/// and the hyperplane, 4–5 made the tiger and the spheritorus slower.
+pub const COARSEN_LOOSENESS: f32 = 3.0;
+
+/// Which boxes of `tree`'s first `depth` levels are marched whole: leaves, the boxes at
+/// level `depth - 1` (the march level), and, where `slopes` are given (per level), every
+/// box whose bound (the sum of its four) is finite and at most [`COARSEN_LOOSENESS`] times
+/// the largest of its descendants' at the march level or leaves.
+fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> {
+    let total = |s: &[f32; 4]| s.iter().sum::<f32>();
+    let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
+        .iter()
+        .enumerate()
+        .map(|(l, boxes)| {
+            boxes
+                .iter()
+                .map(|b| b.child_count == 0 || l + 1 == depth)
+                .collect()
+        })
+        .collect();
+    if slopes.is_empty() {
+        return marched;
+    }
+    // The largest descendant bound, bottom-up (a box marched anyway: its own).
+    let mut below: Vec<Vec<f32>> = marched.iter().map(|m| vec![0.0; m.len()]).collect();
+    for l in (0..depth).rev() {
+        for (i, b) in tree.levels[l].iter().enumerate() {
+            below[l][i] = if marched[l][i] {
+                total(&slopes[l][i])
+            } else {
+                let children =
+                    b.first_child as usize..b.first_child as usize + b.child_count as usize;
+                below[l + 1][children].iter().copied().fold(0.0, f32::max)
+            };
+        }
+    }
+    for l in 0..depth {
+        for (i, m) in marched[l].iter_mut().enumerate() {
+            let own = total(&slopes[l][i]);
+            *m |= own.is_finite()
+                && below[l][i].is_finite()
+                && own <= COARSEN_LOOSENESS * below[l][i];
+        }
+    }
+    marched
+}
+
+/// A bound on |∂F/∂x_k| over the box `center ± half` (padded past the f32 rounding of the
+/// shader's box and samples) if F is continuous on it, else +∞ (see `Hierarchy::slopes`).
+fn box_slope(
+    eval: &mut IntervalEvaluator,
+    formula: &CompiledFormula,
+    params: &[f64],
+    center: [f32; 4],
+    half: [f32; 4],
+) -> [f32; 4] {
+    let unbounded = [f32::INFINITY; 4];
+    let bx: [Interval; 4] = std::array::from_fn(|k| {
+        let (c, h) = (f64::from(center[k]), f64::from(half[k]));
+        let e = (c.abs() + h) * 1e-6;
+        Interval::new(c - h - e, c + h + e)
+    });
+    eval.eval(&formula.tape_f, &bx, params);
+    if !eval.continuous_on_last_box(&formula.tape_f) {
+        return unbounded;
+    }
+    let mut out = [Interval::EMPTY; 5];
+    eval.eval_into(&formula.tape_all, &bx, params, &mut out);
+    std::array::from_fn(|k| {
+        let g = out[k + 1];
+        let m = g.lo().abs().max(g.hi().abs());
+        if g.is_empty() || !m.is_finite() {
+            f32::INFINITY
+        } else {
+            // Rounded up past f32's rounding.
+            (m * (1.0 + 1e-6)) as f32
+        }
+    })
 }
 
 /// `steps · 2^levels_up`, at most 2^16 (the shader's rule, see templates/raycast.wgsl).

@@ -291,9 +291,7 @@ impl Session {
                         Tree16::build(&formula, &params, &domain, settings, &cancel, Some(&report));
                     let tree = match tree {
                         Ok(tree) => {
-                            let mut hierarchy = Hierarchy::from_tree(&tree);
-                            hierarchy.bound_slopes(&formula, &params);
-                            Ok((hierarchy, tree.stats))
+                            Ok((Hierarchy::for_formula(&tree, &formula, &params), tree.stats))
                         }
                         Err(BuildError::Cancelled) => return,
                         Err(e) => Err(e.to_string()),
