@@ -262,7 +262,7 @@ struct Tracer {
 // `slope` bounds |dF/dt| on the span (+inf: no bound). With the tile lists (MODE 1) the march
 // steps over the samples that cannot differ in sign from the last one: none lies within
 // |F| / slope of it. That finds the sign changes, and so the roots, of the plain march,
-// with fewer samples of F (the CPU reference marches every sample).
+// with fewer samples of F (the walk and brute force take every sample).
 fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, slope: f32) {
     let dt = (t1 - t0) / f32(steps);
     // Samples per unit of |F| that are sure to keep its sign (with a margin for rounding).

@@ -235,8 +235,8 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
 fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
     // With slope bounds the march skips samples that cannot change sign: the roots found,
     // and so the picture, must be those of the plain march (the same sign changes of the
-    // same samples), pixel for pixel but for f32 ties.
-    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms};
+    // same samples), pixel for pixel but for f32 ties; on the GPU and on the CPU.
+    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
     use fourfold::tree::Hierarchy;
     let gpu = gpu();
     for (name, scene) in example_scenes()
@@ -274,7 +274,20 @@ fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
         let slopes = std::mem::take(&mut h.slopes);
         caster.set_tiles(&gpu, Some(&TileLists::build(&h, &camera)));
         let plain = caster.render_rgba(&gpu, &u).unwrap();
-        assert!(!slopes.is_empty());
+        // The CPU reference skips the same way.
+        let cpu_plain = cpu::render_rgba(&formula, &params, &h, &u);
+        h.slopes = slopes;
+        let cpu_skipping = cpu::render_rgba(&formula, &params, &h, &u);
+        let cpu_same = cpu_skipping
+            .chunks(4)
+            .zip(cpu_plain.chunks(4))
+            .filter(|(a, b)| a == b)
+            .count();
+        assert!(
+            cpu_same * 1000 >= 999 * 64 * 64,
+            "{name}: CPU {cpu_same} of {} the same",
+            64 * 64
+        );
         let same = skipping
             .chunks(4)
             .zip(plain.chunks(4))

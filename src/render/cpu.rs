@@ -93,12 +93,24 @@ impl Pixel<'_> {
         self.hits.insert(at, (t, ray));
     }
 
-    fn find_roots(&mut self, o: V4, d: V4, t0: f32, t1: f32, steps: u32, ray: u32) {
+    /// Marches o + t d over [t0, t1] in `steps` equal steps (SPEC.md §5.3), stepping over
+    /// the samples that cannot change sign when `slope` bounds |dF/dt| (as the shader's
+    /// `march_ray`: the same sign changes as taking every sample; +∞ takes every sample).
+    #[allow(clippy::too_many_arguments)]
+    fn find_roots(&mut self, o: V4, d: V4, t0: f32, t1: f32, steps: u32, slope: f32, ray: u32) {
         let dt = (t1 - t0) / steps as f32;
+        // Samples per unit of |F| sure to keep its sign (0.999: a margin for rounding).
+        let reach = 0.999 / (slope * dt);
         let mut ta = t0;
         let mut fa = self.f(add(o, scale(d, ta)));
-        for s in 1..=steps {
-            if self.full() && ta >= self.farthest() {
+        let mut s = 1;
+        loop {
+            let m = fa.abs() * reach;
+            if m >= 1.0 {
+                s += m.min(steps as f32) as u32;
+                ta = t0 + (s - 1) as f32 * dt;
+            }
+            if s > steps || (self.full() && ta >= self.farthest()) {
                 return;
             }
             let tb = t0 + s as f32 * dt;
@@ -123,10 +135,13 @@ impl Pixel<'_> {
             }
             ta = tb;
             fa = fb;
+            s += 1;
         }
     }
 
-    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32) {
+    /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
+    /// bound).
+    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4) {
         for k in 0..self.u.size[2] {
             let d = self.direction(k);
             let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
@@ -138,7 +153,12 @@ impl Pixel<'_> {
                 t1 = t1.min(ta.max(tb));
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
-                self.find_roots(o, d, t0, t1, steps, k);
+                let along = if slope.iter().all(|v| v.is_finite()) {
+                    (0..4).map(|i| slope[i] * d[i].abs()).sum::<f32>() * 1.0001
+                } else {
+                    f32::INFINITY
+                };
+                self.find_roots(o, d, t0, t1, steps, along, k);
             }
         }
     }
@@ -246,7 +266,7 @@ fn render_pixel(
         k_max: u.size[3].clamp(1, 16) as usize,
     };
     if u.brute_force() {
-        pixel.trace_box(o, u.domain_lo, u.domain_hi, u.counts[3]);
+        pixel.trace_box(o, u.domain_lo, u.domain_hi, u.counts[3], [f32::INFINITY; 4]);
     } else {
         let mut i = 0usize;
         let n = u.counts[0] as usize;
@@ -268,7 +288,7 @@ fn render_pixel(
                 } else {
                     march_steps(u.control[0], u.march[0].saturating_sub(node.level()))
                 };
-                pixel.trace_box(o, lo, hi, steps);
+                pixel.trace_box(o, lo, hi, steps, h.slope(i));
                 i = node.skip as usize;
                 continue;
             }
