@@ -1,6 +1,6 @@
 //! Screen tiles: for each square block of pixels, the boxes the ray caster marches (the
-//! nodes at the hierarchy's march level and the leaves above it, see
-//! `Hierarchy::march_level`; "leaves" below) whose sphere can meet the observer plane of some
+//! hierarchy's cut: the nodes marked marched, see `Hierarchy::for_formula`; "leaves" below)
+//! whose sphere can meet the observer plane of some
 //! pixel in it. Built on the CPU per view (one pass over the leaves),
 //! so that each pixel tests only its tile's leaves instead of walking the hierarchy: the walk's
 //! inner-node tests (16 children per passing node) were most of a frame on a software GPU.
@@ -55,7 +55,7 @@ pub struct BoxRecord {
     /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
     pub angles: [f32; 2],
     /// Bounds on |∇F·n1| and |∇F·n2| over the box (from `Hierarchy::slopes`; +∞ when not
-    /// bound): a ray d = c·n1 + s·n2 sees F change by at most |c|·slope[0] + |s|·slope[1]
+    /// bound): a ray d = c·n1 + s·n2 sees F change by at most `|c|·slope[0] + |s|·slope[1]`
     /// per unit length there.
     pub slope: [f32; 2],
     /// The box's centre.

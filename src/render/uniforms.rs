@@ -49,7 +49,7 @@ pub struct Uniforms {
     /// tile side, tiles per row, tile lists bound (0/1), index where the leaf entries start;
     /// set by the ray caster from its tile lists (see `tiles.rs`).
     pub tiling: [u32; 4],
-    /// Half extents of a level-0 box before padding (root[1] is the padding): the shader
+    /// Half extents of a level-0 box before padding (`root[1]` is the padding): the shader
     /// computes a level's box from them (see `Hierarchy::base_half`).
     pub half0: [f32; 4],
     /// The finest level of the tree (a marched box at level l that is not a leaf takes
