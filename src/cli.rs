@@ -343,12 +343,12 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         ));
     }
     out.push_str(&format!(
-        "\nnodes {}, leaves {}, hierarchy for the GPU {} bytes ({} nodes down to the march level {}), {} interval evaluations, built in {:.1} ms\n",
+        "\nnodes {}, leaves {}, hierarchy for the GPU {} bytes ({} nodes, marched as {}), {} interval evaluations, built in {:.1} ms\n",
         s.nodes,
         s.leaves,
         hierarchy.bytes(),
         hierarchy.nodes.len(),
-        hierarchy.march_level,
+        hierarchy.march_summary(),
         s.interval_evaluations,
         s.build_ms
     ));
@@ -550,7 +550,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
             ""
         },
         match picture.marched {
-            Some((level, boxes)) => format!("; marched as {boxes} boxes down to level {level}"),
+            Some(cut) => format!("; marched as {cut}"),
             None if picture.tree.nodes > 0 => {
                 "; brute force: every ray marched across the domain".to_string()
             }

@@ -33,10 +33,9 @@ pub struct Picture {
     pub adapter: String,
     pub times: StageTimes,
     pub tree: TreeStats,
-    /// What the ray caster marched: boxes down to this level of the tree (the leaves above
-    /// it and the nodes at it), and how many (see `Hierarchy::march_level`); None for brute
+    /// What the ray caster marched, in words (`Hierarchy::march_summary`); None for brute
     /// force.
-    pub marched: Option<(u32, usize)>,
+    pub marched: Option<String>,
     /// Pixels (row-major indices) whose work the GPU driver cut short (llvmpipe stops a
     /// shader invocation's loops after 65535 iterations): they may miss parts of M. The
     /// shader flags them with alpha 254; `rgba` has alpha 255 everywhere.
@@ -149,8 +148,8 @@ pub fn render_compiled(
         }
     };
     let cut_pixels = take_cut_pixels(&mut rgba);
-    let marched = (!uniforms.brute_force() && !hierarchy.is_empty())
-        .then(|| (hierarchy.march_level, hierarchy.march_boxes()));
+    let marched =
+        (!uniforms.brute_force() && !hierarchy.is_empty()).then(|| hierarchy.march_summary());
     Ok(Picture {
         width,
         height,

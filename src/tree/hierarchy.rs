@@ -291,6 +291,23 @@ impl Hierarchy {
         node.is_marched()
     }
 
+    /// The cut in words, for users: "1 box (the root)", "352 boxes of levels 2–4".
+    pub fn march_summary(&self) -> String {
+        let levels = self
+            .nodes
+            .iter()
+            .filter(|n| self.marches(n))
+            .map(SphereNode::level);
+        let (lo, hi) = levels.fold((u32::MAX, 0), |(lo, hi), l| (lo.min(l), hi.max(l)));
+        match self.march_boxes() {
+            0 => "no box".to_string(),
+            1 if hi == 0 => "1 box (the root)".to_string(),
+            1 => format!("1 box of level {hi}"),
+            n if lo == hi => format!("{n} boxes of level {hi}"),
+            n => format!("{n} boxes of levels {lo}–{hi}"),
+        }
+    }
+
     /// Boxes the ray caster marches.
     pub fn march_boxes(&self) -> usize {
         self.nodes.iter().filter(|n| self.marches(n)).count()

@@ -99,9 +99,9 @@ pub struct Session {
     pub picture_generation: u64,
     pub caster: Option<RayCaster>,
     pub hierarchy: Option<Arc<Hierarchy>>,
-    /// The hierarchy's march level and how many boxes the ray caster marches (counted once
-    /// per tree, for the status line).
-    pub marched: Option<(u32, usize)>,
+    /// The boxes the ray caster marches, in words (worked out once per tree, for the
+    /// status line).
+    pub marched: Option<String>,
     job: Option<Job>,
     generation: u64,
     /// The edit whose timing runs from its text change (`Instant`) to its first frame.
@@ -394,7 +394,7 @@ impl Session {
         self.formula = Some(result.formula);
         self.shader = Some(result.shader);
         self.tree_params = result.params;
-        self.marched = Some((hierarchy.march_level, hierarchy.march_boxes()));
+        self.marched = Some(hierarchy.march_summary());
         self.hierarchy = Some(Arc::new(hierarchy));
         self.stats = Some(stats);
         self.times = EditTimes {
@@ -427,10 +427,12 @@ impl Session {
             return "no surface in this domain (the tree kept no box)".to_string();
         }
         let mut line = format!("{} nodes, {} leaves", s.nodes, s.leaves);
-        if let Some((level, boxes)) = self.marched.filter(|_| !self.scene.render.brute_force) {
-            line.push_str(&format!(
-                " (marched as {boxes} boxes down to level {level})"
-            ));
+        if let Some(cut) = self
+            .marched
+            .as_ref()
+            .filter(|_| !self.scene.render.brute_force)
+        {
+            line.push_str(&format!(" (marched as {cut})"));
         }
         if s.budget_hit {
             line.push_str(", node budget hit (tree coarser than max level)");
