@@ -5,6 +5,8 @@
 //   binding 1: storage  array<SphereNode>     the sphere hierarchy, depth-first, with skips
 //   binding 2: storage  array<u32>            per-tile box lists (or two unused words)
 //   binding 3: storage  array<BoxRecord>      the boxes the lists index, per view (or one)
+//   binding 4: storage  array<vec4<f32>>      per node, bounds on |dF/dx|..|dF/dw| in its box
+//                                             (+inf: none; see march_ray)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers);
 // fs_main returns the pixel's colour (target format rgba8unorm).
 // Pipeline constant MODE: where a pixel's boxes come from: 1 (default) its tile's list in
@@ -72,6 +74,7 @@ struct BoxRecord {
 // one past the last), then indices in `boxes`, nearest first. See src/render/tiles.rs.
 @group(0) @binding(2) var<storage, read> tiles: array<u32>;
 @group(0) @binding(3) var<storage, read> boxes: array<BoxRecord>;
+@group(0) @binding(4) var<storage, read> slopes: array<vec4<f32>>;
 
 override MODE: u32 = 1u;
 
@@ -259,10 +262,10 @@ struct Tracer {
 
 // Marches the ray o + t d over [t0, t1] in `steps` equal steps, bisecting each sign change
 // (Algorithm 3.1) and keeping the root among the K nearest; stops beyond the K kept.
-// `slope` bounds |dF/dt| on the span (+inf: no bound). With the tile lists (MODE 1) the march
-// steps over the samples that cannot differ in sign from the last one: none lies within
-// |F| / slope of it. That finds the sign changes, and so the roots, of the plain march,
-// with fewer samples of F (the walk and brute force take every sample).
+// `slope` bounds |dF/dt| on the span (+inf or NaN: no bound). Except for brute force
+// (MODE 0) the march steps over the samples that cannot differ in sign from the last one:
+// none lies within |F| / slope of it. That finds the sign changes, and so the roots, of the
+// plain march, with fewer samples of F.
 fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, slope: f32) {
     let dt = (t1 - t0) / f32(steps);
     // Samples per unit of |F| that are sure to keep its sign (with a margin for rounding).
@@ -279,7 +282,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         var fb = fa;
         var found = false;
         loop {
-            if (MODE == 1u) {
+            if (MODE != 0u) {
                 // Samples s .. s + j - 1 keep fa's sign: the pair to test is (s + j - 1, s + j).
                 // (NaN or a zero F, or no bound, give j = 0.)
                 let m = abs(fa) * reach;
@@ -418,7 +421,9 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & MARCHED) != 0u;
     if (meets && near && boxed) {
-        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), vec2<f32>(ff_inf()));
+        let sl = slopes[i];
+        let along = vec2<f32>(dot(sl, abs(u.n1)), dot(sl, abs(u.n2)));
+        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), along);
     }
     return vec2<bool>(meets, near);
 }

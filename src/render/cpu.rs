@@ -96,8 +96,7 @@ impl Pixel<'_> {
     /// Marches o + t d over [t0, t1] in `steps` equal steps (SPEC.md §5.3), stepping over
     /// the samples that cannot change sign when `slope` bounds |dF/dt| (as the shader's
     /// `march_ray`: the same sign changes as taking every sample; +∞ takes every sample).
-    #[allow(clippy::too_many_arguments)]
-    fn find_roots(&mut self, o: V4, d: V4, t0: f32, t1: f32, steps: u32, slope: f32, ray: u32) {
+    fn find_roots(&mut self, o: V4, d: V4, (t0, t1): (f32, f32), steps: u32, slope: f32, ray: u32) {
         let dt = (t1 - t0) / steps as f32;
         // Samples per unit of |F| sure to keep its sign (0.999: a margin for rounding).
         let reach = 0.999 / (slope * dt);
@@ -158,7 +157,7 @@ impl Pixel<'_> {
                 } else {
                     f32::INFINITY
                 };
-                self.find_roots(o, d, t0, t1, steps, along, k);
+                self.find_roots(o, d, (t0, t1), steps, along, k);
             }
         }
     }

@@ -152,6 +152,8 @@ pub struct RayCaster {
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
+    /// Per node, `Hierarchy::slope` (for the walk; the tile lists' records carry their own).
+    slopes: wgpu::Buffer,
     tiles: wgpu::Buffer,
     /// The records of the boxes the tile lists index.
     boxes: wgpu::Buffer,
@@ -187,6 +189,7 @@ impl RayCaster {
                 buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(3, wgpu::BufferBindingType::Storage { read_only: true }),
+                buffer_entry(4, wgpu::BufferBindingType::Storage { read_only: true }),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -204,10 +207,14 @@ impl RayCaster {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let nodes = node_buffer(gpu, hierarchy)?;
+        let (nodes, slopes) = node_buffers(gpu, hierarchy)?;
         let tiles = tile_buffer(gpu, &[0, 0]);
         let boxes = box_buffer(gpu, &[]);
-        let bind_group = bind_group(device, &layout, [&uniforms, &nodes, &tiles, &boxes]);
+        let bind_group = bind_group(
+            device,
+            &layout,
+            [&uniforms, &nodes, &tiles, &boxes, &slopes],
+        );
         Ok(Self {
             target,
             module,
@@ -220,6 +227,7 @@ impl RayCaster {
             layout,
             uniforms,
             nodes,
+            slopes,
             tiles,
             boxes,
             tiling: [0; 4],
@@ -229,7 +237,7 @@ impl RayCaster {
 
     /// Replaces the hierarchy (a new tree for the same formula: parameters, domain, levels).
     pub fn set_hierarchy(&mut self, gpu: &Gpu, hierarchy: &Hierarchy) -> Result<(), GpuError> {
-        self.nodes = node_buffer(gpu, hierarchy)?;
+        (self.nodes, self.slopes) = node_buffers(gpu, hierarchy)?;
         // Old tile lists index the old hierarchy.
         self.set_tiles(gpu, None);
         Ok(())
@@ -258,7 +266,13 @@ impl RayCaster {
         self.bind_group = bind_group(
             &gpu.device,
             &self.layout,
-            [&self.uniforms, &self.nodes, &self.tiles, &self.boxes],
+            [
+                &self.uniforms,
+                &self.nodes,
+                &self.tiles,
+                &self.boxes,
+                &self.slopes,
+            ],
         );
     }
 
@@ -470,7 +484,11 @@ const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
-fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuError> {
+/// The hierarchy's nodes (binding 1) and their slope bounds (binding 4, +∞ where none).
+fn node_buffers(
+    gpu: &Gpu,
+    hierarchy: &Hierarchy,
+) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let bytes = std::mem::size_of_val(hierarchy.nodes.as_slice()) as u64;
     if bytes > limit {
@@ -480,7 +498,7 @@ fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuErro
             limit,
         });
     }
-    // An empty tree still needs a non-empty buffer; the shader reads node_count = 0.
+    // An empty tree still needs non-empty buffers; the shader reads node_count = 0.
     let placeholder = [SphereNode {
         center: [0.0; 4],
         skip: 1,
@@ -491,13 +509,19 @@ fn node_buffer(gpu: &Gpu, hierarchy: &Hierarchy) -> Result<wgpu::Buffer, GpuErro
     } else {
         &hierarchy.nodes
     };
-    Ok(gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("fourfold hierarchy"),
-            contents: bytemuck::cast_slice(nodes),
-            usage: wgpu::BufferUsages::STORAGE,
-        }))
+    let slopes: Vec<[f32; 4]> = (0..nodes.len()).map(|i| hierarchy.slope(i)).collect();
+    let buffer = |label: &str, contents: &[u8]| {
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+    };
+    Ok((
+        buffer("fourfold hierarchy", bytemuck::cast_slice(nodes)),
+        buffer("fourfold node slopes", bytemuck::cast_slice(&slopes)),
+    ))
 }
 
 /// A buffer binding of the fragment stage.
@@ -597,11 +621,11 @@ fn box_buffer(gpu: &Gpu, boxes: &[BoxRecord]) -> wgpu::Buffer {
         })
 }
 
-/// Bindings 0 to 3: uniforms, hierarchy, tile lists, box records.
+/// Bindings 0 to 4: uniforms, hierarchy, tile lists, box records, node slopes.
 fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    buffers: [&wgpu::Buffer; 4],
+    buffers: [&wgpu::Buffer; 5],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = buffers
         .iter()
