@@ -106,7 +106,8 @@ pub struct Hierarchy {
     pub pad: f32,
     /// Per node (empty without a formula: see [`Hierarchy::for_formula`] and
     /// [`Hierarchy::bound_slopes`]): a bound on |∂F/∂x|, |∂F/∂y|, |∂F/∂z|, |∂F/∂w| over the
-    /// node's (padded) box where F is continuous on it, else +∞. Along a ray in the box F
+    /// node's (padded) box where F is continuous on it (and |F| < 1e30, far from f32's
+    /// overflow), else +∞. Along a ray in the box F
     /// then changes by at most Σ slope_k·|d_k| per unit length, so the march steps over the
     /// samples that cannot change sign (see templates/raycast.wgsl, `march_ray`).
     pub slopes: Vec<[f32; 4]>,
@@ -388,8 +389,12 @@ fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> 
     marched
 }
 
+/// Largest |F| on a box that gets a slope bound (f32 overflows at 3.4e38).
+const F32_SAFE: f64 = 1e30;
+
 /// A bound on |∂F/∂x_k| over the box `center ± half` (padded past the f32 rounding of the
-/// shader's box and samples) if F is continuous on it, else +∞ (see `Hierarchy::slopes`).
+/// shader's box and samples) if F is continuous on it and far from f32's overflow, else +∞
+/// (see `Hierarchy::slopes`).
 fn box_slope(
     eval: &mut IntervalEvaluator,
     formula: &CompiledFormula,
@@ -409,6 +414,11 @@ fn box_slope(
     }
     let mut out = [Interval::EMPTY; 5];
     eval.eval_into(&formula.tape_all, &bx, params, &mut out);
+    // The shader evaluates F in f32: where it may overflow, an infinite |F| would step
+    // over the whole span.
+    if !(out[0].lo().abs() < F32_SAFE && out[0].hi().abs() < F32_SAFE) {
+        return unbounded;
+    }
     std::array::from_fn(|k| {
         let g = out[k + 1];
         let m = g.lo().abs().max(g.hi().abs());
