@@ -6,7 +6,10 @@ use rayon::prelude::*;
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
-use crate::tree::{Hierarchy, hierarchy::march_steps};
+use crate::tree::{
+    Hierarchy,
+    hierarchy::{march_steps, slope_along},
+};
 
 use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
@@ -152,11 +155,7 @@ impl Pixel<'_> {
                 t1 = t1.min(ta.max(tb));
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
-                let along = if slope.iter().all(|v| v.is_finite()) {
-                    (0..4).map(|i| slope[i] * d[i].abs()).sum::<f32>() * 1.0001
-                } else {
-                    f32::INFINITY
-                };
+                let along = slope_along(slope, d.map(f64::from));
                 self.find_roots(o, d, (t0, t1), steps, along, k);
             }
         }

@@ -23,7 +23,7 @@
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
-use crate::tree::Hierarchy;
+use crate::tree::{Hierarchy, hierarchy::slope_along};
 
 use super::camera::Camera;
 
@@ -165,18 +165,9 @@ fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32, [a, b, q1, q2]: [f64; 
         view: [a as f32, b as f32, (dist - level_radius) as f32],
         level: node.meta,
         angles: [q2.atan2(q1) as f32, delta as f32],
-        slope: [camera.n1, camera.n2].map(|n| directional_slope(hierarchy.slope(i as usize), &n)),
+        slope: [camera.n1, camera.n2].map(|n| slope_along(hierarchy.slope(i as usize), n)),
         center: node.center,
     }
-}
-
-/// A bound on |∇F·n| from bounds on |∂F/∂x_k|, rounded up (+∞ if any is).
-fn directional_slope(slope: [f32; 4], n: &[f64; 4]) -> f32 {
-    if slope.iter().any(|s| !s.is_finite()) {
-        return f32::INFINITY;
-    }
-    let sum: f64 = (0..4).map(|k| f64::from(slope[k]) * n[k].abs()).sum();
-    (sum * (1.0 + 1e-6)) as f32
 }
 
 /// The footprints of one view, by band of tile rows.

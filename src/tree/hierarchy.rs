@@ -389,6 +389,17 @@ fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> 
     marched
 }
 
+/// A bound on |∇F·d| (d a unit vector) from bounds on |∂F/∂x_k|, rounded up past f32's
+/// rounding; +∞ if any bound is. The one rule for a slope along a direction: the tile
+/// records' n1 and n2, the CPU reference's rays (the shader's walk states it in WGSL).
+pub fn slope_along(slope: [f32; 4], d: [f64; 4]) -> f32 {
+    if slope.iter().any(|s| !s.is_finite()) {
+        return f32::INFINITY;
+    }
+    let sum: f64 = (0..4).map(|k| f64::from(slope[k]) * d[k].abs()).sum();
+    (sum * (1.0 + 1e-6)) as f32
+}
+
 /// Largest |F| on a box that gets a slope bound (f32 overflows at 3.4e38).
 const F32_SAFE: f64 = 1e30;
 
