@@ -134,66 +134,94 @@ struct Hits {
     far: f32, // the K-th nearest t once K are kept, else +inf: nothing beyond it matters
 }
 
-// Slot i of the insertion: the carried hit (x, xr) and the slot swap if x is nearer. (i is
-// a constant at every call: the compiler inlines it.)
-fn bubble(tracer: ptr<function, Tracer>, i: u32, x: ptr<function, f32>, xr: ptr<function, u32>) {
-    let tt = (*tracer).hits.t[i];
-    let tr = (*tracer).hits.ray[i];
-    let take = *x < tt;
-    (*tracer).hits.t[i] = select(tt, *x, take);
-    (*tracer).hits.ray[i] = select(tr, *xr, take);
-    *x = select(*x, tt, take);
-    *xr = select(*xr, tr, take);
-}
-
-// The value of slot i (a chain of selects rather than an index that varies).
-fn pick(v: f32, slot: f32, i: u32, want: u32) -> f32 {
-    return select(v, slot, i == want);
-}
-
-// Keeps the K smallest t, sorted; written out, without loops or varying indices: on a
-// SIMD rasterizer every branch of the main loop's body runs for every pixel.
+// Keeps the K smallest t, sorted (SPEC.md §5.4). Written out without loops or varying
+// indices: on a SIMD rasterizer every branch runs for every pixel, and an index that varies
+// sends an array to memory. Slot i takes the new hit if it lies between slots i - 1 and i
+// (after hits at the same t, as a stable insertion does), the hit of slot i - 1 if the new
+// one lies before that, and keeps its own otherwise: no slot depends on another's result.
 fn insert_hit(tr: ptr<function, Tracer>, t: f32) {
     let k_max = (*tr).k_max;
     let ray = (*tr).k;
-    var x = t;
-    var xr = ray;
-    bubble(tr, 0u, &x, &xr);
-    bubble(tr, 1u, &x, &xr);
-    bubble(tr, 2u, &x, &xr);
-    bubble(tr, 3u, &x, &xr);
-    bubble(tr, 4u, &x, &xr);
-    bubble(tr, 5u, &x, &xr);
-    bubble(tr, 6u, &x, &xr);
-    bubble(tr, 7u, &x, &xr);
-    bubble(tr, 8u, &x, &xr);
-    bubble(tr, 9u, &x, &xr);
-    bubble(tr, 10u, &x, &xr);
-    bubble(tr, 11u, &x, &xr);
-    bubble(tr, 12u, &x, &xr);
-    bubble(tr, 13u, &x, &xr);
-    bubble(tr, 14u, &x, &xr);
-    bubble(tr, 15u, &x, &xr);
+    let old_t = (*tr).hits.t;
+    let old_r = (*tr).hits.ray;
+    (*tr).hits.t[0] = min(old_t[0], t);
+    (*tr).hits.ray[0] = select(old_r[0], ray, t < old_t[0]);
+    (*tr).hits.t[1] = min(old_t[1], max(t, old_t[0]));
+    (*tr).hits.ray[1] = select(old_r[1], select(old_r[0], ray, t >= old_t[0]), t < old_t[1]);
+    (*tr).hits.t[2] = min(old_t[2], max(t, old_t[1]));
+    (*tr).hits.ray[2] = select(old_r[2], select(old_r[1], ray, t >= old_t[1]), t < old_t[2]);
+    (*tr).hits.t[3] = min(old_t[3], max(t, old_t[2]));
+    (*tr).hits.ray[3] = select(old_r[3], select(old_r[2], ray, t >= old_t[2]), t < old_t[3]);
+    (*tr).hits.t[4] = min(old_t[4], max(t, old_t[3]));
+    (*tr).hits.ray[4] = select(old_r[4], select(old_r[3], ray, t >= old_t[3]), t < old_t[4]);
+    (*tr).hits.t[5] = min(old_t[5], max(t, old_t[4]));
+    (*tr).hits.ray[5] = select(old_r[5], select(old_r[4], ray, t >= old_t[4]), t < old_t[5]);
+    (*tr).hits.t[6] = min(old_t[6], max(t, old_t[5]));
+    (*tr).hits.ray[6] = select(old_r[6], select(old_r[5], ray, t >= old_t[5]), t < old_t[6]);
+    (*tr).hits.t[7] = min(old_t[7], max(t, old_t[6]));
+    (*tr).hits.ray[7] = select(old_r[7], select(old_r[6], ray, t >= old_t[6]), t < old_t[7]);
+    (*tr).hits.t[8] = min(old_t[8], max(t, old_t[7]));
+    (*tr).hits.ray[8] = select(old_r[8], select(old_r[7], ray, t >= old_t[7]), t < old_t[8]);
+    (*tr).hits.t[9] = min(old_t[9], max(t, old_t[8]));
+    (*tr).hits.ray[9] = select(old_r[9], select(old_r[8], ray, t >= old_t[8]), t < old_t[9]);
+    (*tr).hits.t[10] = min(old_t[10], max(t, old_t[9]));
+    (*tr).hits.ray[10] = select(old_r[10], select(old_r[9], ray, t >= old_t[9]), t < old_t[10]);
+    (*tr).hits.t[11] = min(old_t[11], max(t, old_t[10]));
+    (*tr).hits.ray[11] = select(old_r[11], select(old_r[10], ray, t >= old_t[10]), t < old_t[11]);
+    (*tr).hits.t[12] = min(old_t[12], max(t, old_t[11]));
+    (*tr).hits.ray[12] = select(old_r[12], select(old_r[11], ray, t >= old_t[11]), t < old_t[12]);
+    (*tr).hits.t[13] = min(old_t[13], max(t, old_t[12]));
+    (*tr).hits.ray[13] = select(old_r[13], select(old_r[12], ray, t >= old_t[12]), t < old_t[13]);
+    (*tr).hits.t[14] = min(old_t[14], max(t, old_t[13]));
+    (*tr).hits.ray[14] = select(old_r[14], select(old_r[13], ray, t >= old_t[13]), t < old_t[14]);
+    (*tr).hits.t[15] = min(old_t[15], max(t, old_t[14]));
+    (*tr).hits.ray[15] = select(old_r[15], select(old_r[14], ray, t >= old_t[14]), t < old_t[15]);
     (*tr).hits.count = min((*tr).hits.count + 1u, k_max);
     if ((*tr).hits.count == k_max) {
-        var v = (*tr).hits.t[0];
-        v = pick(v, (*tr).hits.t[1], 1u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[2], 2u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[3], 3u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[4], 4u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[5], 5u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[6], 6u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[7], 7u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[8], 8u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[9], 9u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[10], 10u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[11], 11u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[12], 12u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[13], 13u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[14], 14u, k_max - 1u);
-        v = pick(v, (*tr).hits.t[15], 15u, k_max - 1u);
-        (*tr).hits.far = v;
+        (*tr).hits.far = hit_t((*tr).hits, k_max - 1u);
     }
+}
+
+// Slot i of the hits (a chain of selects: an index that varies would send the array to
+// memory, where a SIMD rasterizer reads it lane by lane).
+fn hit_t(h: Hits, i: u32) -> f32 {
+    var v = h.t[0];
+    v = select(v, h.t[1], i == 1u);
+    v = select(v, h.t[2], i == 2u);
+    v = select(v, h.t[3], i == 3u);
+    v = select(v, h.t[4], i == 4u);
+    v = select(v, h.t[5], i == 5u);
+    v = select(v, h.t[6], i == 6u);
+    v = select(v, h.t[7], i == 7u);
+    v = select(v, h.t[8], i == 8u);
+    v = select(v, h.t[9], i == 9u);
+    v = select(v, h.t[10], i == 10u);
+    v = select(v, h.t[11], i == 11u);
+    v = select(v, h.t[12], i == 12u);
+    v = select(v, h.t[13], i == 13u);
+    v = select(v, h.t[14], i == 14u);
+    v = select(v, h.t[15], i == 15u);
+    return v;
+}
+
+fn hit_ray(h: Hits, i: u32) -> u32 {
+    var v = h.ray[0];
+    v = select(v, h.ray[1], i == 1u);
+    v = select(v, h.ray[2], i == 2u);
+    v = select(v, h.ray[3], i == 3u);
+    v = select(v, h.ray[4], i == 4u);
+    v = select(v, h.ray[5], i == 5u);
+    v = select(v, h.ray[6], i == 6u);
+    v = select(v, h.ray[7], i == 7u);
+    v = select(v, h.ray[8], i == 8u);
+    v = select(v, h.ray[9], i == 9u);
+    v = select(v, h.ray[10], i == 10u);
+    v = select(v, h.ray[11], i == 11u);
+    v = select(v, h.ray[12], i == 12u);
+    v = select(v, h.ray[13], i == 13u);
+    v = select(v, h.ray[14], i == 14u);
+    v = select(v, h.ray[15], i == 15u);
+    return v;
 }
 
 // The span of the ray o + t d, t >= 0, inside the box [lo, hi] (4D slab test).
@@ -518,17 +546,16 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if (count == 0u) {
         return vec4<f32>(u.background.rgb, alpha);
     }
-    // Blend the hits farthest first (a copy indexed by the loop: the hits themselves stay
-    // at constant indices).
-    var ts = tr.hits.t;
-    var rays = tr.hits.ray;
+    // Blend the hits farthest first.
     let n = u.size.z;
     var color = vec3<f32>(0.0);
     for (var j = 0u; j < count; j = j + 1u) {
         let idx = count - 1u - j;
-        let dir = ray_dir2(rays[idx], n, tr.pixel_seed, tr.offset);
+        let ti = hit_t(tr.hits, idx);
+        let ri = hit_ray(tr.hits, idx);
+        let dir = ray_dir2(ri, n, tr.pixel_seed, tr.offset);
         let d = dir.x * u.n1 + dir.y * u.n2;
-        let c = shade(tr.o + ts[idx] * d, d);
+        let c = shade(tr.o + ti * d, d);
         if (j == 0u) {
             color = c;
         } else {
