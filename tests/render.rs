@@ -483,8 +483,10 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
     use fourfold::tree::Hierarchy;
     for (name, scene) in example_scenes().into_iter().take(4) {
         let scene = small(&scene);
-        let (_, _, tree) = common::build(&scene, scene.tree.into());
+        let (formula, params, tree) = common::build(&scene, scene.tree.into());
         let h = Hierarchy::from_tree(&tree);
+        // The default cut: coarser boxes, binned by the boxes they cover.
+        let cut = Hierarchy::for_formula(&tree, &formula, &params);
         for (w, hgt) in [(40, 24), (97, 61)] {
             let camera = Camera::new(&scene.domain, &scene.view, w, hgt);
             // The smallest tiles, and larger ones forced by a small entry budget.
@@ -502,6 +504,7 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
             for lists in [&finest, &coarse] {
                 check_tile_lists(name, &h, &camera, lists);
             }
+            check_tile_lists(name, &cut, &camera, &TileLists::build(&cut, &camera));
             // Lists of the leaves themselves (the march level at the finest level).
             let leaves = Hierarchy::from_tree_at(&tree, h.finest_level());
             check_tile_lists(name, &leaves, &camera, &TileLists::build(&leaves, &camera));
@@ -509,9 +512,10 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
     }
 }
 
-/// Every box the ray caster marches (`Hierarchy::marches`) that passes the shader's pixel
-/// test (sphere and box support along v1, v2) is in the pixel's tile list, once; no other
-/// node is; and each list is nearest first (by |q| − r).
+/// Every box the ray caster marches (`Hierarchy::marches`) of which a cover box (see
+/// `Hierarchy::cover`) passes the shader's pixel test (sphere and box support along v1, v2)
+/// is in the pixel's tile list, once; no node that is not marched is; each list is nearest
+/// first (by |q| − r).
 fn check_tile_lists(
     name: &str,
     h: &fourfold::tree::Hierarchy,
@@ -548,16 +552,14 @@ fn check_tile_lists(
         for px in 0..camera.width {
             let o = camera.origin(f64::from(px), f64::from(py));
             let list = lists.tile_nodes(px / t, py / t);
-            for (i, node) in h.nodes.iter().enumerate() {
-                if !h.marches(node) {
-                    continue;
-                }
-                let info = &h.levels[node.level() as usize];
+            for c in &h.cover {
+                let i = c.node as usize;
+                let info = &h.levels[c.level as usize];
                 let r = f64::from(info.radius);
                 let support = |v: &[f64; 4]| -> f64 {
                     (0..4).map(|k| f64::from(info.half[k]) * v[k].abs()).sum()
                 };
-                let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - o[k]);
+                let rel: [f64; 4] = std::array::from_fn(|k| f64::from(c.center[k]) - o[k]);
                 let a: f64 = (0..4).map(|k| rel[k] * camera.v1[k]).sum();
                 let b: f64 = (0..4).map(|k| rel[k] * camera.v2[k]).sum();
                 if a * a + b * b <= r * r
@@ -566,7 +568,7 @@ fn check_tile_lists(
                 {
                     assert!(
                         list.contains(&(i as u32)),
-                        "{name} {}x{} tile {t}: leaf {i} meets pixel ({px}, {py}) but is not in its tile",
+                        "{name} {}x{} tile {t}: box {i} covers a box that meets pixel ({px}, {py}) but is not in its tile",
                         camera.width,
                         camera.height
                     );

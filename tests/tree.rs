@@ -488,6 +488,34 @@ fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
             uniform.march_level
         );
         assert!(cut.march_boxes() <= uniform.march_boxes(), "{name}");
+        // The cover (what the tile lists bin each marched box by): together, exactly the
+        // uniform cut's boxes, each inside its marched box.
+        let mut covered: Vec<_> = cut
+            .cover
+            .iter()
+            .map(|c| (c.level, c.center.map(f32::to_bits)))
+            .collect();
+        let mut expected: Vec<_> = uniform
+            .nodes
+            .iter()
+            .filter(|n| n.is_marched())
+            .map(key)
+            .collect();
+        covered.sort_unstable();
+        expected.sort_unstable();
+        assert_eq!(covered, expected, "{name}: cover");
+        for c in &cut.cover {
+            let m = &cut.nodes[c.node as usize];
+            assert!(m.is_marched(), "{name}: cover of a box that is not marched");
+            let (mh, ch) = (
+                cut.levels[m.level() as usize].half,
+                cut.levels[c.level as usize].half,
+            );
+            assert!(
+                (0..4).all(|k| (c.center[k] - m.center[k]).abs() + ch[k] <= mh[k] * (1.0 + 1e-5)),
+                "{name}: a cover box outside its marched box"
+            );
+        }
         // Where F is a polynomial the slopes allow coarser boxes than the march level.
         if ["glome", "fig-3-9-left", "hyperplane"].contains(&name) {
             assert!(cut.march_boxes() * 4 <= uniform.march_boxes(), "{name}");

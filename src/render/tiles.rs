@@ -1,29 +1,34 @@
 //! Screen tiles: for each square block of pixels, the boxes the ray caster marches (the
-//! hierarchy's cut: the nodes marked marched, see `Hierarchy::for_formula`; "leaves" below)
-//! whose sphere can meet the observer plane of some
-//! pixel in it. Built on the CPU per view (one pass over the leaves),
-//! so that each pixel tests only its tile's leaves instead of walking the hierarchy: the walk's
-//! inner-node tests (16 children per passing node) were most of a frame on a software GPU.
+//! hierarchy's cut: the nodes marked marched, see `Hierarchy::for_formula`) that may hold a
+//! root for some pixel in it. Built on the CPU per view, so that each pixel tests only its
+//! tile's boxes instead of walking the hierarchy: the walk's inner-node tests (16 children
+//! per passing node) were most of a frame on a software GPU.
 //!
-//! A leaf's sphere (centre c, radius r) meets pixel p's observer plane iff the projection of c
+//! A marched box goes into the tiles reached by the boxes it covers (`Hierarchy::cover`: its
+//! descendants at the march level), not by its own sphere. The tree keeps every box that may
+//! hold M, so where a pixel's observer plane meets none of them the box holds no root for
+//! that pixel, however large the box: a coarse box (the glome is marched as the root box)
+//! costs only the pixels near M.
+//!
+//! A box's sphere (centre c, radius r) meets pixel p's observer plane iff the projection of c
 //! on the (v1, v2) plane is within r of p's origin there; its box can only meet it if that
 //! projection is also within the box's support along v1 and along v2. In pixel units that is
-//! a disk of radius r / pixel_size around the projected centre, cut by a rectangle: the leaf
-//! goes into every tile with a pixel centre in both (the same tests as the shader's, padded
-//! for its f32 rounding). Layout, one `u32` buffer:
+//! a disk of radius r / pixel_size around the projected centre, cut by a rectangle: a cover
+//! box puts its marched box into every tile with a pixel centre in both (the same tests as
+//! the shader's, padded for its f32 rounding), once. Layout, one `u32` buffer:
 //! `[offset of tile 0, …, offset of tile T, entries…]`, offsets counted from the start of
 //! the entries, each entry an index in the view's box records (see [`BoxRecord`]).
 //!
-//! Each tile's leaves are in order of their least possible distance from the pixel's origin in
+//! Each tile's boxes are in order of their least possible distance from the pixel's origin in
 //! the observer plane, |q| − r, where q is the projection of the centre on (n1, n2). That
 //! projection is the same for every pixel (o moves only along v1 and v2), so one global order
-//! serves all tiles, and a pixel stops at the first leaf that cannot hold a hit nearer than
+//! serves all tiles, and a pixel stops at the first box that cannot hold a hit nearer than
 //! the K it keeps: every later one is at least as far (nearest-first with early exit).
 
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
-use crate::tree::{Hierarchy, hierarchy::slope_along};
+use crate::tree::{CoverBox, Hierarchy, hierarchy::slope_along};
 
 use super::camera::Camera;
 
@@ -34,7 +39,7 @@ use super::camera::Camera;
 pub const MAX_TILE: u32 = 16;
 pub const MIN_TILE: u32 = 4;
 
-/// Words (tile offsets and leaf indices) the lists may hold: the tile side grows until they
+/// Words (tile offsets and box indices) the lists may hold: the tile side grows until they
 /// fit (96 MiB).
 pub const MAX_ENTRIES: usize = 24 << 20;
 
@@ -78,16 +83,11 @@ pub struct TileLists {
     pub nodes: Vec<u32>,
 }
 
-/// A box on screen: the centre of its projection in pixel units (pixel (px, py) has its
-/// centre at (px + 0.5, py + 0.5)), its level, its sort key, and where its record is (kept
-/// apart, so that sorting moves small footprints).
+/// Where a marched box reaches the screen: the centre of the projection of one of its cover
+/// boxes in pixel units (pixel (px, py) has its centre at (px + 0.5, py + 0.5)) and that
+/// box's level, and the marched box's place in the view's order (its record's index).
 #[derive(Debug, Clone, Copy)]
 struct Footprint {
-    /// |q| − r as an order-preserving integer (see `order_key`).
-    key: u32,
-    /// The node's index, the tie-break of the order.
-    node: u32,
-    /// Index of its record among the view's records, in node order.
     slot: u32,
     cx: f32,
     cy: f32,
@@ -185,12 +185,14 @@ struct Bins<'a> {
 }
 
 impl Bins<'_> {
-    /// Calls `each(tile index within the band, footprint index)` for every tile of `band`
-    /// that each of its footprints reaches, footprints in order.
+    /// Calls `each(tile index within the band, box slot)` once for every tile of `band`
+    /// that a footprint of the box reaches, boxes in order (a box's footprints are
+    /// consecutive, so a tile that already took it is the one whose last box it is).
     fn each(&self, band: usize, mut each: impl FnMut(usize, u32)) {
         let r0 = band as u32 * self.band_rows;
         let r1 = (r0 + self.band_rows).min(self.tiles_y) - 1;
         let base = band * (self.band_rows * self.tiles_x) as usize;
+        let mut last = vec![u32::MAX; (self.band_rows * self.tiles_x) as usize];
         for &k in &self.members[band] {
             let f = &self.feet[k as usize];
             let r = &self.reach[f.level()];
@@ -201,7 +203,11 @@ impl Bins<'_> {
                 if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
                     let row = (ty * self.tiles_x) as usize - base;
                     for tx in tx0..=tx1 {
-                        each(row + tx as usize, k);
+                        let t = row + tx as usize;
+                        if last[t] != f.slot {
+                            last[t] = f.slot;
+                            each(t, f.slot);
+                        }
                     }
                 }
             }
@@ -210,18 +216,28 @@ impl Bins<'_> {
 }
 
 impl TileLists {
-    /// Bins the leaves of `hierarchy` for `camera`.
+    /// Bins the marched boxes of `hierarchy` for `camera`.
     pub fn build(hierarchy: &Hierarchy, camera: &Camera) -> Self {
         Self::build_within(hierarchy, camera, MAX_ENTRIES)
     }
 
-    /// Bins the leaves in at most about `max_entries` words, offsets included (the smallest
+    /// Bins the marched boxes in at most about `max_entries` words, offsets included (the smallest
     /// tile side whose estimate fits; MAX_TILE if none does).
     pub fn build_within(hierarchy: &Hierarchy, camera: &Camera, max_entries: usize) -> Self {
         let (w, h) = (camera.width.max(1), camera.height.max(1));
         let s = camera.pixel_size;
         let (v1, v2, n1, n2) = (camera.v1, camera.v2, camera.n1, camera.n2);
         let pad = |x: f64| (x * (1.0 + 1e-4) + 2e-3) as f32;
+        // A centre's position in pixel units (inverting Camera::origin), and its offset from
+        // the camera's centre along v1, v2, n1 and n2.
+        let project = |center: [f32; 4]| -> (f32, f32, [f64; 4]) {
+            let rel: [f64; 4] = std::array::from_fn(|k| f64::from(center[k]) - camera.center[k]);
+            let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
+            let (a, b) = (dot(&v1), dot(&v2));
+            let cx = (a / s + 0.5 * f64::from(w)) as f32;
+            let cy = (0.5 * f64::from(h) - b / s) as f32;
+            (cx, cy, [a, b, dot(&n1), dot(&n2)])
+        };
         let reach: Vec<Reach> = hierarchy
             .levels
             .iter()
@@ -238,45 +254,65 @@ impl TileLists {
                 }
             })
             .collect();
-        let (mut feet, records): (Vec<Footprint>, Vec<BoxRecord>) = hierarchy
+        // The marched boxes on screen, nearest first (by |q| − r, then node), with their
+        // records.
+        let mut on_screen: Vec<(u32, u32, BoxRecord)> = hierarchy
             .nodes
             .par_iter()
             .enumerate()
             .filter_map(|(i, node)| {
-                let level = node.level();
                 let r = reach
-                    .get(level as usize)
+                    .get(node.level() as usize)
                     .filter(|_| hierarchy.marches(node))?;
-                let rel: [f64; 4] =
-                    std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);
-                let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
-                // Invert Camera::origin.
-                let cx = (dot(&v1) / s + 0.5 * f64::from(w)) as f32;
-                let cy = (0.5 * f64::from(h) - dot(&v2) / s) as f32;
+                let (cx, cy, view) = project(node.center);
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
-                let record = record(
-                    hierarchy,
-                    camera,
-                    i as u32,
-                    [dot(&v1), dot(&v2), dot(&n1), dot(&n2)],
-                );
-                let foot = Footprint {
-                    key: order_key(record.view[2]),
-                    node: i as u32,
-                    slot: 0,
+                let record = record(hierarchy, camera, i as u32, view);
+                Some((order_key(record.view[2]), i as u32, record))
+            })
+            .collect();
+        on_screen
+            .par_sort_unstable_by_key(|&(key, node, _)| (u64::from(key) << 32) | u64::from(node));
+        let mut rank = vec![u32::MAX; hierarchy.nodes.len()];
+        for (k, &(_, node, _)) in on_screen.iter().enumerate() {
+            rank[node as usize] = k as u32;
+        }
+        // Their footprints: those of the boxes they cover (see `Hierarchy::cover`; a
+        // hierarchy without one, each box its own), in the boxes' order.
+        let own: Vec<CoverBox>;
+        let cover = if hierarchy.cover.is_empty() {
+            own = on_screen
+                .iter()
+                .map(|&(_, node, _)| {
+                    let n = &hierarchy.nodes[node as usize];
+                    CoverBox {
+                        center: n.center,
+                        level: n.level(),
+                        node,
+                    }
+                })
+                .collect();
+            &own
+        } else {
+            &hierarchy.cover
+        };
+        let mut feet: Vec<Footprint> = cover
+            .par_iter()
+            .filter_map(|c| {
+                let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
+                let r = reach.get(c.level as usize)?;
+                let (cx, cy, _) = project(c.center);
+                pixel_range(cx, r.hx, w)?;
+                pixel_range(cy, r.hy, h)?;
+                Some(Footprint {
+                    slot,
                     cx,
                     cy,
-                    level,
-                };
-                Some((foot, record))
+                    level: c.level,
+                })
             })
-            .unzip();
-        for (slot, f) in feet.iter_mut().enumerate() {
-            f.slot = slot as u32;
-        }
-        // Nearest first; the counting sort into the tiles below keeps that order.
-        feet.par_sort_unstable_by_key(|f| (u64::from(f.key) << 32) | u64::from(f.node));
+            .collect();
+        feet.par_sort_by_key(|f| f.slot);
         // The smallest tile side whose lists fit (estimated from the rectangles, for every
         // side in one pass).
         const SIDES: usize = (MAX_TILE.ilog2() - MIN_TILE.ilog2() + 1) as usize;
@@ -376,13 +412,13 @@ impl TileLists {
                     .iter()
                     .map(|o| o - first)
                     .collect();
-                bins.each(band, |t, leaf| {
-                    entries[fill[t] as usize] = leaf;
+                bins.each(band, |t, slot| {
+                    entries[fill[t] as usize] = slot;
                     fill[t] += 1;
                 });
             });
-        let boxes = feet.iter().map(|f| records[f.slot as usize]).collect();
-        let nodes = feet.iter().map(|f| f.node).collect();
+        let boxes = on_screen.iter().map(|&(_, _, r)| r).collect();
+        let nodes = on_screen.iter().map(|&(_, node, _)| node).collect();
         Self {
             tile,
             tiles_x,

@@ -111,6 +111,21 @@ pub struct Hierarchy {
     /// then changes by at most Σ slope_k·|d_k| per unit length, so the march steps over the
     /// samples that cannot change sign (see templates/raycast.wgsl, `march_ray`).
     pub slopes: Vec<[f32; 4]>,
+    /// What each marched box covers, for the per-tile lists: its descendants at the march
+    /// level (and leaves above it), or the box itself where it is at the march level or a
+    /// leaf. In node order. The tree keeps every box that may hold M, so M's part in a
+    /// marched box lies in its cover boxes: a pixel whose observer plane meets none of them
+    /// finds no root in the box (see `TileLists`).
+    pub cover: Vec<CoverBox>,
+}
+
+/// A box of the tree that lies in a marched box (see [`Hierarchy::cover`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoverBox {
+    pub center: [f32; 4],
+    pub level: u32,
+    /// The index of the marched box in [`Hierarchy::nodes`].
+    pub node: u32,
 }
 
 impl Hierarchy {
@@ -179,6 +194,7 @@ impl Hierarchy {
             base_half,
             pad,
             slopes: Vec::new(),
+            cover: Vec::new(),
         };
         if tree.is_empty() {
             return hierarchy;
@@ -234,6 +250,7 @@ impl Hierarchy {
         let kept = subtree[0][0] as usize;
         let mut nodes = Vec::with_capacity(kept);
         let mut kept_slopes = Vec::with_capacity(if slopes.is_empty() { 0 } else { kept });
+        let mut cover = Vec::new();
         let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
         while let Some((l, i)) = stack.pop() {
             let (lu, iu) = (l as usize, i as usize);
@@ -254,9 +271,25 @@ impl Hierarchy {
                 for c in (0..u32::from(b.child_count)).rev() {
                     stack.push((l + 1, b.first_child + c));
                 }
+                continue;
+            }
+            // Its descendants at the march level, and leaves above it.
+            let mut below = vec![(l, i)];
+            while let Some((l, i)) = below.pop() {
+                let b = &tree.levels[l as usize][i as usize];
+                if l as usize + 1 == depth || b.child_count == 0 {
+                    cover.push(CoverBox {
+                        center: centers[l as usize][i as usize],
+                        level: l,
+                        node: index,
+                    });
+                } else {
+                    below.extend((0..u32::from(b.child_count)).map(|c| (l + 1, b.first_child + c)));
+                }
             }
         }
         hierarchy.nodes = nodes;
+        hierarchy.cover = cover;
         hierarchy.slopes = kept_slopes;
         hierarchy
     }
