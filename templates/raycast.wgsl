@@ -64,7 +64,8 @@ struct BoxRecord {
     view: vec3<f32>,   // centre minus u.center projected on v1, v2; |q| - r
     level: u32,        // bits 0-7 level, bit 8 leaf, bit 9 marched
     angles: vec2<f32>, // angle of q in the observer plane; half angle of the sphere (-1: all rays)
-    slope: vec2<f32>,  // bounds on |grad F . n1| and |grad F . n2| in the box (+inf: none)
+    node: u32,         // the box's node in binding 1 (its slope bounds in binding 4)
+    unused: u32,
     center: vec4<f32>,
 }
 
@@ -376,9 +377,9 @@ fn angles(q: vec2<f32>, r: f32) -> vec2<f32> {
 }
 
 // Tries the rays that can meet the box [lo, hi] (its sphere seen at angles `ang` from o,
-// see `angles`) and marches each over its span in the box. `slope` bounds |grad F . n1| and
-// |grad F . n2| in the box (see BoxRecord).
-fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec2<f32>) {
+// see `angles`) and marches each over its span in the box. `slope` bounds |dF/dx|, |dF/dy|,
+// |dF/dz|, |dF/dw| in the box (binding 4), so |grad F . d| <= slope . |d| along a ray d.
+fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>) {
     let n = u.size.z;
     let ni = i32(n);
     // Stratified rays are at angles TAU (k + offset) / n: only the k within the sphere's
@@ -400,7 +401,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
         let span = clip_to_box((*tr).o, d, lo, hi);
         if (span.x < span.y && span.x < (*tr).hits.far) {
             (*tr).k = k;
-            march_ray(tr, d, span.x, span.y, nsteps, dot(abs(dir), slope));
+            march_ray(tr, d, span.x, span.y, nsteps, dot(abs(d), slope));
         }
     }
 }
@@ -449,9 +450,7 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & MARCHED) != 0u;
     if (meets && near && boxed) {
-        let sl = slopes[i];
-        let along = vec2<f32>(dot(sl, abs(u.n1)), dot(sl, abs(u.n2)));
-        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), along);
+        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), slopes[i]);
     }
     return vec2<bool>(meets, near);
 }
@@ -467,7 +466,7 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let near = view.z < (*tr).hits.far;
     if (meets && near) {
         let c = boxes[i].center;
-        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope);
+        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), slopes[boxes[i].node]);
     }
     return near;
 }
@@ -502,7 +501,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             let c = 0.5 * (u.domain_lo + u.domain_hi);
             let half = 0.5 * (u.domain_hi - u.domain_lo);
             let rel = c - tr.o;
-            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec2<f32>(ff_inf()));
+            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec4<f32>(ff_inf()));
         } else if (MODE == 1u) {
             // The list is nearest first: past the first box that cannot hold a hit nearer
             // than the K kept, none can.

@@ -152,7 +152,7 @@ pub struct RayCaster {
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
-    /// Per node, `Hierarchy::slope` (for the walk; the tile lists' records carry their own).
+    /// Per node, `Hierarchy::slope` (read by the walk and, through their records, the tiles).
     slopes: wgpu::Buffer,
     tiles: wgpu::Buffer,
     /// The records of the boxes the tile lists index.

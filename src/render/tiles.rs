@@ -28,7 +28,7 @@
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
-use crate::tree::{CoverBox, Hierarchy, hierarchy::slope_along};
+use crate::tree::{CoverBox, Hierarchy};
 
 use super::camera::Camera;
 
@@ -59,10 +59,10 @@ pub struct BoxRecord {
     /// The angle of q in the observer plane, and the half angle the sphere spans seen from
     /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
     pub angles: [f32; 2],
-    /// Bounds on |∇F·n1| and |∇F·n2| over the box (from `Hierarchy::slopes`; +∞ when not
-    /// bound): a ray d = c·n1 + s·n2 sees F change by at most `|c|·slope[0] + |s|·slope[1]`
-    /// per unit length there.
-    pub slope: [f32; 2],
+    /// The box's index in the hierarchy (its slope bounds, `Hierarchy::slope`, are in the
+    /// shader's binding 4: a ray d sees F change by at most Σ slope_k·|d_k| per unit length).
+    pub node: u32,
+    pub unused: u32,
     /// The box's centre.
     pub center: [f32; 4],
 }
@@ -79,8 +79,6 @@ pub struct TileLists {
     pub data: Vec<u32>,
     /// The boxes on screen, nearest first (by |q| − r).
     pub boxes: Vec<BoxRecord>,
-    /// Each box's index in the hierarchy.
-    pub nodes: Vec<u32>,
 }
 
 /// Where a marched box reaches the screen: the centre of the projection of one of its cover
@@ -150,7 +148,7 @@ fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u
 
 /// The record of node `i`, given its centre minus the camera's centre projected on v1, v2,
 /// n1 and n2 (see [`BoxRecord`]).
-fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
+fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
     let node = &hierarchy.nodes[i as usize];
     let level_radius = f64::from(hierarchy.levels[node.level() as usize].radius);
     let dist = q1.hypot(q2);
@@ -165,7 +163,8 @@ fn record(hierarchy: &Hierarchy, camera: &Camera, i: u32, [a, b, q1, q2]: [f64; 
         view: [a as f32, b as f32, (dist - level_radius) as f32],
         level: node.meta,
         angles: [q2.atan2(q1) as f32, delta as f32],
-        slope: [camera.n1, camera.n2].map(|n| slope_along(hierarchy.slope(i as usize), n)),
+        node: i,
+        unused: 0,
         center: node.center,
     }
 }
@@ -267,7 +266,7 @@ impl TileLists {
                 let (cx, cy, view) = project(node.center);
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
-                let record = record(hierarchy, camera, i as u32, view);
+                let record = record(hierarchy, i as u32, view);
                 Some((order_key(record.view[2]), i as u32, record))
             })
             .collect();
@@ -418,14 +417,12 @@ impl TileLists {
                 });
             });
         let boxes = on_screen.iter().map(|&(_, _, r)| r).collect();
-        let nodes = on_screen.iter().map(|&(_, node, _)| node).collect();
         Self {
             tile,
             tiles_x,
             tiles_y,
             data,
             boxes,
-            nodes,
         }
     }
 
@@ -433,7 +430,7 @@ impl TileLists {
     pub fn tile_nodes(&self, tx: u32, ty: u32) -> Vec<u32> {
         self.tile(tx, ty)
             .iter()
-            .map(|&b| self.nodes[b as usize])
+            .map(|&b| self.boxes[b as usize].node)
             .collect()
     }
 

@@ -423,8 +423,8 @@ fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> 
 }
 
 /// A bound on |∇F·d| (d a unit vector) from bounds on |∂F/∂x_k|, rounded up past f32's
-/// rounding; +∞ if any bound is. The one rule for a slope along a direction: the tile
-/// records' n1 and n2, the CPU reference's rays (the shader's walk states it in WGSL).
+/// rounding; +∞ if any bound is. The CPU reference's rule for a ray's slope; the shader
+/// states it in WGSL (`trace_box`: slope · |d|, in f32, with the march's 0.999 margin).
 pub fn slope_along(slope: [f32; 4], d: [f64; 4]) -> f32 {
     if slope.iter().any(|s| !s.is_finite()) {
         return f32::INFINITY;
