@@ -111,9 +111,10 @@ pub struct Hierarchy {
     /// then changes by at most Σ slope_k·|d_k| per unit length, so the march steps over the
     /// samples that cannot change sign (see templates/raycast.wgsl, `march_ray`).
     pub slopes: Vec<[f32; 4]>,
-    /// What each marched box covers, for the per-tile lists: its descendants at the march
-    /// level (and leaves above it), or the box itself where it is at the march level or a
-    /// leaf. In node order. The tree keeps every box that may hold M, so M's part in a
+    /// What each marched box covers, for the per-tile lists: its descendants at the cover's
+    /// level (and leaves above it), or the box itself where it is at that level or a leaf.
+    /// In node order. The cover's level is the deepest with at most [`MARCH_BOXES`] boxes,
+    /// and at least the march level. The tree keeps every box that may hold M, so M's part in a
     /// marched box lies in its cover boxes: a pixel whose observer plane meets none of them
     /// finds no root in the box (see `TileLists`).
     pub cover: Vec<CoverBox>,
@@ -199,7 +200,13 @@ impl Hierarchy {
         if tree.is_empty() {
             return hierarchy;
         }
-        let centers: Vec<Vec<[f32; 4]>> = tree.levels[..depth]
+        // The cover's level: the deepest with at most MARCH_BOXES boxes (the binning's cost
+        // grows with their number), not above the march level.
+        let cover_depth = (depth..=tree.levels.len())
+            .rev()
+            .find(|&d| tree.levels[d - 1].len() <= MARCH_BOXES)
+            .unwrap_or(depth);
+        let centers: Vec<Vec<[f32; 4]>> = tree.levels[..cover_depth]
             .iter()
             .enumerate()
             .map(|(l, boxes)| {
@@ -216,7 +223,7 @@ impl Hierarchy {
             .collect();
         // Slope bounds of every box down to the march level, and which boxes are marched.
         let slopes: Vec<Vec<[f32; 4]>> = match formula {
-            Some((formula, params)) => centers
+            Some((formula, params)) => centers[..depth]
                 .iter()
                 .enumerate()
                 .map(|(l, c)| {
@@ -273,11 +280,11 @@ impl Hierarchy {
                 }
                 continue;
             }
-            // Its descendants at the march level, and leaves above it.
+            // Its descendants at the cover's level, and leaves above it.
             let mut below = vec![(l, i)];
             while let Some((l, i)) = below.pop() {
                 let b = &tree.levels[l as usize][i as usize];
-                if l as usize + 1 == depth || b.child_count == 0 {
+                if l as usize + 1 == cover_depth || b.child_count == 0 {
                     cover.push(CoverBox {
                         center: centers[l as usize][i as usize],
                         level: l,
