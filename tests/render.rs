@@ -509,6 +509,10 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
             let leaves = Hierarchy::from_tree_at(&tree, h.finest_level());
             check_tile_lists(name, &leaves, &camera, &TileLists::build(&leaves, &camera));
         }
+        // Small images bin by the cover boxes' ancestors (COVER_PER_TILE); a larger one by
+        // the cover boxes themselves.
+        let camera = Camera::new(&scene.domain, &scene.view, 320, 200);
+        check_tile_lists(name, &cut, &camera, &TileLists::build(&cut, &camera));
     }
 }
 
@@ -548,26 +552,39 @@ fn check_tile_lists(
             );
         }
     }
+    // Per cover box: its marched box, its centre's offset from the camera's centre along
+    // v1 and v2, its sphere's radius and its support along v1 and v2.
+    let dot = |x: &[f64; 4], v: &[f64; 4]| -> f64 { (0..4).map(|k| x[k] * v[k]).sum() };
+    let cover: Vec<(u32, f64, f64, f64, f64, f64)> = h
+        .cover
+        .iter()
+        .map(|c| {
+            let (center, level) = h.cover_center(c, 0);
+            let info = &h.levels[level as usize];
+            let rel: [f64; 4] = std::array::from_fn(|k| f64::from(center[k]) - camera.center[k]);
+            let half = info.half.map(f64::from);
+            let support = |v: &[f64; 4]| -> f64 { (0..4).map(|k| half[k] * v[k].abs()).sum() };
+            (
+                c.node,
+                dot(&rel, &camera.v1),
+                dot(&rel, &camera.v2),
+                f64::from(info.radius),
+                support(&camera.v1),
+                support(&camera.v2),
+            )
+        })
+        .collect();
     for py in 0..camera.height {
         for px in 0..camera.width {
             let o = camera.origin(f64::from(px), f64::from(py));
+            let rel: [f64; 4] = std::array::from_fn(|k| o[k] - camera.center[k]);
+            let (oa, ob) = (dot(&rel, &camera.v1), dot(&rel, &camera.v2));
             let list = lists.tile_nodes(px / t, py / t);
-            for c in &h.cover {
-                let i = c.node as usize;
-                let info = &h.levels[c.level as usize];
-                let r = f64::from(info.radius);
-                let support = |v: &[f64; 4]| -> f64 {
-                    (0..4).map(|k| f64::from(info.half[k]) * v[k].abs()).sum()
-                };
-                let rel: [f64; 4] = std::array::from_fn(|k| f64::from(c.center[k]) - o[k]);
-                let a: f64 = (0..4).map(|k| rel[k] * camera.v1[k]).sum();
-                let b: f64 = (0..4).map(|k| rel[k] * camera.v2[k]).sum();
-                if a * a + b * b <= r * r
-                    && a.abs() <= support(&camera.v1)
-                    && b.abs() <= support(&camera.v2)
-                {
+            for &(i, ca, cb, r, sa, sb) in &cover {
+                let (a, b) = (ca - oa, cb - ob);
+                if a * a + b * b <= r * r && a.abs() <= sa && b.abs() <= sb {
                     assert!(
-                        list.contains(&(i as u32)),
+                        list.contains(&i),
                         "{name} {}x{} tile {t}: box {i} covers a box that meets pixel ({px}, {py}) but is not in its tile",
                         camera.width,
                         camera.height

@@ -28,7 +28,7 @@
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
-use crate::tree::{CoverBox, Hierarchy};
+use crate::tree::Hierarchy;
 
 use super::camera::Camera;
 
@@ -38,6 +38,10 @@ use super::camera::Camera;
 /// lavapipe (`cargo bench --bench frame`), with a binning 5–10x cheaper.
 pub const MAX_TILE: u32 = 16;
 pub const MIN_TILE: u32 = 4;
+
+/// Most cover boxes (see `Hierarchy::cover`) per tile of the smallest side that a view
+/// bins by: where there are more, their ancestors stand in for them.
+pub const COVER_PER_TILE: usize = 4;
 
 /// Words (tile offsets and box indices) the lists may hold: the tile side grows until they
 /// fit (96 MiB).
@@ -277,37 +281,56 @@ impl TileLists {
             rank[node as usize] = k as u32;
         }
         // Their footprints: those of the boxes they cover (see `Hierarchy::cover`; a
-        // hierarchy without one, each box its own), in the boxes' order.
-        let own: Vec<CoverBox>;
-        let cover = if hierarchy.cover.is_empty() {
-            own = on_screen
+        // hierarchy without one, each box its own), in the boxes' order. Where the cover
+        // holds more than COVER_PER_TILE boxes per smallest tile, its boxes' ancestors stand
+        // in for them (the binning's cost grows with their number; a small image gains
+        // little from boxes much smaller than a tile).
+        let limit = COVER_PER_TILE * (w.div_ceil(MIN_TILE) * h.div_ceil(MIN_TILE)) as usize;
+        let coarse = |up: u32| -> Vec<([f32; 4], u32, u32)> {
+            let mut out: Vec<([f32; 4], u32, u32)> = Vec::new();
+            for c in &hierarchy.cover {
+                let (center, level) = hierarchy.cover_center(c, up);
+                // An ancestor's boxes are consecutive (the cover is depth first).
+                if out
+                    .last()
+                    .is_none_or(|l| l.0 != center || l.1 != level || l.2 != c.node)
+                {
+                    out.push((center, level, c.node));
+                }
+            }
+            out
+        };
+        let cover: Vec<([f32; 4], u32, u32)> = if hierarchy.cover.is_empty() {
+            on_screen
                 .iter()
                 .map(|&(_, node, _)| {
                     let n = &hierarchy.nodes[node as usize];
-                    CoverBox {
-                        center: n.center,
-                        level: n.level(),
-                        node,
-                    }
+                    (n.center, n.level(), node)
                 })
-                .collect();
-            &own
+                .collect()
         } else {
-            &hierarchy.cover
+            let mut up = 0;
+            loop {
+                let c = coarse(up);
+                if c.len() <= limit || up >= hierarchy.finest_level() {
+                    break c;
+                }
+                up += 1;
+            }
         };
         let mut feet: Vec<Footprint> = cover
             .par_iter()
-            .filter_map(|c| {
-                let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
-                let r = reach.get(c.level as usize)?;
-                let (cx, cy, _) = project(c.center);
+            .filter_map(|&(center, level, node)| {
+                let slot = *rank.get(node as usize).filter(|&&k| k != u32::MAX)?;
+                let r = reach.get(level as usize)?;
+                let (cx, cy, _) = project(center);
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
                 Some(Footprint {
                     slot,
                     cx,
                     cy,
-                    level: c.level,
+                    level,
                 })
             })
             .collect();

@@ -118,15 +118,25 @@ pub struct Hierarchy {
     /// marched box lies in its cover boxes: a pixel whose observer plane meets none of them
     /// finds no root in the box (see `TileLists`).
     pub cover: Vec<CoverBox>,
+    /// The tree's domain as the corner and extents of its grid of cells.
+    pub grid: [[f64; 4]; 2],
 }
 
 /// A box of the tree that lies in a marched box (see [`Hierarchy::cover`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoverBox {
-    pub center: [f32; 4],
+    /// Its cell at its level (as `TreeBox::coords`).
+    pub coords: [u16; 4],
     pub level: u32,
     /// The index of the marched box in [`Hierarchy::nodes`].
     pub node: u32,
+}
+
+/// The centre of the cell `coords` at `level` of the grid with corner `lo` and extents
+/// `size` (the tree's domain), in f32 as the nodes' centres.
+fn cell_center(lo: [f64; 4], size: [f64; 4], level: u32, coords: [u16; 4]) -> [f32; 4] {
+    let cells = f64::from(1u32 << level);
+    std::array::from_fn(|a| (lo[a] + size[a] * ((f64::from(coords[a]) + 0.5) / cells)) as f32)
 }
 
 impl Hierarchy {
@@ -196,6 +206,7 @@ impl Hierarchy {
             pad,
             slopes: Vec::new(),
             cover: Vec::new(),
+            grid: [lo, size],
         };
         if tree.is_empty() {
             return hierarchy;
@@ -206,24 +217,19 @@ impl Hierarchy {
             .rev()
             .find(|&d| tree.levels[d - 1].len() <= MARCH_BOXES)
             .unwrap_or(depth);
-        let centers: Vec<Vec<[f32; 4]>> = tree.levels[..cover_depth]
+        let centers: Vec<Vec<[f32; 4]>> = tree.levels[..depth]
             .iter()
             .enumerate()
             .map(|(l, boxes)| {
-                let cells = f64::from(1u32 << l);
                 boxes
                     .iter()
-                    .map(|b| {
-                        std::array::from_fn(|a| {
-                            (lo[a] + size[a] * ((f64::from(b.coords[a]) + 0.5) / cells)) as f32
-                        })
-                    })
+                    .map(|b| cell_center(lo, size, l as u32, b.coords))
                     .collect()
             })
             .collect();
         // Slope bounds of every box down to the march level, and which boxes are marched.
         let slopes: Vec<Vec<[f32; 4]>> = match formula {
-            Some((formula, params)) => centers[..depth]
+            Some((formula, params)) => centers
                 .iter()
                 .enumerate()
                 .map(|(l, c)| {
@@ -286,7 +292,7 @@ impl Hierarchy {
                 let b = &tree.levels[l as usize][i as usize];
                 if l as usize + 1 == cover_depth || b.child_count == 0 {
                     cover.push(CoverBox {
-                        center: centers[l as usize][i as usize],
+                        coords: b.coords,
                         level: l,
                         node: index,
                     });
@@ -314,6 +320,20 @@ impl Hierarchy {
             })
             .collect();
         self.slopes = slopes;
+    }
+
+    /// The centre of a cover box (see [`Hierarchy::cover`]), or of its ancestor `up` levels
+    /// above it (not above its marched box).
+    pub fn cover_center(&self, c: &CoverBox, up: u32) -> ([f32; 4], u32) {
+        let level = c
+            .level
+            .saturating_sub(up)
+            .max(self.nodes[c.node as usize].level());
+        let coords = c.coords.map(|k| k >> (c.level - level));
+        (
+            cell_center(self.grid[0], self.grid[1], level, coords),
+            level,
+        )
     }
 
     /// Node `i`'s slope bounds (+∞ when not bound).
