@@ -151,9 +151,12 @@ enum Method {
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
     if method == Method::Unskipped {
+        // No bounds in the caster's node buffers (binding 4, which the records point to).
         let slopes = std::mem::take(&mut p.hierarchy.slopes);
+        p.caster.set_hierarchy(gpu, &p.hierarchy).unwrap();
         let out = frame_at(gpu, p, size, rays, method);
         p.hierarchy.slopes = slopes;
+        p.caster.set_hierarchy(gpu, &p.hierarchy).unwrap();
         return out;
     }
     if method != Method::Leaves {
