@@ -5,7 +5,8 @@
 //! per passing node) were most of a frame on a software GPU.
 //!
 //! A marched box goes into the tiles reached by the boxes it covers (`Hierarchy::cover`: its
-//! descendants at the march level), not by its own sphere. The tree keeps every box that may
+//! descendants at a level at or below the march level; their ancestors for small images, see
+//! [`COVER_PER_TILE`]), not by its own sphere. The tree keeps every box that may
 //! hold M, so where a pixel's observer plane meets none of them the box holds no root for
 //! that pixel, however large the box: a coarse box (the glome is marched as the root box)
 //! costs only the pixels near M.
