@@ -179,49 +179,29 @@ fn insert_hit(tr: ptr<function, Tracer>, t: f32) {
     (*tr).hits.ray[15] = select(old_r[15], select(old_r[14], ray, t >= old_t[14]), t < old_t[15]);
     (*tr).hits.count = min((*tr).hits.count + 1u, k_max);
     if ((*tr).hits.count == k_max) {
-        (*tr).hits.far = hit_t((*tr).hits, k_max - 1u);
+        (*tr).hits.far = bitcast<f32>(hit_at((*tr).hits, k_max - 1u).x);
     }
 }
 
-// Slot i of the hits (a chain of selects: an index that varies would send the array to
-// memory, where a SIMD rasterizer reads it lane by lane).
-fn hit_t(h: Hits, i: u32) -> f32 {
-    var v = h.t[0];
-    v = select(v, h.t[1], i == 1u);
-    v = select(v, h.t[2], i == 2u);
-    v = select(v, h.t[3], i == 3u);
-    v = select(v, h.t[4], i == 4u);
-    v = select(v, h.t[5], i == 5u);
-    v = select(v, h.t[6], i == 6u);
-    v = select(v, h.t[7], i == 7u);
-    v = select(v, h.t[8], i == 8u);
-    v = select(v, h.t[9], i == 9u);
-    v = select(v, h.t[10], i == 10u);
-    v = select(v, h.t[11], i == 11u);
-    v = select(v, h.t[12], i == 12u);
-    v = select(v, h.t[13], i == 13u);
-    v = select(v, h.t[14], i == 14u);
-    v = select(v, h.t[15], i == 15u);
-    return v;
-}
-
-fn hit_ray(h: Hits, i: u32) -> u32 {
-    var v = h.ray[0];
-    v = select(v, h.ray[1], i == 1u);
-    v = select(v, h.ray[2], i == 2u);
-    v = select(v, h.ray[3], i == 3u);
-    v = select(v, h.ray[4], i == 4u);
-    v = select(v, h.ray[5], i == 5u);
-    v = select(v, h.ray[6], i == 6u);
-    v = select(v, h.ray[7], i == 7u);
-    v = select(v, h.ray[8], i == 8u);
-    v = select(v, h.ray[9], i == 9u);
-    v = select(v, h.ray[10], i == 10u);
-    v = select(v, h.ray[11], i == 11u);
-    v = select(v, h.ray[12], i == 12u);
-    v = select(v, h.ray[13], i == 13u);
-    v = select(v, h.ray[14], i == 14u);
-    v = select(v, h.ray[15], i == 15u);
+// Slot i of the hits: (t's bits, ray). A chain of selects: an index that varies would send
+// the arrays to memory, where a SIMD rasterizer reads them lane by lane.
+fn hit_at(h: Hits, i: u32) -> vec2<u32> {
+    var v = vec2<u32>(bitcast<u32>(h.t[0]), h.ray[0]);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[1]), h.ray[1]), i == 1u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[2]), h.ray[2]), i == 2u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[3]), h.ray[3]), i == 3u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[4]), h.ray[4]), i == 4u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[5]), h.ray[5]), i == 5u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[6]), h.ray[6]), i == 6u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[7]), h.ray[7]), i == 7u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[8]), h.ray[8]), i == 8u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[9]), h.ray[9]), i == 9u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[10]), h.ray[10]), i == 10u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[11]), h.ray[11]), i == 11u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[12]), h.ray[12]), i == 12u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[13]), h.ray[13]), i == 13u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[14]), h.ray[14]), i == 14u);
+    v = select(v, vec2<u32>(bitcast<u32>(h.t[15]), h.ray[15]), i == 15u);
     return v;
 }
 
@@ -550,11 +530,10 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var color = vec3<f32>(0.0);
     for (var j = 0u; j < count; j = j + 1u) {
         let idx = count - 1u - j;
-        let ti = hit_t(tr.hits, idx);
-        let ri = hit_ray(tr.hits, idx);
-        let dir = ray_dir2(ri, n, tr.pixel_seed, tr.offset);
+        let hit = hit_at(tr.hits, idx);
+        let dir = ray_dir2(hit.y, n, tr.pixel_seed, tr.offset);
         let d = dir.x * u.n1 + dir.y * u.n2;
-        let c = shade(tr.o + ti * d, d);
+        let c = shade(tr.o + bitcast<f32>(hit.x) * d, d);
         if (j == 0u) {
             color = c;
         } else {
