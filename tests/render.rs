@@ -555,11 +555,10 @@ fn check_tile_lists(
     // Per cover box: its marched box, its centre's offset from the camera's centre along
     // v1 and v2, its sphere's radius and its support along v1 and v2.
     let dot = |x: &[f64; 4], v: &[f64; 4]| -> f64 { (0..4).map(|k| x[k] * v[k]).sum() };
-    let cover: Vec<(u32, f64, f64, f64, f64, f64)> = h
-        .cover
+    let cover: Vec<(u32, f64, f64, f64, f64, f64)> = h.cover[0]
         .iter()
         .map(|c| {
-            let (center, level) = h.cover_center(c, 0);
+            let (center, level) = (c.center, c.level);
             let info = &h.levels[level as usize];
             let rel: [f64; 4] = std::array::from_fn(|k| f64::from(center[k]) - camera.center[k]);
             let half = info.half.map(f64::from);

@@ -491,12 +491,11 @@ fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
         // The cover (what the tile lists bin each marched box by): together, exactly the
         // boxes of the uniform cut at its level (not above the march level), each inside
         // its marched box.
-        let cover_level = cut.cover.iter().map(|c| c.level).max().unwrap_or(0);
+        let cover_level = cut.cover[0].iter().map(|c| c.level).max().unwrap_or(0);
         assert!(cover_level >= uniform.march_level, "{name}: cover level");
-        let mut covered: Vec<_> = cut
-            .cover
+        let mut covered: Vec<_> = cut.cover[0]
             .iter()
-            .map(|c| (c.level, cut.cover_center(c, 0).0.map(f32::to_bits)))
+            .map(|c| (c.level, c.center.map(f32::to_bits)))
             .collect();
         let mut expected: Vec<_> = Hierarchy::from_tree_at(&tree, cover_level)
             .nodes
@@ -510,8 +509,8 @@ fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
             covered == expected,
             "{name}: the cover is not the uniform cut at level {cover_level}"
         );
-        for c in &cut.cover {
-            let center = cut.cover_center(c, 0).0;
+        for c in cut.cover.iter().flatten() {
+            let center = c.center;
             let m = &cut.nodes[c.node as usize];
             assert!(m.is_marched(), "{name}: cover of a box that is not marched");
             let (mh, ch) = (

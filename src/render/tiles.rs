@@ -281,57 +281,25 @@ impl TileLists {
         for (k, &(_, node, _)) in on_screen.iter().enumerate() {
             rank[node as usize] = k as u32;
         }
-        // Their footprints: those of the boxes they cover (see `Hierarchy::cover`; a
-        // hierarchy without one, each box its own), in the boxes' order. Where the cover
-        // holds more than COVER_PER_TILE boxes per smallest tile, its boxes' ancestors stand
-        // in for them (the binning's cost grows with their number; a small image gains
-        // little from boxes much smaller than a tile).
+        // Their footprints: those of the boxes they cover (see `Hierarchy::cover`), in the
+        // boxes' order. Where the cover holds more than COVER_PER_TILE boxes per smallest
+        // tile, its boxes' ancestors stand in for them (the binning's cost grows with their
+        // number; a small image gains little from boxes much smaller than a tile).
         let limit = COVER_PER_TILE * (w.div_ceil(MIN_TILE) * h.div_ceil(MIN_TILE)) as usize;
-        let coarse = |up: u32| -> Vec<([f32; 4], u32, u32)> {
-            let mut out: Vec<([f32; 4], u32, u32)> = Vec::new();
-            for c in &hierarchy.cover {
-                let (center, level) = hierarchy.cover_center(c, up);
-                // An ancestor's boxes are consecutive (the cover is depth first).
-                if out
-                    .last()
-                    .is_none_or(|l| l.0 != center || l.1 != level || l.2 != c.node)
-                {
-                    out.push((center, level, c.node));
-                }
-            }
-            out
-        };
-        let cover: Vec<([f32; 4], u32, u32)> = if hierarchy.cover.is_empty() {
-            on_screen
-                .iter()
-                .map(|&(_, node, _)| {
-                    let n = &hierarchy.nodes[node as usize];
-                    (n.center, n.level(), node)
-                })
-                .collect()
-        } else {
-            let mut up = 0;
-            loop {
-                let c = coarse(up);
-                if c.len() <= limit || up >= hierarchy.finest_level() {
-                    break c;
-                }
-                up += 1;
-            }
-        };
-        let mut feet: Vec<Footprint> = cover
+        let mut feet: Vec<Footprint> = hierarchy
+            .cover_within(limit)
             .par_iter()
-            .filter_map(|&(center, level, node)| {
-                let slot = *rank.get(node as usize).filter(|&&k| k != u32::MAX)?;
-                let r = reach.get(level as usize)?;
-                let (cx, cy, _) = project(center);
+            .filter_map(|c| {
+                let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
+                let r = reach.get(c.level as usize)?;
+                let (cx, cy, _) = project(c.center);
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
                 Some(Footprint {
                     slot,
                     cx,
                     cy,
-                    level,
+                    level: c.level,
                 })
             })
             .collect();

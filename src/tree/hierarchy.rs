@@ -113,20 +113,19 @@ pub struct Hierarchy {
     pub slopes: Vec<[f32; 4]>,
     /// What each marched box covers, for the per-tile lists: its descendants at the cover's
     /// level (and leaves above it), or the box itself where it is at that level or a leaf.
-    /// In node order. The cover's level is the deepest with at most [`MARCH_BOXES`] boxes,
-    /// and at least the march level. The tree keeps every box that may hold M, so M's part in a
-    /// marched box lies in its cover boxes: a pixel whose observer plane meets none of them
-    /// finds no root in the box (see `TileLists`).
-    pub cover: Vec<CoverBox>,
-    /// The tree's domain as the corner and extents of its grid of cells.
-    pub grid: [[f64; 4]; 2],
+    /// The cover's level is the deepest with at most [`MARCH_BOXES`] boxes, and at least
+    /// the march level. The tree keeps every box that may hold M, so M's part in a marched
+    /// box lies in its cover boxes: a pixel whose observer plane meets none of them finds
+    /// no root in the box (see `TileLists`). `cover[0]` is that cover, in node order;
+    /// `cover[k]` its boxes' ancestors k levels up (not above their marched box), for
+    /// views too small to gain from finer ones (see [`Hierarchy::cover_within`]).
+    pub cover: Vec<Vec<CoverBox>>,
 }
 
 /// A box of the tree that lies in a marched box (see [`Hierarchy::cover`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoverBox {
-    /// Its cell at its level (as `TreeBox::coords`).
-    pub coords: [u16; 4],
+    pub center: [f32; 4],
     pub level: u32,
     /// The index of the marched box in [`Hierarchy::nodes`].
     pub node: u32,
@@ -206,17 +205,13 @@ impl Hierarchy {
             pad,
             slopes: Vec::new(),
             cover: Vec::new(),
-            grid: [lo, size],
         };
         if tree.is_empty() {
             return hierarchy;
         }
         // The cover's level: the deepest with at most MARCH_BOXES boxes (the binning's cost
         // grows with their number), not above the march level.
-        let cover_depth = (depth..=tree.levels.len())
-            .rev()
-            .find(|&d| tree.levels[d - 1].len() <= MARCH_BOXES)
-            .unwrap_or(depth);
+        let cover_level = deepest_within_budget(tree, tree.levels.len() - 1).max(depth - 1);
         let centers: Vec<Vec<[f32; 4]>> = tree.levels[..depth]
             .iter()
             .enumerate()
@@ -290,19 +285,43 @@ impl Hierarchy {
             let mut below = vec![(l, i)];
             while let Some((l, i)) = below.pop() {
                 let b = &tree.levels[l as usize][i as usize];
-                if l as usize + 1 == cover_depth || b.child_count == 0 {
-                    cover.push(CoverBox {
-                        coords: b.coords,
-                        level: l,
-                        node: index,
-                    });
+                if l as usize == cover_level || b.child_count == 0 {
+                    cover.push((b.coords, l, index));
                 } else {
                     below.extend((0..u32::from(b.child_count)).map(|c| (l + 1, b.first_child + c)));
                 }
             }
         }
+        // The cover, then its boxes' ancestors level by level until each is its marched
+        // box (an ancestor's boxes are consecutive: the cover is depth first).
+        loop {
+            hierarchy.cover.push(
+                cover
+                    .iter()
+                    .map(|&(coords, level, node)| CoverBox {
+                        center: cell_center(lo, size, level, coords),
+                        level,
+                        node,
+                    })
+                    .collect(),
+            );
+            let mut up: Vec<([u16; 4], u32, u32)> = Vec::with_capacity(cover.len());
+            for &(coords, level, node) in &cover {
+                let parent = if level > nodes[node as usize].level() {
+                    (coords.map(|k| k >> 1), level - 1, node)
+                } else {
+                    (coords, level, node)
+                };
+                if up.last() != Some(&parent) {
+                    up.push(parent);
+                }
+            }
+            if up == cover {
+                break;
+            }
+            cover = up;
+        }
         hierarchy.nodes = nodes;
-        hierarchy.cover = cover;
         hierarchy.slopes = kept_slopes;
         hierarchy
     }
@@ -322,18 +341,14 @@ impl Hierarchy {
         self.slopes = slopes;
     }
 
-    /// The centre of a cover box (see [`Hierarchy::cover`]), or of its ancestor `up` levels
-    /// above it (not above its marched box).
-    pub fn cover_center(&self, c: &CoverBox, up: u32) -> ([f32; 4], u32) {
-        let level = c
-            .level
-            .saturating_sub(up)
-            .max(self.nodes[c.node as usize].level());
-        let coords = c.coords.map(|k| k >> (c.level - level));
-        (
-            cell_center(self.grid[0], self.grid[1], level, coords),
-            level,
-        )
+    /// The finest cover (see [`Hierarchy::cover`]) with at most `limit` boxes, or the
+    /// coarsest; empty for an empty hierarchy.
+    pub fn cover_within(&self, limit: usize) -> &[CoverBox] {
+        self.cover
+            .iter()
+            .find(|c| c.len() <= limit)
+            .or(self.cover.last())
+            .map_or(&[], Vec::as_slice)
     }
 
     /// Node `i`'s slope bounds (+∞ when not bound).
@@ -380,7 +395,9 @@ impl Hierarchy {
 
     /// Bytes the GPU buffers take.
     pub fn bytes(&self) -> u64 {
+        // The nodes, one slope bound per node (+∞ where none), the level table.
         (std::mem::size_of_val(self.nodes.as_slice())
+            + self.nodes.len() * std::mem::size_of::<[f32; 4]>()
             + std::mem::size_of_val(self.levels.as_slice())) as u64
     }
 
@@ -392,11 +409,19 @@ impl Hierarchy {
 /// The default march level of `tree` (see [`Hierarchy::from_tree`]).
 fn default_march_level(tree: &Tree16) -> u32 {
     let finest = tree.levels.len().saturating_sub(1);
-    let deepest = finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST as usize);
+    deepest_within_budget(
+        tree,
+        finest.saturating_sub(MARCH_LEVELS_ABOVE_FINEST as usize),
+    ) as u32
+}
+
+/// The deepest level of `tree` down to `deepest` with at most [`MARCH_BOXES`] boxes (0 if
+/// none).
+fn deepest_within_budget(tree: &Tree16, deepest: usize) -> usize {
     (0..=deepest)
         .rev()
         .find(|&l| tree.levels.get(l).is_none_or(|v| v.len() <= MARCH_BOXES))
-        .unwrap_or(0) as u32
+        .unwrap_or(0)
 }
 
 /// How much looser than its descendants' a box's slope bound may be for the box to be
