@@ -138,7 +138,7 @@ enum Method {
     /// Per-tile lists of the boxes to march, binned on the CPU (the default; binning time
     /// included).
     Tiles,
-    /// The same without the slope bounds: every sample of the march taken.
+    /// The same without the slope and curvature bounds: every sample of the march taken.
     Unskipped,
     /// The same as Tiles, marching the finest leaves themselves.
     Leaves,
@@ -151,11 +151,14 @@ enum Method {
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
     if method == Method::Unskipped {
-        // No bounds in the caster's node buffers (binding 4, which the records point to).
+        // No bounds in the caster's node buffers (bindings 4 and 5, which the records point
+        // to).
         let slopes = std::mem::take(&mut p.hierarchy.slopes);
+        let curvature = std::mem::take(&mut p.hierarchy.curvature);
         p.caster.set_hierarchy(gpu, &p.hierarchy).unwrap();
         let out = frame_at(gpu, p, size, rays, method);
         p.hierarchy.slopes = slopes;
+        p.hierarchy.curvature = curvature;
         p.caster.set_hierarchy(gpu, &p.hierarchy).unwrap();
         return out;
     }

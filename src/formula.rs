@@ -25,7 +25,26 @@ pub struct CompiledFormula {
     pub tape_f: Tape,
     /// Straight-line program for F and ∇F (outputs in that order).
     pub tape_all: Tape,
+    /// Straight-line program for F, ∇F and the second derivatives ∂²F/∂x_i∂x_j, i ≤ j, in
+    /// the order of [`HESSIAN_PAIRS`] (outputs in that order): their bounds over a box let
+    /// the ray caster step further where F bends little (see `Hierarchy::curvature`).
+    pub tape_second: Tape,
 }
+
+/// The (i, j) of the second derivatives in [`CompiledFormula::tape_second`], diagonal first:
+/// xx, yy, zz, ww, then xy, xz, xw, yz, yw, zw.
+pub const HESSIAN_PAIRS: [(u8, u8); 10] = [
+    (0, 0),
+    (1, 1),
+    (2, 2),
+    (3, 3),
+    (0, 1),
+    (0, 2),
+    (0, 3),
+    (1, 2),
+    (1, 3),
+    (2, 3),
+];
 
 /// Stack for parsing and lowering: formulas up to the size limit can nest thousands deep.
 const FRONT_END_STACK: usize = 256 * 1024 * 1024;
@@ -75,6 +94,11 @@ impl CompiledFormula {
         let mut outputs = vec![f];
         outputs.extend(gradient);
         let tape_all = Tape::new(&graph, &outputs);
+        for (i, j) in HESSIAN_PAIRS {
+            let second = expr::derivative(&mut graph, gradient[usize::from(i)], j);
+            outputs.push(second);
+        }
+        let tape_second = Tape::new(&graph, &outputs);
         Ok(Self {
             source: source.to_string(),
             graph,
@@ -83,6 +107,7 @@ impl CompiledFormula {
             params,
             tape_f,
             tape_all,
+            tape_second,
         })
     }
 

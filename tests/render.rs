@@ -232,16 +232,17 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
 }
 
 #[test]
-fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
-    // With slope bounds the march skips samples that cannot change sign: the roots found,
-    // and so the picture, must be those of the plain march (the same sign changes of the
-    // same samples), pixel for pixel but for f32 ties; on the GPU and on the CPU.
+fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() {
+    // With slope and curvature bounds the march skips samples that cannot change sign: the
+    // roots found, and so the picture, must be those of the plain march (the same sign
+    // changes of the same samples), pixel for pixel but for f32 ties; on the GPU and on the
+    // CPU; with both bounds and with the curvature alone.
     use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
     use fourfold::tree::Hierarchy;
     let gpu = gpu();
     for (name, scene) in example_scenes()
         .into_iter()
-        .filter(|(n, _)| ["glome", "fig-3-11", "tiger", "duocylinder"].contains(n))
+        .filter(|(n, _)| ["glome", "fig-3-11", "tiger", "duocylinder", "fig-3-9-left"].contains(n))
     {
         let mut scene = small(&scene);
         scene.tree.min_level = 5;
@@ -258,6 +259,16 @@ fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
             bounded * 2 > h.nodes.len(),
             "{name}: {bounded} of {} bounded",
             h.nodes.len()
+        );
+        let marched = h.nodes.iter().filter(|n| n.is_marched()).count();
+        let bent = h
+            .curvature
+            .iter()
+            .filter(|c| c.pairs().0.iter().all(|v| v.is_finite()))
+            .count();
+        assert!(
+            bent * 2 > marched && bent <= marched,
+            "{name}: {bent} of {marched} marched boxes with curvature bounds"
         );
         let camera = Camera::new(&scene.domain, &scene.view, 64, 64);
         let u = Uniforms::new(
@@ -280,15 +291,24 @@ fn stepping_over_samples_by_slope_bounds_draws_the_same_picture() {
         };
         let skipping = draw(&h);
         h.slopes.clear();
+        let bending = draw(&h);
+        h.curvature.clear();
         let plain = draw(&h);
         let covered = coverage(&plain[0], scene.render.background.0)
             .iter()
             .filter(|c| **c)
             .count();
-        for (what, (a, b)) in ["tiles", "walk", "CPU"]
+        let both = ["tiles", "walk", "CPU"]
             .iter()
-            .zip(skipping.iter().zip(&plain))
-        {
+            .zip(skipping.iter().zip(&plain));
+        let bend = [
+            "tiles, curvature only",
+            "walk, curvature only",
+            "CPU, curvature only",
+        ]
+        .iter()
+        .zip(bending.iter().zip(&plain));
+        for (what, (a, b)) in both.chain(bend) {
             let same = a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x == y).count();
             eprintln!(
                 "{name} {what}: {same} of {} pixels the same, {covered} covered",

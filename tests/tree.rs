@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use common::{Rng, build, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
+use fourfold::formula::HESSIAN_PAIRS;
 use fourfold::scene::{Domain, Scene};
 use fourfold::tree::hierarchy::MARCH_BIT;
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
@@ -316,9 +317,10 @@ fn no_surface_gives_an_empty_tree() {
 }
 
 #[test]
-fn slope_bounds_hold_at_sampled_points_of_every_box() {
-    // Hierarchy::slopes bound |∂F/∂x_k| over each box: the ray caster steps over samples
-    // on that promise, so a bound below a real slope would lose roots.
+fn slope_and_curvature_bounds_hold_at_sampled_points_of_every_box() {
+    // Hierarchy::slopes bound |∂F/∂x_k| and Hierarchy::curvature ∂²F/∂x_i∂x_j over each box:
+    // the ray caster steps over samples on that promise, so a bound inside a real value
+    // would lose roots.
     let mut eval = PointEvaluator::new();
     let mut rng = Rng(2024);
     for (name, scene) in example_scenes() {
@@ -333,11 +335,16 @@ fn slope_bounds_hold_at_sampled_points_of_every_box() {
         let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
         h.bound_slopes(&f, &params);
         assert_eq!(h.slopes.len(), h.nodes.len(), "{name}");
-        let mut bounded = 0;
+        assert_eq!(h.curvature.len(), h.nodes.len(), "{name}");
+        let (mut bounded, mut bent) = (0, 0);
         for (i, node) in h.nodes.iter().enumerate() {
             let slope = h.slope(i);
             if slope.iter().all(|s| s.is_finite()) {
                 bounded += 1;
+            }
+            let (lo, hi) = h.curvature(i).pairs();
+            if lo.iter().chain(&hi).all(|v| v.is_finite()) {
+                bent += 1;
             }
             let half = h.levels[node.level() as usize].half;
             for _ in 0..8 {
@@ -345,8 +352,17 @@ fn slope_bounds_hold_at_sampled_points_of_every_box() {
                     let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
                     rng.range(c - r, c + r)
                 });
-                let mut out = [0.0; 5];
-                eval.eval_into(&f.tape_all, p, &params, &mut out);
+                let mut out = [0.0; 15];
+                eval.eval_into(&f.tape_second, p, &params, &mut out);
+                for (k, &(a, b)) in HESSIAN_PAIRS.iter().enumerate() {
+                    let v = out[k + 5];
+                    assert!(
+                        !v.is_finite() || (f64::from(lo[k]) <= v && v <= f64::from(hi[k])),
+                        "{name}: node {i}, ∂²F/∂x{a}∂x{b} = {v} at {p:?} outside [{}, {}]",
+                        lo[k],
+                        hi[k]
+                    );
+                }
                 for k in 0..4 {
                     if out[k + 1].is_finite() {
                         assert!(
@@ -359,7 +375,10 @@ fn slope_bounds_hold_at_sampled_points_of_every_box() {
                 }
             }
         }
-        eprintln!("{name}: {bounded} of {} boxes bounded", h.nodes.len());
+        eprintln!(
+            "{name}: {bounded} of {} boxes bounded, {bent} with curvature",
+            h.nodes.len()
+        );
         // The polynomial examples are smooth: a bound on every box (the ones with sqrt of a
         // sum of squares have none where it may be 0).
         if [
@@ -372,6 +391,9 @@ fn slope_bounds_hold_at_sampled_points_of_every_box() {
         .contains(&name)
         {
             assert_eq!(bounded, h.nodes.len(), "{name}");
+            // Curvature is bound for the marched boxes (here the leaves), and all of them.
+            let marched = h.nodes.iter().filter(|n| n.is_marched()).count();
+            assert_eq!(bent, marched, "{name}");
         }
     }
 }
@@ -379,7 +401,8 @@ fn slope_bounds_hold_at_sampled_points_of_every_box() {
 #[test]
 fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
     // A bound on the derivative says nothing across a jump or a gap in F's domain: there
-    // the ray caster must take every sample.
+    // the ray caster must take every sample. Nor does a bound on the second derivatives
+    // across a kink (where ∇F jumps).
     let domain = Domain::parse_list("-1,1,-1,1,-1,1,-1,1").unwrap();
     let unbounded_on_the_root = |formula: &str| {
         let mut scene = Scene::from_formula(formula);
@@ -394,7 +417,9 @@ fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
         );
         let mut h = Hierarchy::from_tree(&tree);
         h.bound_slopes(&f, &params);
-        h.slope(0).iter().all(|s| s.is_infinite())
+        let (lo, hi) = h.curvature(0).pairs();
+        let bent = lo.iter().chain(&hi).all(|v| v.is_finite());
+        (h.slope(0).iter().all(|s| s.is_infinite()), bent)
     };
     for formula in [
         "step(x) - 0.5 + 0*y",
@@ -407,15 +432,23 @@ fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
         "1/x + y",
         "exp(100*x) - 1 + y",
     ] {
-        assert!(unbounded_on_the_root(formula), "{formula}");
+        assert_eq!(unbounded_on_the_root(formula), (true, false), "{formula}");
     }
     for formula in [
         "x^2 + y^2 + z^2 + w^2 - 1",
         "sqrt(x + 2) - 1.2",
         "step(x + 2) - 0.5 + y",
-        "abs(x) - 0.5",
     ] {
-        assert!(!unbounded_on_the_root(formula), "{formula}");
+        assert_eq!(unbounded_on_the_root(formula), (false, true), "{formula}");
+    }
+    // Kinks: F is continuous, ∇F jumps.
+    for formula in [
+        "abs(x) - 0.5",
+        "0.5 - abs(x) + y",
+        "min(x, y) + 0.2",
+        "max(x^2, y) - 0.1",
+    ] {
+        assert_eq!(unbounded_on_the_root(formula), (false, false), "{formula}");
     }
 }
 

@@ -1,5 +1,5 @@
-//! WGSL for F and ∇F, spliced into `templates/raycast.wgsl` at its markers and validated by
-//! naga before any pipeline sees it.
+//! WGSL for F, ∇F, and both at once (`ff_f_grad`, for the march's step bound), spliced into
+//! `templates/raycast.wgsl` at its markers and validated by naga before any pipeline sees it.
 //!
 //! One `let` per tape instruction, in order: shared subexpressions are computed once and a
 //! deep formula never nests deeply. Integer powers become multiplications (square and
@@ -21,6 +21,7 @@ use crate::formula::CompiledFormula;
 pub const TEMPLATE: &str = include_str!("../../templates/raycast.wgsl");
 const F_MARKER: &str = "//@FOURFOLD_F@";
 const GRAD_MARKER: &str = "//@FOURFOLD_GRAD@";
+const F_GRAD_MARKER: &str = "//@FOURFOLD_F_GRAD@";
 
 /// The most parameters a shader can read (the uniform holds 16 × vec4).
 pub const MAX_PARAMS: usize = 64;
@@ -53,7 +54,16 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
     let grad = function("ff_grad", "vec4<f32>", &grad_tape, |v| {
         format!("vec4<f32>({}, {}, {}, {})", v[0], v[1], v[2], v[3])
     });
-    let source = TEMPLATE.replace(F_MARKER, &f).replace(GRAD_MARKER, &grad);
+    let f_grad = function("ff_f_grad", "FGrad", &formula.tape_all, |v| {
+        format!(
+            "FGrad({}, vec4<f32>({}, {}, {}, {}))",
+            v[0], v[1], v[2], v[3], v[4]
+        )
+    });
+    let source = TEMPLATE
+        .replace(F_MARKER, &f)
+        .replace(GRAD_MARKER, &grad)
+        .replace(F_GRAD_MARKER, &f_grad);
     let module = validate(&source)?;
     Ok(Shader { source, module })
 }

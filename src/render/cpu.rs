@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
 use crate::tree::{
-    Hierarchy,
+    Curvature, Hierarchy,
     hierarchy::{march_steps, slope_along},
 };
 
@@ -55,6 +55,16 @@ impl Pixel<'_> {
         self.eval.eval(&self.formula.tape_f, p, self.params) as f32
     }
 
+    /// F and dF/dt at `p` along `d`.
+    fn f_slope(&mut self, p: V4, d: V4) -> [f32; 2] {
+        let mut out = [0.0; 5];
+        let p = p.map(f64::from);
+        self.eval
+            .eval_into(&self.formula.tape_all, p, self.params, &mut out);
+        let g = (0..4).map(|k| out[k + 1] * f64::from(d[k])).sum::<f64>();
+        [out[0] as f32, g as f32]
+    }
+
     fn dir2(&self, k: u32) -> [f32; 2] {
         let n = self.u.size[2];
         if self.u.control[2] & FLAG_RANDOM != 0 {
@@ -97,17 +107,31 @@ impl Pixel<'_> {
     }
 
     /// Marches o + t d over [t0, t1] in `steps` equal steps (SPEC.md §5.3), stepping over
-    /// the samples that cannot change sign when `slope` bounds |dF/dt| (as the shader's
-    /// `march_ray`: the same sign changes as taking every sample; +∞ takes every sample).
-    fn find_roots(&mut self, o: V4, d: V4, (t0, t1): (f32, f32), steps: u32, slope: f32, ray: u32) {
+    /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
+    /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
+    /// +∞ and (−∞, +∞) take every sample).
+    #[allow(clippy::too_many_arguments)]
+    fn find_roots(
+        &mut self,
+        o: V4,
+        d: V4,
+        (t0, t1): (f32, f32),
+        steps: u32,
+        slope: f32,
+        bend: (f32, f32),
+        ray: u32,
+    ) {
         let dt = (t1 - t0) / steps as f32;
-        // Samples per unit of |F| sure to keep its sign (0.999: a margin for rounding).
-        let reach = 0.999 / (slope * dt);
+        // Samples per unit of t and per unit of |F| sure to keep its sign (0.999: a margin
+        // for rounding).
+        let per_t = 0.999 / dt;
+        let reach = per_t / slope;
         let mut ta = t0;
-        let mut fa = self.f(add(o, scale(d, ta)));
+        let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d);
         let mut s = 1;
         loop {
             let m = fa.abs() * reach;
+            let m = m.max(zero_ahead(fa, ga, bend) * per_t);
             if m >= 1.0 {
                 s += m.min(steps as f32) as u32;
                 ta = t0 + (s - 1) as f32 * dt;
@@ -116,7 +140,7 @@ impl Pixel<'_> {
                 return;
             }
             let tb = t0 + s as f32 * dt;
-            let fb = self.f(add(o, scale(d, tb)));
+            let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d);
             if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
                 let (mut lo, mut hi, mut flo) = (ta, tb, fa);
                 let mut tm = 0.5 * (lo + hi);
@@ -137,13 +161,14 @@ impl Pixel<'_> {
             }
             ta = tb;
             fa = fb;
+            ga = gb;
             s += 1;
         }
     }
 
     /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
     /// bound).
-    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4) {
+    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4, curvature: Curvature) {
         for k in 0..self.u.size[2] {
             let d = self.direction(k);
             let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
@@ -156,7 +181,8 @@ impl Pixel<'_> {
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
                 let along = slope_along(slope, d.map(f64::from));
-                self.find_roots(o, d, (t0, t1), steps, along, k);
+                let bend = curvature.along(d.map(f64::from));
+                self.find_roots(o, d, (t0, t1), steps, along, bend, k);
             }
         }
     }
@@ -210,6 +236,25 @@ impl Pixel<'_> {
 }
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows.
+/// How far from a sample with value `f` and slope `g` (dF/dt) F surely keeps its sign when
+/// d²F/dt² lies in `bend`: the first zero of the parabola that bounds |F| from below
+/// (+∞: none; 0 where F, its slope or the bound is not finite). The shader's rule (`march_ray`).
+fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
+    // |F|, its slope, and how fast it can bend towards 0.
+    let (g, c) = if f > 0.0 { (g, -lo) } else { (-g, hi) };
+    let f = f.abs();
+    if !(f.is_finite() && g.is_finite() && c.is_finite()) {
+        return 0.0;
+    }
+    let disc = g * g + 2.0 * c * f;
+    let root = disc.max(0.0).sqrt();
+    if disc >= 0.0 && root > g {
+        2.0 * f / (root - g)
+    } else {
+        f32::INFINITY
+    }
+}
+
 pub fn render_rgba(
     formula: &CompiledFormula,
     params: &[f64],
@@ -264,7 +309,14 @@ fn render_pixel(
         k_max: u.size[3].clamp(1, 16) as usize,
     };
     if u.brute_force() {
-        pixel.trace_box(o, u.domain_lo, u.domain_hi, u.counts[3], [f32::INFINITY; 4]);
+        pixel.trace_box(
+            o,
+            u.domain_lo,
+            u.domain_hi,
+            u.counts[3],
+            [f32::INFINITY; 4],
+            Curvature::NONE,
+        );
     } else {
         let mut i = 0usize;
         let n = u.counts[0] as usize;
@@ -286,7 +338,7 @@ fn render_pixel(
                 } else {
                     march_steps(u.control[0], u.march[0].saturating_sub(node.level()))
                 };
-                pixel.trace_box(o, lo, hi, steps, h.slope(i));
+                pixel.trace_box(o, lo, hi, steps, h.slope(i), h.curvature(i));
                 i = node.skip as usize;
                 continue;
             }

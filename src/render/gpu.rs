@@ -5,7 +5,7 @@
 use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
-use crate::tree::{Hierarchy, SphereNode};
+use crate::tree::{Curvature, Hierarchy, SphereNode};
 
 use super::codegen::Shader;
 use super::tiles::{BoxRecord, TileLists};
@@ -26,7 +26,7 @@ pub enum GpuError {
     #[error("the GPU rejected the shader or pipeline: {0}")]
     Pipeline(String),
     #[error(
-        "the tree has {nodes} nodes ({bytes} bytes), over this GPU's storage-buffer limit of {limit} bytes; lower max_level or node_budget"
+        "the tree has {nodes} nodes (a {bytes}-byte buffer), over this GPU's storage-buffer limit of {limit} bytes; lower max_level or node_budget"
     )]
     TooLarge {
         nodes: usize,
@@ -147,13 +147,15 @@ pub struct RayCaster {
     target: Target,
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Per Mode; the tile pipeline is built at once, the others when first used.
-    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3],
+    /// Per Mode and hit slots (`slot_tier`); the tile pipeline for the default K is built
+    /// at once, the others when first used.
+    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3 * SLOT_TIERS.len()],
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
-    /// Per node, `Hierarchy::slope` (read by the walk and, through their records, the tiles).
-    slopes: wgpu::Buffer,
+    /// Per node, `Hierarchy::slope` and `Hierarchy::curvature` (read by the walk and,
+    /// through their records, the tiles).
+    bounds: wgpu::Buffer,
     tiles: wgpu::Buffer,
     /// The records of the boxes the tile lists index.
     boxes: wgpu::Buffer,
@@ -197,7 +199,15 @@ impl RayCaster {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = build_pipeline(device, &module, &pipeline_layout, target, Mode::Tiles);
+        let slots = slot_tier(crate::scene::RenderSettings::default().hits);
+        let pipeline = build_pipeline(
+            device,
+            &module,
+            &pipeline_layout,
+            target,
+            Mode::Tiles,
+            SLOT_TIERS[slots],
+        );
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Pipeline(error.to_string()));
         }
@@ -207,27 +217,29 @@ impl RayCaster {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let (nodes, slopes) = node_buffers(gpu, hierarchy)?;
+        let (nodes, bounds) = node_buffers(gpu, hierarchy)?;
         let tiles = tile_buffer(gpu, &[0, 0]);
         let boxes = box_buffer(gpu, &[]);
         let bind_group = bind_group(
             device,
             &layout,
-            [&uniforms, &nodes, &tiles, &boxes, &slopes],
+            [&uniforms, &nodes, &tiles, &boxes, &bounds],
         );
         Ok(Self {
             target,
             module,
             pipeline_layout,
-            pipelines: [
-                std::sync::OnceLock::new(),
-                std::sync::OnceLock::from(pipeline),
-                std::sync::OnceLock::new(),
-            ],
+            pipelines: std::array::from_fn(|i| {
+                if i == pipeline_index(Mode::Tiles, slots) {
+                    std::sync::OnceLock::from(pipeline.clone())
+                } else {
+                    std::sync::OnceLock::new()
+                }
+            }),
             layout,
             uniforms,
             nodes,
-            slopes,
+            bounds,
             tiles,
             boxes,
             tiling: [0; 4],
@@ -237,7 +249,7 @@ impl RayCaster {
 
     /// Replaces the hierarchy (a new tree for the same formula: parameters, domain, levels).
     pub fn set_hierarchy(&mut self, gpu: &Gpu, hierarchy: &Hierarchy) -> Result<(), GpuError> {
-        (self.nodes, self.slopes) = node_buffers(gpu, hierarchy)?;
+        (self.nodes, self.bounds) = node_buffers(gpu, hierarchy)?;
         // Old tile lists index the old hierarchy.
         self.set_tiles(gpu, None);
         Ok(())
@@ -271,7 +283,7 @@ impl RayCaster {
                 &self.nodes,
                 &self.tiles,
                 &self.boxes,
-                &self.slopes,
+                &self.bounds,
             ],
         );
     }
@@ -335,7 +347,7 @@ impl RayCaster {
         } else {
             Mode::Walk
         };
-        rpass.set_pipeline(self.pipeline(gpu, mode));
+        rpass.set_pipeline(self.pipeline(gpu, mode, slot_tier(uniforms.size[3])));
         rpass.set_bind_group(0, &self.bind_group, &[]);
         if let Some([x, y, w, h]) = pass.region {
             let (width, height) = (uniforms.size[0], uniforms.size[1]);
@@ -362,14 +374,15 @@ impl RayCaster {
 
     /// The pipeline of `mode`, built on first use (the shader module was validated when
     /// the tile pipeline was built, so the others build too).
-    fn pipeline(&self, gpu: &Gpu, mode: Mode) -> &wgpu::RenderPipeline {
-        self.pipelines[mode as usize].get_or_init(|| {
+    fn pipeline(&self, gpu: &Gpu, mode: Mode, slots: usize) -> &wgpu::RenderPipeline {
+        self.pipelines[pipeline_index(mode, slots)].get_or_init(|| {
             build_pipeline(
                 &gpu.device,
                 &self.module,
                 &self.pipeline_layout,
                 self.target,
                 mode,
+                SLOT_TIERS[slots],
             )
         })
     }
@@ -484,13 +497,23 @@ const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
-/// The hierarchy's nodes (binding 1) and their slope bounds (binding 4, +∞ where none).
+/// A node's bounds as the shader reads them (binding 4, `NodeBounds`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct NodeBounds {
+    slope: [f32; 4],
+    curvature: Curvature,
+}
+
+/// The hierarchy's nodes (binding 1) and their slope and curvature bounds (binding 4,
+/// unbounded where none).
 fn node_buffers(
     gpu: &Gpu,
     hierarchy: &Hierarchy,
 ) -> Result<(wgpu::Buffer, wgpu::Buffer), GpuError> {
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
-    let bytes = std::mem::size_of_val(hierarchy.nodes.as_slice()) as u64;
+    // The larger of the two.
+    let bytes = (hierarchy.nodes.len() * std::mem::size_of::<NodeBounds>()) as u64;
     if bytes > limit {
         return Err(GpuError::TooLarge {
             nodes: hierarchy.nodes.len(),
@@ -509,7 +532,12 @@ fn node_buffers(
     } else {
         &hierarchy.nodes
     };
-    let slopes: Vec<[f32; 4]> = (0..nodes.len()).map(|i| hierarchy.slope(i)).collect();
+    let bounds: Vec<NodeBounds> = (0..nodes.len())
+        .map(|i| NodeBounds {
+            slope: hierarchy.slope(i),
+            curvature: hierarchy.curvature(i),
+        })
+        .collect();
     let buffer = |label: &str, contents: &[u8]| {
         gpu.device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -520,17 +548,33 @@ fn node_buffers(
     };
     Ok((
         buffer("fourfold hierarchy", bytemuck::cast_slice(nodes)),
-        buffer("fourfold node slopes", bytemuck::cast_slice(&slopes)),
+        buffer("fourfold node bounds", bytemuck::cast_slice(&bounds)),
     ))
 }
 
-/// A buffer binding of the fragment stage.
+/// The shader's pipeline constant SLOTS, the hit slots it keeps: one pipeline per value.
+/// Fewer slots cost less per hit (K = 4 by default: 10–15% of a frame on lavapipe).
+const SLOT_TIERS: [u32; 3] = [4, 8, 16];
+
+/// The index in SLOT_TIERS of the fewest slots that hold `hits` (K).
+fn slot_tier(hits: u32) -> usize {
+    SLOT_TIERS
+        .iter()
+        .position(|&s| hits <= s)
+        .unwrap_or(SLOT_TIERS.len() - 1)
+}
+
+fn pipeline_index(mode: Mode, slots: usize) -> usize {
+    mode as usize * SLOT_TIERS.len() + slots
+}
+
 fn build_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     target: Target,
     mode: Mode,
+    slots: u32,
 ) -> wgpu::RenderPipeline {
     fullscreen_pipeline(
         device,
@@ -542,7 +586,10 @@ fn build_pipeline(
             blend: target.accumulate.then_some(ACCUMULATE),
             write_mask: wgpu::ColorWrites::ALL,
         },
-        &[("MODE", f64::from(mode as u32))],
+        &[
+            ("MODE", f64::from(mode as u32)),
+            ("SLOTS", f64::from(slots)),
+        ],
     )
 }
 
@@ -582,6 +629,7 @@ pub fn fullscreen_pipeline(
     })
 }
 
+/// A buffer binding of the fragment stage.
 fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -621,7 +669,7 @@ fn box_buffer(gpu: &Gpu, boxes: &[BoxRecord]) -> wgpu::Buffer {
         })
 }
 
-/// Bindings 0 to 4: uniforms, hierarchy, tile lists, box records, node slopes.
+/// Bindings 0 to 4: uniforms, hierarchy, tile lists, box records, node bounds.
 fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use super::build::Tree16;
 use crate::eval::{Interval, IntervalEvaluator};
-use crate::formula::CompiledFormula;
+use crate::formula::{CompiledFormula, HESSIAN_PAIRS};
 
 /// One node of the flattened hierarchy; see the module documentation for the layout.
 #[repr(C)]
@@ -111,6 +111,12 @@ pub struct Hierarchy {
     /// then changes by at most Σ slope_k·|d_k| per unit length, so the march steps over the
     /// samples that cannot change sign (see templates/raycast.wgsl, `march_ray`).
     pub slopes: Vec<[f32; 4]>,
+    /// Per node, for the boxes the ray caster marches (empty without a formula, as
+    /// `slopes`; [`Curvature::NONE`] for the others): bounds on F's second derivatives over
+    /// the box. Along a ray d, F then bends by d²F/dt² ∈ [lo, hi] (`Curvature::along`), so a
+    /// sample's value and slope tell how far F surely keeps its sign: often much further
+    /// than `slopes` allow, near a root seen at an angle (see `march_ray`).
+    pub curvature: Vec<Curvature>,
     /// What each marched box covers, for the per-tile lists: its descendants at the cover's
     /// level (and leaves above it), or the box itself where it is at that level or a leaf.
     /// The cover's level is the deepest with at most [`MARCH_BOXES`] boxes, and at least
@@ -129,6 +135,87 @@ pub struct CoverBox {
     pub level: u32,
     /// The index of the marched box in [`Hierarchy::nodes`].
     pub node: u32,
+}
+
+/// Bounds on F's second derivatives ∂²F/∂x_i∂x_j over a box, as the shader reads them
+/// (binding 5, five vec4): lower and upper bounds of the diagonal (xx, yy, zz, ww), of xy,
+/// xz, xw, yz, and in `rest` yw and zw (lower, lower, upper, upper). ±∞ where unbounded.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Curvature {
+    pub diag_lo: [f32; 4],
+    pub diag_hi: [f32; 4],
+    pub off_lo: [f32; 4],
+    pub off_hi: [f32; 4],
+    pub rest: [f32; 4],
+}
+
+impl Curvature {
+    /// No bound.
+    pub const NONE: Self = Self {
+        diag_lo: [f32::NEG_INFINITY; 4],
+        diag_hi: [f32::INFINITY; 4],
+        off_lo: [f32::NEG_INFINITY; 4],
+        off_hi: [f32::INFINITY; 4],
+        rest: [
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+            f32::INFINITY,
+            f32::INFINITY,
+        ],
+    };
+
+    /// From bounds in the order of [`HESSIAN_PAIRS`].
+    fn from_pairs(lo: [f32; 10], hi: [f32; 10]) -> Self {
+        Self {
+            diag_lo: [lo[0], lo[1], lo[2], lo[3]],
+            diag_hi: [hi[0], hi[1], hi[2], hi[3]],
+            off_lo: [lo[4], lo[5], lo[6], lo[7]],
+            off_hi: [hi[4], hi[5], hi[6], hi[7]],
+            rest: [lo[8], lo[9], hi[8], hi[9]],
+        }
+    }
+
+    /// Bounds in the order of [`HESSIAN_PAIRS`].
+    pub fn pairs(&self) -> ([f32; 10], [f32; 10]) {
+        let [xx, yy, zz, ww] = self.diag_lo;
+        let [xy, xz, xw, yz] = self.off_lo;
+        let lo = [xx, yy, zz, ww, xy, xz, xw, yz, self.rest[0], self.rest[1]];
+        let [xx, yy, zz, ww] = self.diag_hi;
+        let [xy, xz, xw, yz] = self.off_hi;
+        let hi = [xx, yy, zz, ww, xy, xz, xw, yz, self.rest[2], self.rest[3]];
+        (lo, hi)
+    }
+
+    /// Bounds [lo, hi] on d²F/dt² = dᵀ H d along a ray o + t d in the box, rounded
+    /// outwards past f32's rounding; (−∞, +∞) where unbounded. The CPU reference's rule;
+    /// the shader states it in WGSL (`bend_along`, in f32 with a margin).
+    pub fn along(&self, d: [f64; 4]) -> (f32, f32) {
+        let (lo, hi) = self.pairs();
+        let (mut a, mut b, mut mag) = (0.0f64, 0.0f64, 0.0f64);
+        for (k, &(i, j)) in HESSIAN_PAIRS.iter().enumerate() {
+            let (i, j) = (usize::from(i), usize::from(j));
+            // Off the diagonal, H_ij and H_ji: twice the term.
+            let p = d[i] * d[j] * if i == j { 1.0 } else { 2.0 };
+            if p == 0.0 {
+                continue;
+            }
+            let (l, h) = (f64::from(lo[k]), f64::from(hi[k]));
+            let (x, y) = if p > 0.0 {
+                (l * p, h * p)
+            } else {
+                (h * p, l * p)
+            };
+            a += x;
+            b += y;
+            mag += x.abs().max(y.abs());
+        }
+        if !(a.is_finite() && b.is_finite()) {
+            return (f32::NEG_INFINITY, f32::INFINITY);
+        }
+        let margin = mag * 1e-6;
+        ((a - margin) as f32, (b + margin) as f32)
+    }
 }
 
 /// The centre of the cell `coords` at `level` of the grid with corner `lo` and extents
@@ -204,6 +291,7 @@ impl Hierarchy {
             base_half,
             pad,
             slopes: Vec::new(),
+            curvature: Vec::new(),
             cover: Vec::new(),
         };
         if tree.is_empty() {
@@ -323,12 +411,16 @@ impl Hierarchy {
         }
         hierarchy.nodes = nodes;
         hierarchy.slopes = kept_slopes;
+        if let Some((formula, params)) = formula {
+            hierarchy.bound_curvature(formula, params);
+        }
         hierarchy
     }
 
-    /// Fills [`Hierarchy::slopes`] for `formula` with parameter values `params` (the ones
-    /// the tree was built with), keeping the cut: one interval evaluation of F and one of F
-    /// and ∇F per node.
+    /// Fills [`Hierarchy::slopes`] and [`Hierarchy::curvature`] for `formula` with
+    /// parameter values `params` (the ones the tree was built with), keeping the cut: one
+    /// interval evaluation of F and one of F and ∇F per node, and one of F's second
+    /// derivatives per marched node.
     pub fn bound_slopes(&mut self, formula: &CompiledFormula, params: &[f64]) {
         let slopes = self
             .nodes
@@ -339,6 +431,22 @@ impl Hierarchy {
             })
             .collect();
         self.slopes = slopes;
+        self.bound_curvature(formula, params);
+    }
+
+    fn bound_curvature(&mut self, formula: &CompiledFormula, params: &[f64]) {
+        let curvature = self
+            .nodes
+            .par_iter()
+            .map_init(IntervalEvaluator::new, |eval, node| {
+                if !node.is_marched() {
+                    return Curvature::NONE;
+                }
+                let half = self.levels[node.level() as usize].half;
+                box_curvature(eval, formula, params, node.center, half)
+            })
+            .collect();
+        self.curvature = curvature;
     }
 
     /// The finest cover (see [`Hierarchy::cover`]) with at most `limit` boxes, or the
@@ -354,6 +462,11 @@ impl Hierarchy {
     /// Node `i`'s slope bounds (+∞ when not bound).
     pub fn slope(&self, i: usize) -> [f32; 4] {
         self.slopes.get(i).copied().unwrap_or([f32::INFINITY; 4])
+    }
+
+    /// Node `i`'s bounds on F's second derivatives ([`Curvature::NONE`] when not bound).
+    pub fn curvature(&self, i: usize) -> Curvature {
+        self.curvature.get(i).copied().unwrap_or(Curvature::NONE)
     }
 
     /// The deepest level of the tree.
@@ -395,9 +508,11 @@ impl Hierarchy {
 
     /// Bytes the GPU buffers take.
     pub fn bytes(&self) -> u64 {
-        // The nodes, one slope bound per node (+∞ where none), the level table.
+        // The nodes, one slope bound and one curvature bound per node (unbounded where
+        // none), the level table.
         (std::mem::size_of_val(self.nodes.as_slice())
-            + self.nodes.len() * std::mem::size_of::<[f32; 4]>()
+            + self.nodes.len()
+                * (std::mem::size_of::<[f32; 4]>() + std::mem::size_of::<Curvature>())
             + std::mem::size_of_val(self.levels.as_slice())) as u64
     }
 
@@ -488,6 +603,15 @@ pub fn slope_along(slope: [f32; 4], d: [f64; 4]) -> f32 {
 /// Largest |F| on a box that gets a slope bound (f32 overflows at 3.4e38).
 const F32_SAFE: f64 = 1e30;
 
+/// The box `center ± half`, padded past the f32 rounding of the shader's box and samples.
+fn padded_box(center: [f32; 4], half: [f32; 4]) -> [Interval; 4] {
+    std::array::from_fn(|k| {
+        let (c, h) = (f64::from(center[k]), f64::from(half[k]));
+        let e = (c.abs() + h) * 1e-6;
+        Interval::new(c - h - e, c + h + e)
+    })
+}
+
 /// A bound on |∂F/∂x_k| over the box `center ± half` (padded past the f32 rounding of the
 /// shader's box and samples) if F is continuous on it and far from f32's overflow, else +∞
 /// (see `Hierarchy::slopes`).
@@ -499,11 +623,7 @@ fn box_slope(
     half: [f32; 4],
 ) -> [f32; 4] {
     let unbounded = [f32::INFINITY; 4];
-    let bx: [Interval; 4] = std::array::from_fn(|k| {
-        let (c, h) = (f64::from(center[k]), f64::from(half[k]));
-        let e = (c.abs() + h) * 1e-6;
-        Interval::new(c - h - e, c + h + e)
-    });
+    let bx = padded_box(center, half);
     eval.eval(&formula.tape_f, &bx, params);
     if !eval.continuous_on_last_box(&formula.tape_f) {
         return unbounded;
@@ -525,6 +645,41 @@ fn box_slope(
             (m * (1.0 + 1e-6)) as f32
         }
     })
+}
+
+/// Bounds on F's second derivatives over the box `center ± half` (padded as `box_slope`'s)
+/// if F, ∇F and they are continuous on it and far from f32's overflow, else
+/// [`Curvature::NONE`].
+fn box_curvature(
+    eval: &mut IntervalEvaluator,
+    formula: &CompiledFormula,
+    params: &[f64],
+    center: [f32; 4],
+    half: [f32; 4],
+) -> Curvature {
+    let bx = padded_box(center, half);
+    let mut out = [Interval::EMPTY; 15];
+    eval.eval_into(&formula.tape_second, &bx, params, &mut out);
+    // Taylor's bound needs ∇F continuous too: every part of F, ∇F and the second
+    // derivatives (abs and min / max put sign and step in ∇F).
+    if !eval.continuous_on_last_box(&formula.tape_second) {
+        return Curvature::NONE;
+    }
+    if !(out[0].lo().abs() < F32_SAFE && out[0].hi().abs() < F32_SAFE) {
+        return Curvature::NONE;
+    }
+    let second = &out[5..];
+    if second
+        .iter()
+        .any(|h| h.is_empty() || !(h.lo().abs() < F32_SAFE && h.hi().abs() < F32_SAFE))
+    {
+        return Curvature::NONE;
+    }
+    // Rounded outwards past f32's rounding.
+    let widen = |v: f64| v.abs() * 1e-6 + 1e-30;
+    let lo = std::array::from_fn(|k| (second[k].lo() - widen(second[k].lo())) as f32);
+    let hi = std::array::from_fn(|k| (second[k].hi() + widen(second[k].hi())) as f32);
+    Curvature::from_pairs(lo, hi)
 }
 
 /// `steps · 2^levels_up`, at most 2^16 (the shader's rule, see templates/raycast.wgsl).
