@@ -242,12 +242,15 @@ impl Hierarchy {
     }
 
     /// The hierarchy the ray caster draws `tree` of `formula` (with parameter values
-    /// `params`, the tree's) with: down to the default march level, with slope bounds, and
-    /// coarser where they allow: a node is marched as one box, its subtree dropped, when its
-    /// slope bound is at most [`COARSEN_LOOSENESS`] times the largest of its descendants'
-    /// at the march level. (With slopes the march steps over empty space, so a large box
-    /// costs little more than its descendants would, and saves their visits; where F's
-    /// slope varies or has no bound, as at a singular point, the boxes stay small.)
+    /// `params`, the tree's) with: down to the default march level, with slope and
+    /// curvature bounds, and coarser where they allow: a node is marched as one box, its
+    /// subtree dropped, when it and its descendants at the march level have slope bounds
+    /// and it has curvature bounds, or its slope bound is at most [`COARSEN_LOOSENESS`]
+    /// times the largest of its descendants'. (With the bounds the march steps over empty
+    /// space, and with curvature bounds close to a root too, so a large box costs little
+    /// more than its descendants would, and saves their visits: the polynomial examples are
+    /// marched as one box. Where F has no bounds, as at a singular point, or a kink, the
+    /// boxes stay small.)
     pub fn for_formula(tree: &Tree16, formula: &CompiledFormula, params: &[f64]) -> Self {
         Self::flatten(tree, default_march_level(tree), Some((formula, params)))
     }
@@ -326,7 +329,13 @@ impl Hierarchy {
                 .collect(),
             None => Vec::new(),
         };
-        let marched = cut(tree, depth, &slopes);
+        let marched = cut(tree, depth, &slopes, |eval, l, i| match formula {
+            Some((formula, params)) => {
+                let half = hierarchy.levels[l].half;
+                box_curvature(eval, formula, params, centers[l][i], half) != Curvature::NONE
+            }
+            None => false,
+        });
         // Subtree sizes with that cut, bottom-up.
         let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
             .iter()
@@ -540,17 +549,24 @@ fn deepest_within_budget(tree: &Tree16, deepest: usize) -> usize {
 }
 
 /// How much looser than its descendants' a box's slope bound may be for the box to be
-/// marched whole (see [`Hierarchy::for_formula`]). Chosen on the eight example scenes at
-/// level 6, 256², 16 rays (`cargo bench --bench frame`, runs alternated): 3 was the best or
-/// within noise of it on each; 2 kept 1.2–2x slower cuts on the glome, the chapter's scene
-/// and the hyperplane, 4–5 made the tiger and the spheritorus slower.
+/// marched whole where it has no curvature bounds (see [`Hierarchy::for_formula`]). Chosen
+/// on the eight example scenes at level 6, 256², 16 rays (`cargo bench --bench frame`, runs
+/// alternated), before curvature bounds: 3 was the best or within noise of it on each; 2
+/// kept 1.2–2x slower cuts on the glome, the chapter's scene and the hyperplane, 4–5 made
+/// the tiger and the spheritorus slower.
 pub const COARSEN_LOOSENESS: f32 = 3.0;
 
 /// Which boxes of `tree`'s first `depth` levels are marched whole: leaves, the boxes at
 /// level `depth - 1` (the march level), and, where `slopes` are given (per level), every
-/// box whose bound (the sum of its four) is finite and at most [`COARSEN_LOOSENESS`] times
-/// the largest of its descendants' at the march level or leaves.
-fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> {
+/// box whose bound (the sum of its four) and its descendants' at the march level or leaves
+/// are finite, and that either has curvature bounds (`bent(evaluator, level, index)`) or a
+/// slope bound at most [`COARSEN_LOOSENESS`] times the largest of its descendants'.
+fn cut(
+    tree: &Tree16,
+    depth: usize,
+    slopes: &[Vec<[f32; 4]>],
+    bent: impl Fn(&mut IntervalEvaluator, usize, usize) -> bool + Sync,
+) -> Vec<Vec<bool>> {
     let total = |s: &[f32; 4]| s.iter().sum::<f32>();
     let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
         .iter()
@@ -578,12 +594,26 @@ fn cut(tree: &Tree16, depth: usize, slopes: &[Vec<[f32; 4]>]) -> Vec<Vec<bool>> 
             };
         }
     }
+    // Top-down: a box inside one marched whole needs no decision (nor its curvature).
+    let mut inside: Vec<Vec<bool>> = marched.iter().map(|m| vec![false; m.len()]).collect();
     for l in 0..depth {
-        for (i, m) in marched[l].iter_mut().enumerate() {
-            let own = total(&slopes[l][i]);
-            *m |= own.is_finite()
-                && below[l][i].is_finite()
-                && own <= COARSEN_LOOSENESS * below[l][i];
+        let whole: Vec<bool> = (0..marched[l].len())
+            .into_par_iter()
+            .map_init(IntervalEvaluator::new, |eval, i| {
+                let own = total(&slopes[l][i]);
+                !inside[l][i]
+                    && own.is_finite()
+                    && below[l][i].is_finite()
+                    && (own <= COARSEN_LOOSENESS * below[l][i] || bent(eval, l, i))
+            })
+            .collect();
+        for (i, b) in tree.levels[l].iter().enumerate() {
+            marched[l][i] |= whole[i];
+            if (marched[l][i] || inside[l][i]) && l + 1 < depth {
+                let children =
+                    b.first_child as usize..b.first_child as usize + b.child_count as usize;
+                inside[l + 1][children].fill(true);
+            }
         }
     }
     marched
