@@ -318,8 +318,8 @@ pub struct RenderSettings {
     /// Seed of the random sampling (and of the stratified offsets).
     pub seed: u32,
     /// March every ray across the whole domain, with the finest leaves' step count per unit
-    /// length, instead of testing the tree's leaves (the same picture; on the scenes measured
-    /// in the README, faster).
+    /// length, instead of marching the tree's boxes (the same picture, many times slower:
+    /// the baseline of `cargo bench --bench frame`).
     pub brute_force: bool,
 }
 
