@@ -378,7 +378,9 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
             break;
         }
         // Bisect [ta, tb] (Algorithm 3.1): stop at a tiny |F| or after the set iterations;
-        // the last midpoint is the root (the middle of the step with no iterations).
+        // the last midpoint is the root (the middle of the step with no iterations). Once
+        // f32 cannot split the bracket, the midpoint is one of its ends, and every further
+        // iteration keeps it: stop there (the same root, fewer samples of F).
         var bisecting = true;
         var lo = ta;
         var hi = tb;
@@ -390,6 +392,9 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
                 break;
             }
             tm = 0.5 * (lo + hi);
+            if (tm == lo || tm == hi) {
+                break;
+            }
             let fm = ff_f((*tr).o + tm * d);
             if (abs(fm) < u.root.x) {
                 bisecting = false;

@@ -55,8 +55,11 @@ impl Pixel<'_> {
         self.eval.eval(&self.formula.tape_f, p, self.params) as f32
     }
 
-    /// F and dF/dt at `p` along `d`.
-    fn f_slope(&mut self, p: V4, d: V4) -> [f32; 2] {
+    /// F and dF/dt at `p` along `d` (dF/dt only if `bent`: else 0, unused).
+    fn f_slope(&mut self, p: V4, d: V4, bent: bool) -> [f32; 2] {
+        if !bent {
+            return [self.f(p), 0.0];
+        }
         let mut out = [0.0; 5];
         let p = p.map(f64::from);
         self.eval
@@ -126,8 +129,10 @@ impl Pixel<'_> {
         // for rounding).
         let per_t = 0.999 / dt;
         let reach = per_t / slope;
+        // (dF/dt serves only the curvature bound.)
+        let bent = bend.0.is_finite() && bend.1.is_finite();
         let mut ta = t0;
-        let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d);
+        let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d, bent);
         let mut s = 1;
         loop {
             let m = fa.abs() * reach;
@@ -140,12 +145,17 @@ impl Pixel<'_> {
                 return;
             }
             let tb = t0 + s as f32 * dt;
-            let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d);
+            let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
             if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
                 let (mut lo, mut hi, mut flo) = (ta, tb, fa);
                 let mut tm = 0.5 * (lo + hi);
                 for _ in 0..self.u.control[1] {
                     tm = 0.5 * (lo + hi);
+                    // As the shader: f32 cannot split the bracket, every further midpoint
+                    // is this one.
+                    if tm == lo || tm == hi {
+                        break;
+                    }
                     let fm = self.f(add(o, scale(d, tm)));
                     if fm.abs() < self.u.root[0] {
                         break;

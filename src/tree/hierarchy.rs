@@ -138,7 +138,7 @@ pub struct CoverBox {
 }
 
 /// Bounds on F's second derivatives ∂²F/∂x_i∂x_j over a box, as the shader reads them
-/// (binding 5, five vec4): lower and upper bounds of the diagonal (xx, yy, zz, ww), of xy,
+/// (five vec4 of `NodeBounds`, binding 4): lower and upper bounds of the diagonal (xx, yy, zz, ww), of xy,
 /// xz, xw, yz, and in `rest` yw and zw (lower, lower, upper, upper). ±∞ where unbounded.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
