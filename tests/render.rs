@@ -93,6 +93,46 @@ fn gpu_and_cpu_renders_agree() {
 }
 
 #[test]
+fn every_hit_slot_pipeline_agrees_with_the_cpu() {
+    // The GPU keeps 4, 8 or 16 hit slots (the pipeline constant SLOTS, the fewest that hold
+    // K): K across the tiers, against the CPU reference, which keeps K in a list.
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["fig-3-9-left", "tiger"].contains(n))
+    {
+        let mut scene = small(&scene);
+        scene.render.rays = 16;
+        // Far hits weigh more with a lower alpha: K shows in the picture.
+        scene.render.alpha = 0.3;
+        let differ = |a: &[u8], b: &[u8]| {
+            let (close, _) = agreement(a, b, scene.render.background.0, 12);
+            ((1.0 - close) * 1600.0).round() as usize
+        };
+        let mut four = Vec::new();
+        for hits in [1, 4, 6, 8, 11, 16] {
+            scene.render.hits = hits;
+            let g = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+            let c = render_scene(&scene, 40, 40, Device::Cpu, Default::default()).unwrap();
+            let (close, cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
+            eprintln!("{name}, K = {hits}: colour {close:.3}, coverage {cover:.3}");
+            assert!(
+                cover >= 0.99 && close >= 0.90,
+                "{name}, K = {hits}: colour {close}, coverage {cover}"
+            );
+            if hits == 4 {
+                four = c.rgba;
+            } else if hits > 4 {
+                // A GPU that kept only 4 hits would differ from the CPU where K = 4 does.
+                let (gpu_off, k_shows) = (differ(&g.rgba, &c.rgba), differ(&four, &c.rgba));
+                eprintln!("{name}, K = {hits}: {gpu_off} pixels off, K = 4 changes {k_shows}");
+                assert!(k_shows > 0 && gpu_off * 2 < k_shows, "{name}, K = {hits}");
+            }
+        }
+    }
+}
+
+#[test]
 fn brute_force_setting_draws_the_same_picture() {
     // render.brute_force (--brute-force, the viewer's checkbox): every ray marched across the
     // domain with the finest leaves' step, on the GPU and on the CPU.
