@@ -2,7 +2,7 @@
 //!
 //! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
 //! 1. the chapter's scene and the glome at SIZE² (default 512) with 8, 16 and 32 rays, drawn
-//!    with the per-tile lists of the boxes to march (the default: the nodes two levels above
+//!    with the per-tile lists of the boxes to march (the default: the nodes one level above
 //!    the finest leaves; the CPU binning of the boxes into the lists is included and shown),
 //!    the same with the leaves themselves as the boxes (the previous design: march level =
 //!    finest level), with the per-pixel walk of the sphere hierarchy (only with
@@ -381,7 +381,7 @@ fn main() {
         p.caster.set_hierarchy(&gpu, &p.hierarchy).unwrap();
         let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
         println!(
-            "| {name} | the default cut (2 up, coarser where the bounds allow) | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
+            "| {name} | the default cut (coarser where the bounds allow) | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
             p.hierarchy.march_boxes()
         );
     }

@@ -201,7 +201,7 @@ fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
 
 #[test]
 fn marching_coarser_boxes_draws_the_leaves_picture() {
-    // The ray caster marches the nodes two levels above the finest leaves, or coarser ones
+    // The ray caster marches the nodes a level above the finest leaves, or coarser ones
     // where the slope bounds allow, at the finest leaves' step: the same picture as marching
     // the leaves, on the GPU (tile lists and the walk of the hierarchy) and on the CPU.
     use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};

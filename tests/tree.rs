@@ -10,7 +10,7 @@ use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
 use fourfold::formula::HESSIAN_PAIRS;
 use fourfold::scene::{Domain, Scene};
-use fourfold::tree::hierarchy::MARCH_BIT;
+use fourfold::tree::hierarchy::{MARCH_BIT, MARCH_LEVELS_ABOVE_FINEST};
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
@@ -168,7 +168,10 @@ fn hierarchy_spheres_nest_and_skips_walk_depth_first() {
         // The default hierarchy stops at the march level: the same nodes, in the same order,
         // without the deeper ones, with skips that step over the same subtrees.
         let cut = Hierarchy::from_tree(&tree);
-        assert_eq!(cut.march_level, h.finest_level().saturating_sub(2));
+        assert_eq!(
+            cut.march_level,
+            h.finest_level().saturating_sub(MARCH_LEVELS_ABOVE_FINEST)
+        );
         let kept: Vec<usize> = (0..h.nodes.len())
             .filter(|&i| h.nodes[i].level() <= cut.march_level)
             .collect();

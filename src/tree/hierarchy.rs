@@ -79,8 +79,15 @@ pub fn level_half(base: [f32; 4], pad: f32, level: u32) -> [f32; 4] {
 /// leaves; one level up was 2.0x and 1.7x slower than two, three about the same as two,
 /// four the same on the chapter's scene and 1.4x slower on the glome. (Measured without the
 /// slope skip, which makes coarser boxes cheaper still: [`Hierarchy::for_formula`] goes
-/// coarser where the slope bounds allow.)
-pub const MARCH_LEVELS_ABOVE_FINEST: u32 = 2;
+/// coarser where the bounds allow.)
+///
+/// Since the curvature bounds, `for_formula` marches a box whole wherever it has bounds, so
+/// this level matters only where boxes have none (near a singular point), and there
+/// smaller boxes are cheaper: one level up drew the tiger 1.8–2.4x and the spheritorus
+/// 1.2–1.3x faster than two at level 4 (512², 16 rays, runs alternated), the other
+/// example scenes the same (their cut is the root box); at level 6 the 32 768-box cap
+/// sets the level. The hierarchy's build took ~5 ms longer for the tiger.
+pub const MARCH_LEVELS_ABOVE_FINEST: u32 = 1;
 
 /// Most nodes at the default march level: the binning of the boxes into per-tile lists
 /// runs on the CPU for every view, in time about proportional to their number. (The glome
