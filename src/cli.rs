@@ -223,11 +223,12 @@ pub fn check(input: &Input) -> Result<String, Failure> {
     }
     let params = formula.param_names();
     Ok(format!(
-        "ok: F = {}\n{} graph nodes ({} evaluated for F, {} for F and its gradient); parameters: {}",
+        "ok: F = {}\n{} graph nodes ({} evaluated for F, {} for F and its gradient, {} with the second derivatives); parameters: {}",
         formula.f_text(),
         formula.graph.len(),
         formula.tape_f.len(),
         formula.tape_all.len(),
+        formula.tape_second.len(),
         if params.is_empty() {
             "none".to_string()
         } else {

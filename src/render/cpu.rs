@@ -177,7 +177,7 @@ impl Pixel<'_> {
     }
 
     /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
-    /// bound).
+    /// bound) and `curvature` F's second derivatives.
     fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4, curvature: Curvature) {
         for k in 0..self.u.size[2] {
             let d = self.direction(k);
@@ -245,7 +245,6 @@ impl Pixel<'_> {
     }
 }
 
-/// Renders like the GPU would, returning tightly packed RGBA8 rows.
 /// How far from a sample with value `f` and slope `g` (dF/dt) F surely keeps its sign when
 /// d²F/dt² lies in `bend`: the first zero of the parabola that bounds |F| from below
 /// (+∞: none; 0 where F, its slope or the bound is not finite). The shader's rule (`march_ray`).
@@ -265,6 +264,7 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
     }
 }
 
+/// Renders like the GPU would, returning tightly packed RGBA8 rows.
 pub fn render_rgba(
     formula: &CompiledFormula,
     params: &[f64],
