@@ -151,8 +151,7 @@ enum Method {
 /// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
 fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
     if method == Method::Unskipped {
-        // No bounds in the caster's node buffers (bindings 4 and 5, which the records point
-        // to).
+        // No bounds in the caster's node buffers (binding 4, which the records point to).
         let slopes = std::mem::take(&mut p.hierarchy.slopes);
         let curvature = std::mem::take(&mut p.hierarchy.curvature);
         p.caster.set_hierarchy(gpu, &p.hierarchy).unwrap();

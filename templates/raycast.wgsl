@@ -425,7 +425,7 @@ fn angles(q: vec2<f32>, r: f32) -> vec2<f32> {
 }
 
 // Bounds [lo, hi] on d2F/dt2 = d.H.d along a ray d in a box whose second derivatives lie
-// in `c` (binding 5), with a margin for f32's rounding; (-inf, +inf) where unbounded.
+// in `c` (binding 4), with a margin for f32's rounding; (-inf, +inf) where unbounded.
 fn bend_along(c: Curvature, d: vec4<f32>) -> vec2<f32> {
     let sq = d * d;
     // Off the diagonal, H_ij and H_ji: twice d_i d_j.

@@ -301,11 +301,7 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
             h.nodes.len()
         );
         let marched = h.nodes.iter().filter(|n| n.is_marched()).count();
-        let bent = h
-            .curvature
-            .iter()
-            .filter(|c| c.pairs().0.iter().all(|v| v.is_finite()))
-            .count();
+        let bent = h.curvature.iter().filter(|c| c.is_bounded()).count();
         assert!(
             bent * 2 > marched && bent <= marched,
             "{name}: {bent} of {marched} marched boxes with curvature bounds"

@@ -5,7 +5,7 @@
 use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
-use crate::tree::{Curvature, Hierarchy, SphereNode};
+use crate::tree::{Hierarchy, NodeBounds, SphereNode};
 
 use super::codegen::Shader;
 use super::tiles::{BoxRecord, TileLists};
@@ -211,6 +211,9 @@ impl RayCaster {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Pipeline(error.to_string()));
         }
+        let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3 * SLOT_TIERS.len()] =
+            Default::default();
+        let _ = pipelines[pipeline_index(Mode::Tiles, slots)].set(pipeline);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -229,13 +232,7 @@ impl RayCaster {
             target,
             module,
             pipeline_layout,
-            pipelines: std::array::from_fn(|i| {
-                if i == pipeline_index(Mode::Tiles, slots) {
-                    std::sync::OnceLock::from(pipeline.clone())
-                } else {
-                    std::sync::OnceLock::new()
-                }
-            }),
+            pipelines,
             layout,
             uniforms,
             nodes,
@@ -497,14 +494,6 @@ const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
-/// A node's bounds as the shader reads them (binding 4, `NodeBounds`).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct NodeBounds {
-    slope: [f32; 4],
-    curvature: Curvature,
-}
-
 /// The hierarchy's nodes (binding 1) and their slope and curvature bounds (binding 4,
 /// unbounded where none).
 fn node_buffers(
@@ -532,12 +521,7 @@ fn node_buffers(
     } else {
         &hierarchy.nodes
     };
-    let bounds: Vec<NodeBounds> = (0..nodes.len())
-        .map(|i| NodeBounds {
-            slope: hierarchy.slope(i),
-            curvature: hierarchy.curvature(i),
-        })
-        .collect();
+    let bounds: Vec<NodeBounds> = (0..nodes.len()).map(|i| hierarchy.bounds(i)).collect();
     let buffer = |label: &str, contents: &[u8]| {
         gpu.device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -157,6 +157,14 @@ pub struct Curvature {
     pub rest: [f32; 4],
 }
 
+/// A node's bounds as the shader reads them (binding 4, `NodeBounds`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct NodeBounds {
+    pub slope: [f32; 4],
+    pub curvature: Curvature,
+}
+
 impl Curvature {
     /// No bound.
     pub const NONE: Self = Self {
@@ -171,6 +179,12 @@ impl Curvature {
             f32::INFINITY,
         ],
     };
+
+    /// Whether every bound is finite (else none is: see [`Curvature::NONE`]).
+    pub fn is_bounded(&self) -> bool {
+        let (lo, hi) = self.pairs();
+        lo.iter().chain(&hi).all(|v| v.is_finite())
+    }
 
     /// From bounds in the order of [`HESSIAN_PAIRS`].
     fn from_pairs(lo: [f32; 10], hi: [f32; 10]) -> Self {
@@ -336,13 +350,17 @@ impl Hierarchy {
                 .collect(),
             None => Vec::new(),
         };
-        let marched = cut(tree, depth, &slopes, |eval, l, i| match formula {
-            Some((formula, params)) => {
-                let half = hierarchy.levels[l].half;
-                box_curvature(eval, formula, params, centers[l][i], half) != Curvature::NONE
-            }
-            None => false,
-        });
+        let curvature_of = |eval: &mut IntervalEvaluator, l: usize, i: usize| match formula {
+            Some((formula, params)) => box_curvature(
+                eval,
+                formula,
+                params,
+                centers[l][i],
+                hierarchy.levels[l].half,
+            ),
+            None => Curvature::NONE,
+        };
+        let (marched, known) = cut(tree, depth, &slopes, curvature_of);
         // Subtree sizes with that cut, bottom-up.
         let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
             .iter()
@@ -361,6 +379,8 @@ impl Hierarchy {
         }
         let kept = subtree[0][0] as usize;
         let mut nodes = Vec::with_capacity(kept);
+        // Each node's box in the tree (level, index), for its curvature below.
+        let mut origin = Vec::with_capacity(kept);
         let mut kept_slopes = Vec::with_capacity(if slopes.is_empty() { 0 } else { kept });
         let mut cover = Vec::new();
         let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
@@ -376,6 +396,7 @@ impl Hierarchy {
                     | if leaf { LEAF_BIT } else { 0 }
                     | if marched[lu][iu] { MARCH_BIT } else { 0 },
             });
+            origin.push((lu, iu));
             if let Some(s) = slopes.get(lu) {
                 kept_slopes.push(s[iu]);
             }
@@ -425,11 +446,21 @@ impl Hierarchy {
             }
             cover = up;
         }
+        // The marched boxes' curvature: what the cut worked out, the rest now.
+        if formula.is_some() {
+            hierarchy.curvature = nodes
+                .par_iter()
+                .zip(&origin)
+                .map_init(IntervalEvaluator::new, |eval, (node, &(l, i))| {
+                    if !node.is_marched() {
+                        return Curvature::NONE;
+                    }
+                    known[l][i].unwrap_or_else(|| curvature_of(eval, l, i))
+                })
+                .collect();
+        }
         hierarchy.nodes = nodes;
         hierarchy.slopes = kept_slopes;
-        if let Some((formula, params)) = formula {
-            hierarchy.bound_curvature(formula, params);
-        }
         hierarchy
     }
 
@@ -485,6 +516,14 @@ impl Hierarchy {
         self.curvature.get(i).copied().unwrap_or(Curvature::NONE)
     }
 
+    /// Node `i`'s bounds as the GPU gets them.
+    pub fn bounds(&self, i: usize) -> NodeBounds {
+        NodeBounds {
+            slope: self.slope(i),
+            curvature: self.curvature(i),
+        }
+    }
+
     /// The deepest level of the tree.
     pub fn finest_level(&self) -> u32 {
         self.levels.len().saturating_sub(1) as u32
@@ -524,11 +563,9 @@ impl Hierarchy {
 
     /// Bytes the GPU buffers take.
     pub fn bytes(&self) -> u64 {
-        // The nodes, one slope bound and one curvature bound per node (unbounded where
-        // none), the level table.
+        // The nodes, their bounds (unbounded where none), the level table.
         (std::mem::size_of_val(self.nodes.as_slice())
-            + self.nodes.len()
-                * (std::mem::size_of::<[f32; 4]>() + std::mem::size_of::<Curvature>())
+            + self.nodes.len() * std::mem::size_of::<NodeBounds>()
             + std::mem::size_of_val(self.levels.as_slice())) as u64
     }
 
@@ -566,14 +603,16 @@ pub const COARSEN_LOOSENESS: f32 = 3.0;
 /// Which boxes of `tree`'s first `depth` levels are marched whole: leaves, the boxes at
 /// level `depth - 1` (the march level), and, where `slopes` are given (per level), every
 /// box whose bound (the sum of its four) and its descendants' at the march level or leaves
-/// are finite, and that either has curvature bounds (`bent(evaluator, level, index)`) or a
-/// slope bound at most [`COARSEN_LOOSENESS`] times the largest of its descendants'.
+/// are finite, and that either has a slope bound at most [`COARSEN_LOOSENESS`] times the
+/// largest of its descendants' or curvature bounds (`curvature(evaluator, level, index)`).
+/// Also the curvature it worked out, per level and box (None where it did not need it).
+#[allow(clippy::type_complexity)]
 fn cut(
     tree: &Tree16,
     depth: usize,
     slopes: &[Vec<[f32; 4]>],
-    bent: impl Fn(&mut IntervalEvaluator, usize, usize) -> bool + Sync,
-) -> Vec<Vec<bool>> {
+    curvature: impl Fn(&mut IntervalEvaluator, usize, usize) -> Curvature + Sync,
+) -> (Vec<Vec<bool>>, Vec<Vec<Option<Curvature>>>) {
     let total = |s: &[f32; 4]| s.iter().sum::<f32>();
     let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
         .iter()
@@ -585,8 +624,10 @@ fn cut(
                 .collect()
         })
         .collect();
+    let mut known: Vec<Vec<Option<Curvature>>> =
+        marched.iter().map(|m| vec![None; m.len()]).collect();
     if slopes.is_empty() {
-        return marched;
+        return (marched, known);
     }
     // The largest descendant bound, bottom-up (a box marched anyway: its own).
     let mut below: Vec<Vec<f32>> = marched.iter().map(|m| vec![0.0; m.len()]).collect();
@@ -604,18 +645,23 @@ fn cut(
     // Top-down: a box inside one marched whole needs no decision (nor its curvature).
     let mut inside: Vec<Vec<bool>> = marched.iter().map(|m| vec![false; m.len()]).collect();
     for l in 0..depth {
-        let whole: Vec<bool> = (0..marched[l].len())
+        let decided: Vec<(bool, Option<Curvature>)> = (0..marched[l].len())
             .into_par_iter()
             .map_init(IntervalEvaluator::new, |eval, i| {
                 let own = total(&slopes[l][i]);
-                !inside[l][i]
-                    && own.is_finite()
-                    && below[l][i].is_finite()
-                    && (own <= COARSEN_LOOSENESS * below[l][i] || bent(eval, l, i))
+                if inside[l][i] || !(own.is_finite() && below[l][i].is_finite()) {
+                    (false, None)
+                } else if own <= COARSEN_LOOSENESS * below[l][i] {
+                    (true, None)
+                } else {
+                    let c = curvature(eval, l, i);
+                    (c.is_bounded(), Some(c))
+                }
             })
             .collect();
         for (i, b) in tree.levels[l].iter().enumerate() {
-            marched[l][i] |= whole[i];
+            marched[l][i] |= decided[i].0;
+            known[l][i] = decided[i].1;
             if (marched[l][i] || inside[l][i]) && l + 1 < depth {
                 let children =
                     b.first_child as usize..b.first_child as usize + b.child_count as usize;
@@ -623,7 +669,7 @@ fn cut(
             }
         }
     }
-    marched
+    (marched, known)
 }
 
 /// A bound on |∇F·d| (d a unit vector) from bounds on |∂F/∂x_k|, rounded up past f32's
@@ -702,12 +748,11 @@ fn box_curvature(
     if !eval.continuous_on_last_box(&formula.tape_second) {
         return Curvature::NONE;
     }
-    if !(out[0].lo().abs() < F32_SAFE && out[0].hi().abs() < F32_SAFE) {
-        return Curvature::NONE;
-    }
+    // F (as in box_slope) and the bounds (an f32 would round them to infinity) far from
+    // f32's overflow.
     let second = &out[5..];
-    if second
-        .iter()
+    if std::iter::once(&out[0])
+        .chain(second)
         .any(|h| h.is_empty() || !(h.lo().abs() < F32_SAFE && h.hi().abs() < F32_SAFE))
     {
         return Curvature::NONE;

@@ -5,4 +5,4 @@ pub mod build;
 pub mod hierarchy;
 
 pub use build::{BuildError, BuildSettings, Geometry, Tree16, TreeBox, TreeStats};
-pub use hierarchy::{CoverBox, Curvature, Hierarchy, LevelInfo, SphereNode};
+pub use hierarchy::{CoverBox, Curvature, Hierarchy, LevelInfo, NodeBounds, SphereNode};
