@@ -189,33 +189,72 @@ struct Bins<'a> {
 }
 
 impl Bins<'_> {
-    /// Calls `each(tile index within the band, box slot)` once for every tile of `band`
-    /// that a footprint of the box reaches, boxes in order (a box's footprints are
-    /// consecutive, so a tile that already took it is the one whose last box it is).
-    fn each(&self, band: usize, mut each: impl FnMut(usize, u32)) {
+    /// The entries of `band`: (tile index within the band, box slot) once for every tile
+    /// of the band that a footprint of the box reaches, boxes in order. A box's footprints are
+    /// consecutive (sorted by box) and overlap a lot near M (a pixel there can be reached by
+    /// hundreds of cover boxes), so they are first marked as bit ranges per tile row, one
+    /// word operation per row instead of one per tile, and the union's tiles read off once.
+    fn entries(&self, band: usize) -> Vec<(u32, u32)> {
+        let mut entries = Vec::new();
         let r0 = band as u32 * self.band_rows;
         let r1 = (r0 + self.band_rows).min(self.tiles_y) - 1;
-        let base = band * (self.band_rows * self.tiles_x) as usize;
-        let mut last = vec![u32::MAX; (self.band_rows * self.tiles_x) as usize];
-        for &k in &self.members[band] {
-            let f = &self.feet[k as usize];
-            let r = &self.reach[f.level()];
-            let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
-                continue;
-            };
-            for ty in ty0.max(r0)..=ty1.min(r1) {
-                if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
-                    let row = (ty * self.tiles_x) as usize - base;
-                    for tx in tx0..=tx1 {
-                        let t = row + tx as usize;
-                        if last[t] != f.slot {
-                            last[t] = f.slot;
-                            each(t, f.slot);
-                        }
+        let words = self.tiles_x.div_ceil(64) as usize;
+        let mut bits = vec![0u64; (r1 - r0 + 1) as usize * words];
+        let members = &self.members[band];
+        let mut k = 0;
+        while k < members.len() {
+            let slot = self.feet[members[k] as usize].slot;
+            // The rows and words this box marked.
+            let (mut rows, mut cols) = ((usize::MAX, 0), (usize::MAX, 0));
+            while let Some(f) = members.get(k).map(|&m| &self.feet[m as usize]) {
+                if f.slot != slot {
+                    break;
+                }
+                k += 1;
+                let r = &self.reach[f.level()];
+                let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
+                    continue;
+                };
+                for ty in ty0.max(r0)..=ty1.min(r1) {
+                    if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
+                        let row = (ty - r0) as usize;
+                        let (w0, w1) = (tx0 as usize / 64, tx1 as usize / 64);
+                        set_bits(
+                            &mut bits[row * words..][w0..=w1],
+                            tx0 % 64,
+                            w1 - w0,
+                            tx1 % 64,
+                        );
+                        rows = (rows.0.min(row), rows.1.max(row));
+                        cols = (cols.0.min(w0), cols.1.max(w1));
+                    }
+                }
+            }
+            for row in rows.0..=rows.1 {
+                for word in cols.0..=cols.1 {
+                    let mut b = std::mem::take(&mut bits[row * words + word]);
+                    while b != 0 {
+                        let tx = word * 64 + b.trailing_zeros() as usize;
+                        b &= b - 1;
+                        entries.push(((row * self.tiles_x as usize + tx) as u32, slot));
                     }
                 }
             }
         }
+        entries
+    }
+}
+
+/// Sets the bits from bit `lo` of `words[0]` to bit `hi` of `words[last]`.
+fn set_bits(words: &mut [u64], lo: u32, last: usize, hi: u32) {
+    for (i, word) in words.iter_mut().enumerate() {
+        let from = if i == 0 { u64::MAX << lo } else { u64::MAX };
+        let to = if i == last {
+            u64::MAX >> (63 - hi)
+        } else {
+            u64::MAX
+        };
+        *word |= from & to;
     }
 }
 
@@ -372,11 +411,20 @@ impl TileLists {
             w,
             h,
         };
+        // The bands' entries, worked out once; counted, then laid out.
+        let entries: Vec<Vec<(u32, u32)>> = (0..bands)
+            .into_par_iter()
+            .map(|b| bins.entries(b))
+            .collect();
         let mut counts = vec![0u32; tiles];
         counts
             .par_chunks_mut(band_tiles)
-            .enumerate()
-            .for_each(|(band, counts)| bins.each(band, |t, _| counts[t] += 1));
+            .zip(&entries)
+            .for_each(|(counts, band)| {
+                for &(t, _) in band {
+                    counts[t as usize] += 1;
+                }
+            });
         let mut offsets = vec![0u32; tiles + 1];
         for t in 0..tiles {
             offsets[t + 1] = offsets[t] + counts[t];
@@ -396,17 +444,17 @@ impl TileLists {
         }
         slices
             .into_par_iter()
-            .enumerate()
-            .for_each(|(band, (start, entries))| {
+            .zip(&entries)
+            .for_each(|((start, out), band)| {
                 let first = offsets[start];
                 let mut fill: Vec<u32> = offsets[start..(start + band_tiles).min(tiles)]
                     .iter()
                     .map(|o| o - first)
                     .collect();
-                bins.each(band, |t, slot| {
-                    entries[fill[t] as usize] = slot;
-                    fill[t] += 1;
-                });
+                for &(t, slot) in band {
+                    out[fill[t as usize] as usize] = slot;
+                    fill[t as usize] += 1;
+                }
             });
         let boxes = on_screen.iter().map(|&(_, _, r)| r).collect();
         Self {
