@@ -21,7 +21,9 @@
 //! "fig-3-9-left,glome"; an example's name or a scene file's path ending in .toml),
 //! FOURFOLD_BENCH_STEPS and FOURFOLD_BENCH_ITERS (steps per span and bisection iterations,
 //! default the scene's), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
-//! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame.
+//! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame, by
+//! the wall clock (the CPU binning, upload, pass and read-back of the picture); in square
+//! brackets, where the device has timestamp queries, the best GPU time of the pass alone.
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -148,8 +150,27 @@ enum Method {
     Brute(u32),
 }
 
-/// Best frame time in ms (CPU binning included), the binning's share of it, and the picture.
-fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (f64, f64, Vec<u8>) {
+/// A frame's best times in ms over the runs.
+#[derive(Clone, Copy)]
+struct Timing {
+    /// Wall clock: CPU binning, upload, the pass and reading the picture back.
+    total: f64,
+    /// The CPU binning's share of `total` (in the run whose total was best).
+    binning: f64,
+    /// The GPU's pass alone, from timestamps (NaN where the device has none).
+    pass: f64,
+}
+
+impl Timing {
+    const NONE: Timing = Timing {
+        total: f64::NAN,
+        binning: 0.0,
+        pass: f64::NAN,
+    };
+}
+
+/// The best times of a frame and its picture.
+fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (Timing, Vec<u8>) {
     if method == Method::Unskipped {
         // No bounds in the caster's node buffers (binding 4, which the records point to).
         let slopes = std::mem::take(&mut p.hierarchy.slopes);
@@ -165,7 +186,7 @@ fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (
         return frame_at(gpu, p, size, rays, method);
     }
     if !p.swap_full(gpu) {
-        return (f64::NAN, f64::NAN, Vec::new());
+        return (Timing::NONE, Vec::new());
     }
     let out = frame_at(gpu, p, size, rays, method);
     p.swap_full(gpu);
@@ -178,7 +199,7 @@ fn frame_at(
     size: u32,
     rays: u32,
     method: Method,
-) -> (f64, f64, Vec<u8>) {
+) -> (Timing, Vec<u8>) {
     let brute = match method {
         Method::Brute(level) => Some(level),
         _ => None,
@@ -205,33 +226,55 @@ fn frame_at(
     let lists = tiled.then(|| TileLists::build(&p.hierarchy, &camera));
     p.caster.set_tiles(gpu, lists.as_ref());
     let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
-    let mut best = (f64::INFINITY, 0.0);
+    let mut best = Timing {
+        total: f64::INFINITY,
+        binning: 0.0,
+        pass: f64::INFINITY,
+    };
     for _ in 0..runs {
         let t = Instant::now();
         if tiled {
             let lists = TileLists::build(&p.hierarchy, &camera);
             p.caster.set_tiles(gpu, Some(&lists));
         }
-        let binned = t.elapsed().as_secs_f64() * 1e3;
-        rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
+        let binned = if tiled {
+            t.elapsed().as_secs_f64() * 1e3
+        } else {
+            0.0
+        };
+        let pass;
+        (rgba, pass) = p.caster.render_rgba_timed(gpu, &uniforms).unwrap();
         let total = t.elapsed().as_secs_f64() * 1e3;
-        if total < best.0 {
-            best = (total, binned);
+        if total < best.total {
+            (best.total, best.binning) = (total, binned);
         }
+        best.pass = best.pass.min(pass.unwrap_or(f64::NAN));
     }
-    (best.0, best.1, rgba)
+    (best, rgba)
 }
 
-/// A table cell of milliseconds, with the binning in brackets where there is one; a dash for
-/// a column left out (NaN).
-fn ms(v: f64, binning: f64) -> String {
-    if v.is_nan() {
-        "–".to_string()
-    } else if binning > 0.0 {
-        format!("{v:.0} ({binning:.0})")
-    } else {
-        format!("{v:.0}")
+/// A table cell of milliseconds: the frame, the binning in round brackets where there is
+/// one, the GPU's pass in square ones where timed; a dash for a column left out (NaN).
+/// Whole milliseconds from 10 on, tenths below.
+fn ms(t: Timing) -> String {
+    let num = |v: f64| {
+        if v < 10.0 {
+            format!("{v:.1}")
+        } else {
+            format!("{v:.0}")
+        }
+    };
+    if t.total.is_nan() {
+        return "–".to_string();
     }
+    let mut cell = num(t.total);
+    if t.binning > 0.0 {
+        cell += &format!(" ({})", num(t.binning));
+    }
+    if !t.pass.is_nan() {
+        cell += &format!(" [{}]", num(t.pass));
+    }
+    cell
 }
 
 /// A table cell of a ratio; a dash where a column was left out (NaN).
@@ -279,9 +322,9 @@ fn main() {
     println!("adapter: {}", gpu.adapter);
     println!("\n## Hierarchy vs brute force, {size}x{size}\n");
     println!(
-        "| scene | level | leaves | boxes marched | rays | tiles ms (CPU binning) | no skip ms | leaves ms (CPU binning) | walk ms | brute force ms | brute/tiles | no skip/tiles | brute/leaves | leaves/tiles | brute/walk | same colour | same coverage | same as no skip | pixels cut (tiles/walk/brute) |"
+        "| scene | level | leaves | boxes marched | rays | tiles ms (CPU binning) [GPU pass] | no skip ms | leaves ms (CPU binning) | walk ms | brute force ms [GPU pass] | brute/tiles | brute/tiles, GPU passes | no skip/tiles | brute/leaves | leaves/tiles | brute/walk | same colour | same coverage | same as no skip | pixels cut (tiles/walk/brute) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     // The walk (the fallback when tile lists exceed the device's buffer limit) is slow on a
     // software GPU; FOURFOLD_BENCH_WALK=1 includes it.
     let with_walk = std::env::var("FOURFOLD_BENCH_WALK").is_ok_and(|v| v == "1");
@@ -295,32 +338,36 @@ fn main() {
             let mut p = prepare(&gpu, name, level);
             let background = p.scene.render.background.0;
             for &rays in &ray_counts {
-                let (tiles, binning, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
-                let (unskipped, _, u) = frame(&gpu, &mut p, size, rays, Method::Unskipped);
-                let (leaves, leaf_binning, _) = if with_leaves {
+                let (tiles, a) = frame(&gpu, &mut p, size, rays, Method::Tiles);
+                let (unskipped, u) = frame(&gpu, &mut p, size, rays, Method::Unskipped);
+                let (leaves, _) = if with_leaves {
                     frame(&gpu, &mut p, size, rays, Method::Leaves)
                 } else {
-                    (f64::NAN, 0.0, Vec::new())
+                    (Timing::NONE, Vec::new())
                 };
-                let (walk, _, w) = if with_walk {
+                let (walk, w) = if with_walk {
                     frame(&gpu, &mut p, size, rays, Method::Walk)
                 } else {
-                    (f64::NAN, 0.0, Vec::new())
+                    (Timing::NONE, Vec::new())
                 };
-                let (slow, _, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
+                let (slow, b) = frame(&gpu, &mut p, size, rays, Method::Brute(level));
                 let (colour, cover) = agreement(&a, &b, background);
                 let same = a.chunks(4).zip(u.chunks(4)).filter(|(x, y)| x == y).count();
                 println!(
-                    "| {name} | {level} | {} | {} | {rays} | {tiles:.0} ({binning:.0}) | {unskipped:.0} | {} | {} | {slow:.0} | {} | {} | {} | {} | {} | {:.1}% | {:.1}% | {:.2}% | {} / {} / {} |",
+                    "| {name} | {level} | {} | {} | {rays} | {} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1}% | {:.1}% | {:.2}% | {} / {} / {} |",
                     p.leaves,
                     p.hierarchy.march_boxes(),
-                    ms(leaves, leaf_binning),
-                    ms(walk, 0.0),
-                    ratio(slow / tiles),
-                    ratio(unskipped / tiles),
-                    ratio(slow / leaves),
-                    ratio(leaves / tiles),
-                    ratio(slow / walk),
+                    ms(tiles),
+                    unskipped.total,
+                    ms(leaves),
+                    ms(walk),
+                    ms(slow),
+                    ratio(slow.total / tiles.total),
+                    ratio(slow.pass / tiles.pass),
+                    ratio(unskipped.total / tiles.total),
+                    ratio(slow.total / leaves.total),
+                    ratio(leaves.total / tiles.total),
+                    ratio(slow.total / walk.total),
                     100.0 * colour,
                     100.0 * cover,
                     100.0 * same as f64 / (a.len() / 4) as f64,
@@ -335,15 +382,16 @@ fn main() {
         return;
     }
     println!("\n## Growth of the hierarchy frame time (glome, uniform trees)\n");
-    println!("| pixels | rays | level | ms | ms per megaray |");
+    println!("| pixels | rays | level | ms (CPU binning) [GPU pass] | ms per megaray |");
     println!("|---|---|---|---|---|");
     let mut base = prepare(&gpu, "glome", 6);
     let row = |p: &mut Prepared, px: u32, rays: u32, level: u32| {
-        let (ms, _, _) = frame(&gpu, p, px, rays, Method::Tiles);
+        let (t, _) = frame(&gpu, p, px, rays, Method::Tiles);
         let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
         println!(
-            "| {px}² | {rays} | {level} | {ms:.0} | {:.0} |",
-            ms / megarays
+            "| {px}² | {rays} | {level} | {} | {:.1} |",
+            ms(t),
+            t.total / megarays
         );
     };
     for px in [128, 256, 512] {
@@ -358,30 +406,31 @@ fn main() {
     }
     println!("\n## Frame time by march level (256², 16 rays, uniform level-6 trees)\n");
     println!(
-        "| scene | levels above the finest | boxes marched | ms (CPU binning) | brute force ms |"
+        "| scene | levels above the finest | boxes marched | ms (CPU binning) [GPU pass] | brute force ms [GPU pass] |"
     );
     println!("|---|---|---|---|---|");
     for name in ["fig-3-9-left", "glome"] {
         let mut p = prepare(&gpu, name, 6);
-        let (brute, _, _) = frame(&gpu, &mut p, 256, 16, Method::Brute(6));
+        let brute = ms(frame(&gpu, &mut p, 256, 16, Method::Brute(6)).0);
         for up in 0..=6 {
             // Its own node buffers: the box records point into them for the bounds.
             p.hierarchy = Hierarchy::from_tree_at(&p.tree, 6 - up);
             p.hierarchy.bound_slopes(&p.formula, &p.params);
             let boxes = p.hierarchy.march_boxes();
             if let Err(e) = p.caster.set_hierarchy(&gpu, &p.hierarchy) {
-                println!("| {name} | {up} | {boxes} | – ({e}) | {brute:.0} |");
+                println!("| {name} | {up} | {boxes} | – ({e}) | {brute} |");
                 continue;
             }
-            let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
-            println!("| {name} | {up} | {boxes} | {ms:.0} ({binning:.0}) | {brute:.0} |");
+            let (t, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
+            println!("| {name} | {up} | {boxes} | {} | {brute} |", ms(t));
         }
         p.hierarchy = Hierarchy::for_formula(&p.tree, &p.formula, &p.params);
         p.caster.set_hierarchy(&gpu, &p.hierarchy).unwrap();
-        let (ms, binning, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
+        let (t, _) = frame_at(&gpu, &mut p, 256, 16, Method::Tiles);
         println!(
-            "| {name} | the default cut (coarser where the bounds allow) | {} | {ms:.0} ({binning:.0}) | {brute:.0} |",
-            p.hierarchy.march_boxes()
+            "| {name} | the default cut (coarser where the bounds allow) | {} | {} | {brute} |",
+            p.hierarchy.march_boxes(),
+            ms(t)
         );
     }
 }

@@ -542,7 +542,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}\nwrote {} ({width}x{height})",
+        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}{}\nwrote {} ({width}x{height})",
         picture.adapter,
         picture.tree.nodes,
         picture.tree.leaves,
@@ -563,6 +563,9 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         t.codegen_ms,
         t.pipeline_ms,
         t.frame_ms,
+        t.gpu_ms
+            .map(|g| format!(" (of which the GPU's pass {g:.1})"))
+            .unwrap_or_default(),
         args.output.display()
     );
     if picture.tree.nodes == 0 {

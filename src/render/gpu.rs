@@ -69,6 +69,9 @@ impl Gpu {
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("fourfold"),
+            // Where the adapter has them: GPU timestamps around a frame's pass
+            // (`RayCaster::render_rgba_timed`).
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             required_limits: wgpu::Limits {
                 max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
                 max_buffer_size: limits.max_buffer_size,
@@ -82,6 +85,13 @@ impl Gpu {
             queue,
             adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
         })
+    }
+
+    /// Whether frames can be timed on the GPU (`RayCaster::render_rgba_timed`).
+    pub fn has_timestamps(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
     /// From a device someone else made (the viewer's).
@@ -312,6 +322,20 @@ impl RayCaster {
         uniforms: &Uniforms,
         pass: Pass,
     ) {
+        self.record_pass(gpu, encoder, target, uniforms, pass, None);
+    }
+
+    /// As [`RayCaster::encode_pass`], writing GPU timestamps at the pass's start and end
+    /// into queries 0 and 1 of `timestamps`, if given.
+    fn record_pass(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        uniforms: &Uniforms,
+        pass: Pass,
+        timestamps: Option<&wgpu::QuerySet>,
+    ) {
         let mut uniforms = *uniforms;
         uniforms.tiling = self.tiling;
         gpu.queue
@@ -333,7 +357,11 @@ impl RayCaster {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: None,
+            timestamp_writes: timestamps.map(|query_set| wgpu::RenderPassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(0),
+                end_of_pass_write_index: Some(1),
+            }),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -411,6 +439,18 @@ impl RayCaster {
     /// Renders one frame offscreen and reads it back as tightly packed rows, 4 bytes a pixel
     /// (the RGBA8 formats, which both targets use).
     pub fn render_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<Vec<u8>, GpuError> {
+        self.render_rgba_timed(gpu, uniforms).map(|(rgba, _)| rgba)
+    }
+
+    /// As [`RayCaster::render_rgba`], with the milliseconds the GPU took for the frame's
+    /// pass, from timestamps written at its start and end (None where the device has no
+    /// timestamp queries, `Gpu::has_timestamps`). That excludes the upload, the read-back
+    /// and the CPU's work around them.
+    pub fn render_rgba_timed(
+        &self,
+        gpu: &Gpu,
+        uniforms: &Uniforms,
+    ) -> Result<(Vec<u8>, Option<f64>), GpuError> {
         let (width, height) = (uniforms.size[0], uniforms.size[1]);
         let texture = self.target_texture(
             gpu,
@@ -431,7 +471,18 @@ impl RayCaster {
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        self.encode(gpu, &mut encoder, &view, uniforms);
+        let timer = gpu.has_timestamps().then(|| Timer::new(gpu));
+        self.record_pass(
+            gpu,
+            &mut encoder,
+            &view,
+            uniforms,
+            Pass::default(),
+            timer.as_ref().map(|t| &t.queries),
+        );
+        if let Some(timer) = &timer {
+            timer.resolve(&mut encoder);
+        }
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -454,30 +505,94 @@ impl RayCaster {
             },
         );
         gpu.queue.submit([encoder.finish()]);
-        let slice = readback.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let data = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
-        let mut pixels = Vec::with_capacity((row * height) as usize);
-        for y in 0..height as usize {
-            let start = y * padded_row as usize;
-            pixels.extend_from_slice(&data[start..start + row as usize]);
-        }
-        drop(data);
-        readback.unmap();
-        Ok(pixels)
+        let pixels = read_back(gpu, &readback, |data| {
+            let mut pixels = Vec::with_capacity((row * height) as usize);
+            for y in 0..height as usize {
+                let start = y * padded_row as usize;
+                pixels.extend_from_slice(&data[start..start + row as usize]);
+            }
+            pixels
+        })?;
+        let gpu_ms = match &timer {
+            Some(timer) => timer.read(gpu)?,
+            None => None,
+        };
+        Ok((pixels, gpu_ms))
     }
+}
+
+/// Two GPU timestamps (a pass's start and end) and the buffers that bring them back.
+struct Timer {
+    queries: wgpu::QuerySet,
+    resolved: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl Timer {
+    const BYTES: u64 = 2 * wgpu::QUERY_SIZE as u64;
+
+    fn new(gpu: &Gpu) -> Self {
+        let buffer = |usage| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("fourfold timestamps"),
+                size: Self::BYTES,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            queries: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("fourfold frame timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolved: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+        }
+    }
+
+    /// Records copying the timestamps to the mappable buffer (after the pass).
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.queries, 0..2, &self.resolved, 0);
+        encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.readback, 0, Self::BYTES);
+    }
+
+    /// The milliseconds between the two timestamps (None if they are out of order).
+    fn read(&self, gpu: &Gpu) -> Result<Option<f64>, GpuError> {
+        let ticks = read_back(gpu, &self.readback, |data| {
+            let stamps: [u64; 2] = bytemuck::pod_read_unaligned(data);
+            stamps[1].checked_sub(stamps[0])
+        })?;
+        let period_ns = f64::from(gpu.queue.get_timestamp_period());
+        Ok(ticks.map(|t| t as f64 * period_ns / 1e6))
+    }
+}
+
+/// `read` of the contents of a mappable buffer, once the GPU has finished writing it.
+fn read_back<T>(
+    gpu: &Gpu,
+    buffer: &wgpu::Buffer,
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T, GpuError> {
+    let slice = buffer.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|e| GpuError::Readback(e.to_string()))?
+        .map_err(|e| GpuError::Readback(e.to_string()))?;
+    let data = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
+    let out = read(&data);
+    drop(data);
+    buffer.unmap();
+    Ok(out)
 }
 
 /// target = c·new + (1−c)·old, c the blend constant.

@@ -22,6 +22,9 @@ pub struct StageTimes {
     pub codegen_ms: f64,
     pub pipeline_ms: f64,
     pub frame_ms: f64,
+    /// Of the frame, the GPU's pass alone (timestamps; None on the CPU reference or a GPU
+    /// without timestamp queries).
+    pub gpu_ms: Option<f64>,
 }
 
 /// A rendered picture and how it was made.
@@ -185,8 +188,9 @@ fn gpu_frame(
             )),
         );
     }
-    let rgba = caster.render_rgba(gpu, uniforms)?;
+    let (rgba, gpu_ms) = caster.render_rgba_timed(gpu, uniforms)?;
     times.frame_ms = ms(t);
+    times.gpu_ms = gpu_ms;
     Ok((rgba, gpu.adapter.clone()))
 }
 
