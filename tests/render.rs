@@ -133,6 +133,64 @@ fn every_hit_slot_pipeline_agrees_with_the_cpu() {
 }
 
 #[test]
+fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
+    // A view's tile lists and box records are written into the caster's buffers in place
+    // (they grow when too small): what a view leaves behind must not show in the next.
+    // Views alternate between many entries (a large picture) and few (a small one, at
+    // other angles), on the tiger (many marched boxes) and the chapter's scene (one).
+    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms};
+    use fourfold::tree::Hierarchy;
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["tiger", "fig-3-9-left"].contains(n))
+    {
+        let scene = small(&scene);
+        let (formula, params, tree) = common::build(&scene, scene.tree.into());
+        let shader = codegen::generate(&formula).unwrap();
+        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        let mut reused = RayCaster::new(&gpu, &shader, &h).unwrap();
+        let mut turned = scene.view;
+        turned.angles = [0.3, 1.1, 0.4, 0.9, 0.2, 0.6];
+        let mut entries = Vec::new();
+        for (view, size) in [
+            (scene.view, 96),
+            (turned, 24),
+            (scene.view, 40),
+            (turned, 96),
+        ] {
+            let camera = Camera::new(&scene.domain, &view, size, size);
+            let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
+            entries.push(lists.entries());
+            let uniforms = Uniforms::new(
+                &camera,
+                &scene.render,
+                &scene.domain,
+                &h,
+                &params,
+                FrameOptions::default(),
+            );
+            reused.set_tiles(&gpu, Some(&lists));
+            let mut fresh = RayCaster::new(&gpu, &shader, &h).unwrap();
+            fresh.set_tiles(&gpu, Some(&lists));
+            let a = reused.render_rgba(&gpu, &uniforms).unwrap();
+            let b = fresh.render_rgba(&gpu, &uniforms).unwrap();
+            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x != y).count();
+            assert_eq!(differ, 0, "{name}, {size}²: {differ} pixels differ");
+            assert!(
+                b.chunks(4).any(|p| p[..3] != scene.render.background.0),
+                "{name}, {size}²: nothing drawn"
+            );
+        }
+        eprintln!("{name}: entries per view {entries:?}");
+        assert!(
+            entries[0] > entries[1] && entries[3] > entries[2],
+            "{entries:?}"
+        );
+    }
+}
+
+#[test]
 fn brute_force_setting_draws_the_same_picture() {
     // render.brute_force (--brute-force, the viewer's checkbox): every ray marched across the
     // domain with the finest leaves' step, on the GPU and on the CPU.

@@ -2,7 +2,6 @@
 //! storage buffer (per tree), and a uniform block per frame. Offscreen rendering returns an
 //! RGBA image; the viewer draws with the same pipeline into its own target.
 
-use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
 use crate::tree::{Hierarchy, NodeBounds, SphereNode};
@@ -231,8 +230,8 @@ impl RayCaster {
             mapped_at_creation: false,
         });
         let (nodes, bounds) = node_buffers(gpu, hierarchy)?;
-        let tiles = tile_buffer(gpu, &[0, 0]);
-        let boxes = box_buffer(gpu, &[]);
+        let tiles = view_buffer(gpu, 0);
+        let boxes = view_buffer(gpu, 0);
         let bind_group = bind_group(
             device,
             &layout,
@@ -263,24 +262,26 @@ impl RayCaster {
     }
 
     /// Binds per-tile box lists and box records for one view (or none: each pixel walks the hierarchy).
-    /// Lists over the device's storage-buffer limit are dropped for the walk.
+    /// Lists over the device's storage-buffer limit are dropped for the walk. The buffers
+    /// are rewritten in place (a new view costs no allocation) and grow when too small;
+    /// a pass already submitted keeps what it read.
     pub fn set_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        match lists {
-            Some(l)
-                if (l.data.len() as u64) * 4 <= limit
-                    && std::mem::size_of_val(l.boxes.as_slice()) as u64 <= limit
-                    && !l.data.is_empty() =>
-            {
-                self.tiles = tile_buffer(gpu, &l.data);
-                self.boxes = box_buffer(gpu, &l.boxes);
-                self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
-            }
-            _ => {
-                self.tiles = tile_buffer(gpu, &[0, 0]);
-                self.boxes = box_buffer(gpu, &[]);
-                self.tiling = [0; 4];
-            }
+        let lists = lists.filter(|l| {
+            (l.data.len() as u64) * 4 <= limit
+                && std::mem::size_of_val(l.boxes.as_slice()) as u64 <= limit
+                && !l.data.is_empty()
+        });
+        let Some(l) = lists else {
+            // The walk reads neither buffer.
+            self.tiling = [0; 4];
+            return;
+        };
+        self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
+        let grew_tiles = write_or_grow(gpu, &mut self.tiles, bytemuck::cast_slice(&l.data));
+        let grew_boxes = write_or_grow(gpu, &mut self.boxes, bytemuck::cast_slice(&l.boxes));
+        if !(grew_tiles || grew_boxes) {
+            return;
         }
         self.bind_group = bind_group(
             &gpu.device,
@@ -742,30 +743,29 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-fn tile_buffer(gpu: &Gpu, data: &[u32]) -> wgpu::Buffer {
-    gpu.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("fourfold tiles"),
-            contents: bytemuck::cast_slice(data),
-            usage: wgpu::BufferUsages::STORAGE,
-        })
+/// A storage buffer for a view's data (tile lists or box records) that `write_or_grow`
+/// rewrites: `bytes` long (a binding can't be empty), zeroed.
+fn view_buffer(gpu: &Gpu, bytes: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("fourfold view data"),
+        size: bytes.max(std::mem::size_of::<BoxRecord>() as u64),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
-/// The box records of one view's tile lists (one zeroed record when there are none: a
-/// binding can't be empty).
-fn box_buffer(gpu: &Gpu, boxes: &[BoxRecord]) -> wgpu::Buffer {
-    let placeholder = [BoxRecord::zeroed()];
-    let boxes = if boxes.is_empty() {
-        &placeholder
-    } else {
-        boxes
-    };
-    gpu.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("fourfold boxes"),
-            contents: bytemuck::cast_slice(boxes),
-            usage: wgpu::BufferUsages::STORAGE,
-        })
+/// Writes `data` (at most the device's storage-buffer limit) at the start of `buffer`,
+/// first replacing it by a larger one (the next power of two, within the limit) if it is
+/// too small; returns whether it was replaced (the bind group must then be made anew).
+fn write_or_grow(gpu: &Gpu, buffer: &mut wgpu::Buffer, data: &[u8]) -> bool {
+    let len = data.len() as u64;
+    let grow = len > buffer.size();
+    if grow {
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        *buffer = view_buffer(gpu, len.next_power_of_two().min(limit));
+    }
+    gpu.queue.write_buffer(buffer, 0, data);
+    grow
 }
 
 /// Bindings 0 to 4: uniforms, hierarchy, tile lists, box records, node bounds.
