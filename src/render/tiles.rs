@@ -373,9 +373,12 @@ impl TileLists {
         let tiles_y = h.div_ceil(tile);
         let tiles = (tiles_x * tiles_y) as usize;
         // Bands of tile rows, binned in parallel; each visits its footprints in order and
-        // writes only its own tiles, so the order survives.
-        // (More bands than threads, so that rayon can balance dense and empty ones.)
-        let band_rows = tiles_y.div_ceil(64).max(1);
+        // writes only its own tiles, so the order survives. Four bands per thread, so that
+        // rayon can balance dense and empty ones (a footprint reaching more bands costs
+        // more: 64 bands of 2 rows at 512² on 2 threads were 20% slower).
+        let band_rows = tiles_y
+            .div_ceil(4 * rayon::current_num_threads() as u32)
+            .max(1);
         let band_tiles = (band_rows * tiles_x) as usize;
         let bands = tiles_y.div_ceil(band_rows) as usize;
         // Each band's footprints, in order: per chunk of footprints in parallel, then joined
