@@ -288,3 +288,26 @@ fn a_picture_converges_with_one_binning_per_resolution() {
     );
     assert!(app.progressive.full_quality());
 }
+
+#[test]
+fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
+    // Once the picture has converged the window stops drawing until the next event; the
+    // status line's "UI N fps" must not count that wait as a frame (it read 1 fps at the
+    // first drag after a pause).
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !h.state().progressive.converged() {
+        h.step();
+        assert!(Instant::now() < deadline, "no convergence in 120 s");
+    }
+    h.step();
+    let drawing = h.state().ui_frame_ms;
+    std::thread::sleep(Duration::from_secs(3));
+    h.step();
+    let after = h.state().ui_frame_ms;
+    assert!(
+        after < drawing + 100.0,
+        "{after:.0} ms per UI frame after a 3 s pause, {drawing:.0} ms before"
+    );
+}

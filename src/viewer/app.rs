@@ -74,8 +74,9 @@ pub struct FourfoldApp {
     /// A short message after a file action ("saved …", or what went wrong).
     pub message: Option<(String, bool)>,
     export: Option<Receiver<Result<String, String>>>,
+    /// When the last UI frame began, if it asked for the next (None after an idle frame).
     last_ui_frame: Option<Instant>,
-    /// Smoothed UI frame interval, ms.
+    /// Smoothed UI frame interval while the window draws continuously, ms.
     pub ui_frame_ms: f64,
     /// Running mean of the ray casting time per UI frame, milliseconds.
     pub ray_ms: f64,
@@ -765,6 +766,10 @@ impl eframe::App for FourfoldApp {
             });
         if more || self.session.building() || self.export.is_some() || self.ui.auto_rotate {
             ui.ctx().request_repaint();
+        } else {
+            // Idle until the next event: that wait is no frame's time (it read "UI 1 fps"
+            // at the first event after a converged picture).
+            self.last_ui_frame = None;
         }
     }
 
