@@ -557,6 +557,34 @@ fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
                 "{name}: a cover box outside its marched box"
             );
         }
+        // Each coarser cover's boxes hold consecutive runs of the finer one's (the
+        // binning skips a run whose parent it has already covered): every finer box once,
+        // in order, inside its parent and of the same marched box.
+        for k in 1..cut.cover.len() {
+            let (fine, coarse) = (&cut.cover[k - 1], &cut.cover[k]);
+            assert_eq!(coarse[0].first_child, 0, "{name}: cover {k}");
+            for (j, parent) in coarse.iter().enumerate() {
+                let end = coarse
+                    .get(j + 1)
+                    .map_or(fine.len(), |p| p.first_child as usize);
+                let children = &fine[parent.first_child as usize..end];
+                assert!(
+                    !children.is_empty(),
+                    "{name}: cover {k}, box {j} has no children"
+                );
+                let ph = cut.levels[parent.level as usize].half;
+                for c in children {
+                    let ch = cut.levels[c.level as usize].half;
+                    assert_eq!(c.node, parent.node, "{name}: cover {k}");
+                    assert!(
+                        (0..4).all(|i| {
+                            (c.center[i] - parent.center[i]).abs() + ch[i] <= ph[i] * (1.0 + 1e-5)
+                        }),
+                        "{name}: cover {k}, a child outside its parent"
+                    );
+                }
+            }
+        }
         // Where F is a polynomial the slopes allow coarser boxes than the march level.
         if ["glome", "fig-3-9-left", "hyperplane"].contains(&name) {
             assert!(cut.march_boxes() * 4 <= uniform.march_boxes(), "{name}");

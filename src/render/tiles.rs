@@ -29,7 +29,7 @@
 use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
-use crate::tree::Hierarchy;
+use crate::tree::{CoverBox, Hierarchy};
 
 use super::camera::Camera;
 
@@ -100,6 +100,25 @@ struct Footprint {
 impl Footprint {
     fn level(&self) -> usize {
         self.level as usize
+    }
+}
+
+/// A run of footprints of one marched box (`slot`): the children of one box of the next
+/// coarser cover, or a single footprint where there is none. The coarser box's footprint
+/// (`parent`, None where off screen or no coarser cover) holds theirs: where every tile it
+/// reaches is already marked for the box, the run adds nothing and is skipped.
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    slot: u32,
+    parent: Option<Footprint>,
+    /// The run's footprints, `start..end` in the view's footprints.
+    feet: (u32, u32),
+}
+
+impl Run {
+    /// The footprint that reaches every band the run's footprints reach.
+    fn bound<'a>(&'a self, feet: &'a [Footprint]) -> &'a Footprint {
+        self.parent.as_ref().unwrap_or(&feet[self.feet.0 as usize])
     }
 }
 
@@ -177,8 +196,12 @@ fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord 
 /// The footprints of one view, by band of tile rows.
 struct Bins<'a> {
     feet: &'a [Footprint],
+    runs: &'a [Run],
     reach: &'a [Reach],
-    /// Per band, the footprints that reach it, in order.
+    /// `reach` a little wider, for the parents' test: a child box's sphere touches its
+    /// parent's from inside, so rounding must not let a child reach further.
+    parent_reach: &'a [Reach],
+    /// Per band, the runs that reach it, in order.
     members: &'a [Vec<u32>],
     tile: u32,
     tiles_x: u32,
@@ -203,30 +226,37 @@ impl Bins<'_> {
         let members = &self.members[band];
         let mut k = 0;
         while k < members.len() {
-            let slot = self.feet[members[k] as usize].slot;
+            let slot = self.runs[members[k] as usize].slot;
             // The rows and words this box marked.
             let (mut rows, mut cols) = ((usize::MAX, 0), (usize::MAX, 0));
-            while let Some(f) = members.get(k).map(|&m| &self.feet[m as usize]) {
-                if f.slot != slot {
+            while let Some(run) = members.get(k).map(|&m| &self.runs[m as usize]) {
+                if run.slot != slot {
                     break;
                 }
                 k += 1;
-                let r = &self.reach[f.level()];
-                let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
+                if let Some(p) = &run.parent
+                    && self.marked(&bits, words, p, r0, r1)
+                {
                     continue;
-                };
-                for ty in ty0.max(r0)..=ty1.min(r1) {
-                    if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
-                        let row = (ty - r0) as usize;
-                        let (w0, w1) = (tx0 as usize / 64, tx1 as usize / 64);
-                        set_bits(
-                            &mut bits[row * words..][w0..=w1],
-                            tx0 % 64,
-                            w1 - w0,
-                            tx1 % 64,
-                        );
-                        rows = (rows.0.min(row), rows.1.max(row));
-                        cols = (cols.0.min(w0), cols.1.max(w1));
+                }
+                for f in &self.feet[run.feet.0 as usize..run.feet.1 as usize] {
+                    let r = &self.reach[f.level()];
+                    let Some((ty0, ty1)) = tile_rows(f, r, self.tile, self.h) else {
+                        continue;
+                    };
+                    for ty in ty0.max(r0)..=ty1.min(r1) {
+                        if let Some((tx0, tx1)) = row_span(f, r, self.tile, ty, self.w) {
+                            let row = (ty - r0) as usize;
+                            let (w0, w1) = (tx0 as usize / 64, tx1 as usize / 64);
+                            set_bits(
+                                &mut bits[row * words..][w0..=w1],
+                                tx0 % 64,
+                                w1 - w0,
+                                tx1 % 64,
+                            );
+                            rows = (rows.0.min(row), rows.1.max(row));
+                            cols = (cols.0.min(w0), cols.1.max(w1));
+                        }
                     }
                 }
             }
@@ -243,19 +273,43 @@ impl Bins<'_> {
         }
         entries
     }
+
+    /// Whether every tile of the band's rows `r0..=r1` that the parent footprint `p`
+    /// reaches (widened, see `parent_reach`) is marked in `bits`.
+    fn marked(&self, bits: &[u64], words: usize, p: &Footprint, r0: u32, r1: u32) -> bool {
+        let r = &self.parent_reach[p.level()];
+        let Some((ty0, ty1)) = tile_rows(p, r, self.tile, self.h) else {
+            return true;
+        };
+        (ty0.max(r0)..=ty1.min(r1)).all(|ty| {
+            row_span(p, r, self.tile, ty, self.w).is_none_or(|(tx0, tx1)| {
+                let (w0, w1) = (tx0 as usize / 64, tx1 as usize / 64);
+                let row = &bits[(ty - r0) as usize * words..][w0..=w1];
+                row.iter().enumerate().all(|(i, &word)| {
+                    let mask = span_mask(i, tx0 % 64, w1 - w0, tx1 % 64);
+                    word & mask == mask
+                })
+            })
+        })
+    }
 }
 
 /// Sets the bits from bit `lo` of `words[0]` to bit `hi` of `words[last]`.
 fn set_bits(words: &mut [u64], lo: u32, last: usize, hi: u32) {
     for (i, word) in words.iter_mut().enumerate() {
-        let from = if i == 0 { u64::MAX << lo } else { u64::MAX };
-        let to = if i == last {
-            u64::MAX >> (63 - hi)
-        } else {
-            u64::MAX
-        };
-        *word |= from & to;
+        *word |= span_mask(i, lo, last, hi);
     }
+}
+
+/// Of the bits from bit `lo` of word 0 to bit `hi` of word `last`, those in word `i`.
+fn span_mask(i: usize, lo: u32, last: usize, hi: u32) -> u64 {
+    let from = if i == 0 { u64::MAX << lo } else { u64::MAX };
+    let to = if i == last {
+        u64::MAX >> (63 - hi)
+    } else {
+        u64::MAX
+    };
+    from & to
 }
 
 impl TileLists {
@@ -297,6 +351,17 @@ impl TileLists {
                 }
             })
             .collect();
+        // For the runs' parents (see `Bins::parent_reach`): wider by far more than the
+        // rounding of f32 centres and their projections (~1e-5 pixels).
+        let widen = |x: f32| x * 1.001 + 0.01;
+        let parent_reach: Vec<Reach> = reach
+            .iter()
+            .map(|r| Reach {
+                radius: widen(r.radius),
+                hx: widen(r.hx),
+                hy: widen(r.hy),
+            })
+            .collect();
         // The marched boxes on screen, nearest first (by |q| − r, then node), with their
         // records.
         let mut on_screen: Vec<(u32, u32, BoxRecord)> = hierarchy
@@ -325,24 +390,55 @@ impl TileLists {
         // tile, its boxes' ancestors stand in for them (the binning's cost grows with their
         // number; a small image gains little from boxes much smaller than a tile).
         let limit = COVER_PER_TILE * (w.div_ceil(MIN_TILE) * h.div_ceil(MIN_TILE)) as usize;
-        let mut feet: Vec<Footprint> = hierarchy
-            .cover_within(limit)
-            .par_iter()
-            .filter_map(|c| {
-                let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
-                let r = reach.get(c.level as usize)?;
-                let (cx, cy, _) = project(c.center);
-                pixel_range(cx, r.hx, w)?;
-                pixel_range(cy, r.hy, h)?;
-                Some(Footprint {
-                    slot,
-                    cx,
-                    cy,
-                    level: c.level,
+        let footprint = |c: &CoverBox| {
+            let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
+            let r = reach.get(c.level as usize)?;
+            let (cx, cy, _) = project(c.center);
+            pixel_range(cx, r.hx, w)?;
+            pixel_range(cy, r.hy, h)?;
+            Some(Footprint {
+                slot,
+                cx,
+                cy,
+                level: c.level,
+            })
+        };
+        // In runs under the boxes of the next coarser cover (see `Run`), each box's runs
+        // together.
+        let level = hierarchy.cover_level_within(limit);
+        let fine = level.map_or(&[][..], |k| hierarchy.cover[k].as_slice());
+        let coarse = level.and_then(|k| hierarchy.cover.get(k + 1));
+        let mut runs: Vec<(Option<Footprint>, Vec<Footprint>)> = match coarse {
+            Some(coarse) => (0..coarse.len())
+                .into_par_iter()
+                .filter_map(|j| {
+                    let end = coarse
+                        .get(j + 1)
+                        .map_or(fine.len(), |c| c.first_child as usize);
+                    let children = &fine[coarse[j].first_child as usize..end];
+                    let feet: Vec<Footprint> = children.iter().filter_map(footprint).collect();
+                    (!feet.is_empty()).then(|| (footprint(&coarse[j]), feet))
                 })
+                .collect(),
+            None => fine
+                .par_iter()
+                .filter_map(|c| Some((None, vec![footprint(c)?])))
+                .collect(),
+        };
+        runs.par_sort_by_key(|(_, feet)| feet[0].slot);
+        let mut feet = Vec::with_capacity(runs.iter().map(|(_, f)| f.len()).sum());
+        let runs: Vec<Run> = runs
+            .into_iter()
+            .map(|(parent, run)| {
+                let start = feet.len() as u32;
+                feet.extend(run);
+                Run {
+                    slot: feet[start as usize].slot,
+                    parent,
+                    feet: (start, feet.len() as u32),
+                }
             })
             .collect();
-        feet.par_sort_by_key(|f| f.slot);
         // The smallest tile side whose lists fit (estimated from the rectangles, for every
         // side in one pass).
         const SIDES: usize = (MAX_TILE.ilog2() - MIN_TILE.ilog2() + 1) as usize;
@@ -381,16 +477,17 @@ impl TileLists {
             .max(1);
         let band_tiles = (band_rows * tiles_x) as usize;
         let bands = tiles_y.div_ceil(band_rows) as usize;
-        // Each band's footprints, in order: per chunk of footprints in parallel, then joined
-        // per band in chunk order.
-        const CHUNK: usize = 1 << 16;
-        let chunks: Vec<Vec<Vec<u32>>> = feet
+        // Each band's runs, in order: per chunk of runs in parallel, then joined per band
+        // in chunk order.
+        const CHUNK: usize = 1 << 14;
+        let chunks: Vec<Vec<Vec<u32>>> = runs
             .par_chunks(CHUNK)
             .enumerate()
             .map(|(c, chunk)| {
                 let mut per_band: Vec<Vec<u32>> = vec![Vec::new(); bands];
-                for (k, f) in chunk.iter().enumerate() {
-                    if let Some((ty0, ty1)) = tile_rows(f, &reach[f.level()], tile, h) {
+                for (k, run) in chunk.iter().enumerate() {
+                    let f = run.bound(&feet);
+                    if let Some((ty0, ty1)) = tile_rows(f, &parent_reach[f.level()], tile, h) {
                         for band in (ty0 / band_rows)..=(ty1 / band_rows) {
                             per_band[band as usize].push((c * CHUNK + k) as u32);
                         }
@@ -405,7 +502,9 @@ impl TileLists {
             .collect();
         let bins = Bins {
             feet: &feet,
+            runs: &runs,
             reach: &reach,
+            parent_reach: &parent_reach,
             members: &members,
             tile,
             tiles_x,

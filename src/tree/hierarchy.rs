@@ -142,6 +142,9 @@ pub struct CoverBox {
     pub level: u32,
     /// The index of the marched box in [`Hierarchy::nodes`].
     pub node: u32,
+    /// In `cover[k]`, k > 0: the index in `cover[k - 1]` of its first child; its children
+    /// run to the next box's first child (or the end). 0 in `cover[0]`.
+    pub first_child: u32,
 }
 
 /// Bounds on F's second derivatives ∂²F/∂x_i∂x_j over a box, as the shader reads them
@@ -419,19 +422,23 @@ impl Hierarchy {
         }
         // The cover, then its boxes' ancestors level by level until each is its marched
         // box (an ancestor's boxes are consecutive: the cover is depth first).
+        let mut first_child = vec![0; cover.len()];
         loop {
             hierarchy.cover.push(
                 cover
                     .iter()
-                    .map(|&(coords, level, node)| CoverBox {
+                    .zip(&first_child)
+                    .map(|(&(coords, level, node), &first_child)| CoverBox {
                         center: cell_center(lo, size, level, coords),
                         level,
                         node,
+                        first_child,
                     })
                     .collect(),
             );
             let mut up: Vec<([u16; 4], u32, u32)> = Vec::with_capacity(cover.len());
-            for &(coords, level, node) in &cover {
+            let mut up_first = Vec::with_capacity(cover.len());
+            for (i, &(coords, level, node)) in cover.iter().enumerate() {
                 let parent = if level > nodes[node as usize].level() {
                     (coords.map(|k| k >> 1), level - 1, node)
                 } else {
@@ -439,12 +446,14 @@ impl Hierarchy {
                 };
                 if up.last() != Some(&parent) {
                     up.push(parent);
+                    up_first.push(i as u32);
                 }
             }
             if up == cover {
                 break;
             }
             cover = up;
+            first_child = up_first;
         }
         // The marched boxes' curvature: what the cut worked out, the rest now.
         if formula.is_some() {
@@ -499,11 +508,15 @@ impl Hierarchy {
     /// The finest cover (see [`Hierarchy::cover`]) with at most `limit` boxes, or the
     /// coarsest; empty for an empty hierarchy.
     pub fn cover_within(&self, limit: usize) -> &[CoverBox] {
-        self.cover
-            .iter()
-            .find(|c| c.len() <= limit)
-            .or(self.cover.last())
-            .map_or(&[], Vec::as_slice)
+        self.cover_level_within(limit)
+            .map_or(&[], |k| self.cover[k].as_slice())
+    }
+
+    /// The index in [`Hierarchy::cover`] of [`Hierarchy::cover_within`]'s cover (None for an
+    /// empty hierarchy).
+    pub fn cover_level_within(&self, limit: usize) -> Option<usize> {
+        let finest = self.cover.iter().position(|c| c.len() <= limit);
+        finest.or(self.cover.len().checked_sub(1))
     }
 
     /// Node `i`'s slope bounds (+∞ when not bound).
