@@ -21,7 +21,8 @@
 //! "fig-3-9-left,glome"; an example's name or a scene file's path ending in .toml),
 //! FOURFOLD_BENCH_STEPS and FOURFOLD_BENCH_ITERS (steps per span and bisection iterations,
 //! default the scene's), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
-//! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after one warm-up frame, by
+//! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after warming up (a frame and
+//! at least 200 ms of them), by
 //! the wall clock (the CPU binning, upload, pass and read-back of the picture); in square
 //! brackets, where the device has timestamp queries, the best GPU time of the pass alone.
 
@@ -222,10 +223,16 @@ fn frame_at(
         },
     );
     let runs = env_u32("FOURFOLD_BENCH_RUNS", 2).max(1);
-    // Warm-up in the same mode (llvmpipe compiles a pipeline at its first draw).
+    // Warm-up in the same mode, one frame and at least 200 ms: llvmpipe compiles a pipeline
+    // at its first draw, and a GPU left idle (during a tree build) runs at low clocks for a
+    // while (on the H100, the first frames after the level-7 tree took 3x their time).
     let lists = tiled.then(|| TileLists::build(&p.hierarchy, &camera));
     p.caster.set_tiles(gpu, lists.as_ref());
+    let warm = Instant::now();
     let mut rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
+    while warm.elapsed().as_secs_f64() < 0.2 {
+        rgba = p.caster.render_rgba(gpu, &uniforms).unwrap();
+    }
     let mut best = Timing {
         total: f64::INFINITY,
         binning: 0.0,
