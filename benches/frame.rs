@@ -22,9 +22,9 @@
 //! FOURFOLD_BENCH_STEPS and FOURFOLD_BENCH_ITERS (steps per span and bisection iterations,
 //! default the scene's), FOURFOLD_BENCH_QUICK=1 skips tables 2 and 3.
 //! Frame times are the best of FOURFOLD_BENCH_RUNS (default 2) after warming up (a frame and
-//! at least 200 ms of them), by
-//! the wall clock (the CPU binning, upload, pass and read-back of the picture); in square
-//! brackets, where the device has timestamp queries, the best GPU time of the pass alone.
+//! at least 200 ms of them), by the wall clock (the CPU binning, upload, pass and read-back
+//! of the picture); in square brackets, where the device has timestamp queries, the best GPU
+//! time of the pass alone.
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
