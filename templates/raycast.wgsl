@@ -9,7 +9,10 @@
 //                                             second derivatives in its box (+-inf: none;
 //                                             see march_ray and bend_along)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers);
-// fs_main returns the pixel's colour (target format rgba8unorm).
+// fs_main returns the pixel's colour (target format rgba8unorm); fs_background the
+// background, for screen tiles with nothing to march (fourfold draws the tiles with boxes
+// with fs_main and the others with fs_background, each run of tiles within a scissor
+// rectangle: see src/render/tiles.rs).
 // Pipeline constant MODE: where a pixel's boxes come from: 1 (default) its tile's list in
 // bindings 2 and 3, 2 a walk of the whole hierarchy, 0 none (the brute-force baseline: the
 // domain as one box). Pipeline constant SLOTS: the hits kept, 4, 8 or 16 (default), at
@@ -555,6 +558,13 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     let x = f32((i << 1u) & 2u) * 2.0 - 1.0;
     let y = f32(i & 2u) * 2.0 - 1.0;
     return vec4<f32>(x, y, 0.0, 1.0);
+}
+
+// What fs_main returns where a pixel finds no root (a SIMD rasterizer would run fs_main's
+// loops once for a group of such pixels, with every lane masked).
+@fragment
+fn fs_background() -> @location(0) vec4<f32> {
+    return vec4<f32>(u.background.rgb, 1.0);
 }
 
 @fragment

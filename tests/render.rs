@@ -191,6 +191,101 @@ fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
 }
 
 #[test]
+fn passes_in_regions_blended_into_a_target_draw_the_offscreen_picture() {
+    // The viewer's way: a target that holds the running mean of passes, each pass drawn
+    // in strips (regions). A first pass (weight 1) must set every pixel, background
+    // included, whatever the target held; a second pass of the same frame (weight 1/2)
+    // must leave the mean as it was. Against the offscreen picture of the same frame.
+    use fourfold::render::{FrameOptions, Pass, RayCaster, Target, TileLists, Uniforms};
+    use fourfold::tree::Hierarchy;
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["fig-3-9-left", "tiger"].contains(n))
+    {
+        let scene = small(&scene);
+        let (formula, params, tree) = common::build(&scene, scene.tree.into());
+        let shader = codegen::generate(&formula).unwrap();
+        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        let (w, ht) = (72, 56);
+        let camera = Camera::new(&scene.domain, &scene.view, w, ht);
+        let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
+        let mut offscreen = RayCaster::new(&gpu, &shader, &h).unwrap();
+        offscreen.set_tiles(&gpu, Some(&lists));
+        let target = Target {
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            accumulate: true,
+        };
+        let mut caster = RayCaster::with_target(&gpu, &shader, &h, target).unwrap();
+        caster.set_tiles(&gpu, Some(&lists));
+        for brute_force_level in [None, Some(scene.tree.max_level)] {
+            let uniforms = Uniforms::new(
+                &camera,
+                &scene.render,
+                &scene.domain,
+                &h,
+                &params,
+                FrameOptions {
+                    frame: 0,
+                    brute_force_level,
+                },
+            );
+            let expected = offscreen.render_rgba(&gpu, &uniforms).unwrap();
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let texture = caster.target_texture(&gpu, w, ht, usage);
+            let view = texture.create_view(&Default::default());
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 1.0,
+                            g: 0.0,
+                            b: 1.0,
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                ..Default::default()
+            });
+            gpu.queue.submit([encoder.finish()]);
+            for weight in [1.0, 0.5] {
+                for y in (0..ht).step_by(16) {
+                    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                    let pass = Pass {
+                        region: Some([0, y, w, 16]),
+                        weight,
+                    };
+                    caster.encode_pass(&gpu, &mut encoder, &view, &uniforms, pass);
+                    gpu.queue.submit([encoder.finish()]);
+                }
+            }
+            let got = common::read_texture(&gpu, &texture);
+            let off = got
+                .chunks(4)
+                .zip(expected.chunks(4))
+                .filter(|(a, b)| {
+                    a.iter()
+                        .zip(b.iter())
+                        .take(3)
+                        .any(|(x, y)| x.abs_diff(*y) > 1)
+                })
+                .count();
+            assert_eq!(
+                off,
+                0,
+                "{name}, brute force {brute_force_level:?}: {off} of {} pixels differ",
+                w * ht
+            );
+        }
+    }
+}
+
+#[test]
 fn brute_force_setting_draws_the_same_picture() {
     // render.brute_force (--brute-force, the viewer's checkbox): every ray marched across the
     // domain with the finest leaves' step, on the GPU and on the CPU.
@@ -641,6 +736,28 @@ fn check_tile_lists(
     lists: &fourfold::render::TileLists,
 ) {
     let t = lists.tile;
+    // The rectangles a pass draws the ray caster in: every tile with boxes in exactly one
+    // (a pixel drawn twice would be blended twice), whole tiles only.
+    let rects = lists.rects();
+    for (tx, ty) in (0..lists.tiles_y).flat_map(|ty| (0..lists.tiles_x).map(move |tx| (tx, ty))) {
+        let (x, y) = (tx * t, ty * t);
+        let holding = rects
+            .iter()
+            .filter(|r| r[0] <= x && x < r[2] && r[1] <= y && y < r[3])
+            .count();
+        if lists.tile(tx, ty).is_empty() {
+            assert!(
+                holding <= 1,
+                "{name}: tile ({tx}, {ty}) in {holding} rectangles"
+            );
+        } else {
+            assert_eq!(holding, 1, "{name}: tile ({tx}, {ty}) with boxes");
+        }
+    }
+    assert!(
+        rects.iter().flatten().all(|v| v % t == 0),
+        "{name}: {rects:?}"
+    );
     let key = |i: u32| {
         let node = &h.nodes[i as usize];
         let rel: [f64; 4] = std::array::from_fn(|k| f64::from(node.center[k]) - camera.center[k]);

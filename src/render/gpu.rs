@@ -171,6 +171,11 @@ pub struct RayCaster {
     /// `Uniforms::tiling` for the tile lists bound (zero: walk the hierarchy).
     tiling: [u32; 4],
     bind_group: wgpu::BindGroup,
+    /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
+    /// background elsewhere.
+    rects: Vec<[u32; 4]>,
+    /// Draws the background (built when first used).
+    background: std::sync::OnceLock<wgpu::RenderPipeline>,
 }
 
 impl RayCaster {
@@ -250,6 +255,8 @@ impl RayCaster {
             boxes,
             tiling: [0; 4],
             bind_group,
+            rects: Default::default(),
+            background: Default::default(),
         })
     }
 
@@ -273,11 +280,12 @@ impl RayCaster {
                 && !l.data.is_empty()
         });
         let Some(l) = lists else {
-            // The walk reads neither buffer.
+            // The walk reads neither buffer, and draws the whole target.
             self.tiling = [0; 4];
             return;
         };
         self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
+        self.rects = l.rects();
         let grew_tiles = write_or_grow(gpu, &mut self.tiles, bytemuck::cast_slice(&l.data));
         let grew_boxes = write_or_grow(gpu, &mut self.boxes, bytemuck::cast_slice(&l.boxes));
         if !(grew_tiles || grew_boxes) {
@@ -341,10 +349,26 @@ impl RayCaster {
         uniforms.tiling = self.tiling;
         gpu.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
-        let load = if pass.region.is_none() && !self.target.accumulate {
-            wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+        let mode = if uniforms.brute_force() {
+            Mode::BruteForce
+        } else if self.tiled() {
+            Mode::Tiles
         } else {
+            Mode::Walk
+        };
+        // With tile lists, the ray caster runs only where they have boxes to march; the
+        // background goes elsewhere where the pass overwrites (a pass blended into the
+        // running mean of passes of the same view finds it there already, and blending it
+        // with itself keeps it).
+        let overwrite = !self.target.accumulate || pass.weight >= 1.0;
+        let whole = pass.region.is_none() && !self.target.accumulate;
+        let load = if !whole {
             wgpu::LoadOp::Load
+        } else if mode == Mode::Tiles {
+            let [r, g, b, _] = uniforms.background.map(f64::from);
+            wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 })
+        } else {
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK)
         };
         let mut rpass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("fourfold frame"),
@@ -366,26 +390,9 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let mode = if uniforms.brute_force() {
-            Mode::BruteForce
-        } else if self.tiled() {
-            Mode::Tiles
-        } else {
-            Mode::Walk
-        };
         rpass.set_pipeline(self.pipeline(gpu, mode, slot_tier(uniforms.size[3])));
         rpass.set_bind_group(0, &self.bind_group, &[]);
-        if let Some([x, y, w, h]) = pass.region {
-            let (width, height) = (uniforms.size[0], uniforms.size[1]);
-            let x = x.min(width);
-            let y = y.min(height);
-            let w = w.min(width - x);
-            let h = h.min(height - y);
-            if w == 0 || h == 0 {
-                return;
-            }
-            rpass.set_scissor_rect(x, y, w, h);
-        }
+        let (width, height) = (uniforms.size[0], uniforms.size[1]);
         if self.target.accumulate {
             let c = pass.weight.clamp(0.0, 1.0);
             rpass.set_blend_constant(wgpu::Color {
@@ -395,7 +402,50 @@ impl RayCaster {
                 a: c,
             });
         }
-        rpass.draw(0..3, 0..1);
+        // The pixels to draw, as a rectangle (x0, y0, x1, y1).
+        let region = pass.region.map_or([0, 0, width, height], |[x, y, w, h]| {
+            [x, y, x.saturating_add(w), y.saturating_add(h)]
+        });
+        // One triangle over the target, drawn within scissor rectangles: the region, or
+        // with tile lists its parts in `rects` (a SIMD rasterizer runs the ray caster's
+        // loop bodies once for a group of pixels even where none of them enters a loop).
+        let draw = |rpass: &mut wgpu::RenderPass<'_>, rect: [u32; 4]| {
+            let x0 = rect[0].max(region[0]).min(width);
+            let y0 = rect[1].max(region[1]).min(height);
+            let x1 = rect[2].min(region[2]).min(width);
+            let y1 = rect[3].min(region[3]).min(height);
+            if x0 < x1 && y0 < y1 {
+                rpass.set_scissor_rect(x0, y0, x1 - x0, y1 - y0);
+                rpass.draw(0..3, 0..1);
+            }
+        };
+        if mode != Mode::Tiles {
+            draw(&mut rpass, region);
+            return;
+        }
+        if overwrite && !whole {
+            rpass.set_pipeline(self.background_pipeline(gpu));
+            draw(&mut rpass, region);
+            rpass.set_pipeline(self.pipeline(gpu, mode, slot_tier(uniforms.size[3])));
+        }
+        for &rect in &self.rects {
+            draw(&mut rpass, rect);
+        }
+    }
+
+    /// The pipeline of `fs_background`, built on first use.
+    fn background_pipeline(&self, gpu: &Gpu) -> &wgpu::RenderPipeline {
+        self.background.get_or_init(|| {
+            fullscreen_pipeline(
+                &gpu.device,
+                "fourfold background",
+                &self.module,
+                &self.pipeline_layout,
+                color_target(self.target),
+                "fs_background",
+                &[],
+            )
+        })
     }
 
     /// The pipeline of `mode`, built on first use (the shader module was validated when
@@ -681,11 +731,8 @@ fn build_pipeline(
         "fourfold ray caster",
         module,
         layout,
-        wgpu::ColorTargetState {
-            format: target.format,
-            blend: target.accumulate.then_some(ACCUMULATE),
-            write_mask: wgpu::ColorWrites::ALL,
-        },
+        color_target(target),
+        "fs_main",
         &[
             ("MODE", f64::from(mode as u32)),
             ("SLOTS", f64::from(slots)),
@@ -693,14 +740,25 @@ fn build_pipeline(
     )
 }
 
+/// How a ray caster's pipelines write `target`.
+fn color_target(target: Target) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format: target.format,
+        blend: target.accumulate.then_some(ACCUMULATE),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
+}
+
 /// A pipeline drawing one triangle over the viewport with `vs_main` (no vertex buffers) and
-/// shading it with `fs_main`, given pipeline constants for the fragment stage.
+/// shading it with the entry point `fragment`, given pipeline constants for the fragment
+/// stage.
 pub fn fullscreen_pipeline(
     device: &wgpu::Device,
     label: &str,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     target: wgpu::ColorTargetState,
+    fragment: &str,
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -717,7 +775,7 @@ pub fn fullscreen_pipeline(
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some("fs_main"),
+            entry_point: Some(fragment),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants,
                 ..Default::default()

@@ -90,6 +90,7 @@ impl Blit {
                 blend: None,
                 write_mask: wgpu::ColorWrites::ALL,
             },
+            "fs_main",
             &constants,
         );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
