@@ -187,6 +187,40 @@ fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
             entries[0] > entries[1] && entries[3] > entries[2],
             "{entries:?}"
         );
+
+        // A new hierarchy for the same shader (parameters moved, as the viewer's sliders
+        // do): the reused caster must read the new nodes (the walk) and bounds (steeper
+        // here: old ones would step over roots).
+        let mut moved = scene.clone();
+        for v in moved.params.values_mut() {
+            *v *= 1.5;
+        }
+        let (formula, params, tree) = common::build(&moved, moved.tree.into());
+        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        reused.set_hierarchy(&gpu, &h).unwrap();
+        let camera = Camera::new(&moved.domain, &moved.view, 64, 64);
+        let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
+        let uniforms = Uniforms::new(
+            &camera,
+            &moved.render,
+            &moved.domain,
+            &h,
+            &params,
+            FrameOptions::default(),
+        );
+        let mut fresh = RayCaster::new(&gpu, &shader, &h).unwrap();
+        for lists in [None, Some(&lists)] {
+            reused.set_tiles(&gpu, lists);
+            fresh.set_tiles(&gpu, lists);
+            let a = reused.render_rgba(&gpu, &uniforms).unwrap();
+            let b = fresh.render_rgba(&gpu, &uniforms).unwrap();
+            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x != y).count();
+            let how = if lists.is_some() { "tiles" } else { "walk" };
+            assert_eq!(
+                differ, 0,
+                "{name}, new hierarchy, {how}: {differ} pixels differ"
+            );
+        }
     }
 }
 

@@ -263,6 +263,7 @@ impl RayCaster {
     /// Replaces the hierarchy (a new tree for the same formula: parameters, domain, levels).
     pub fn set_hierarchy(&mut self, gpu: &Gpu, hierarchy: &Hierarchy) -> Result<(), GpuError> {
         (self.nodes, self.bounds) = node_buffers(gpu, hierarchy)?;
+        self.rebind(gpu);
         // Old tile lists index the old hierarchy.
         self.set_tiles(gpu, None);
         Ok(())
@@ -288,9 +289,13 @@ impl RayCaster {
         self.rects = l.rects();
         let grew_tiles = write_or_grow(gpu, &mut self.tiles, bytemuck::cast_slice(&l.data));
         let grew_boxes = write_or_grow(gpu, &mut self.boxes, bytemuck::cast_slice(&l.boxes));
-        if !(grew_tiles || grew_boxes) {
-            return;
+        if grew_tiles || grew_boxes {
+            self.rebind(gpu);
         }
+    }
+
+    /// Makes the bind group anew for the buffers held now (after any of them is replaced).
+    fn rebind(&mut self, gpu: &Gpu) {
         self.bind_group = bind_group(
             &gpu.device,
             &self.layout,
