@@ -395,7 +395,8 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rpass.set_pipeline(self.pipeline(gpu, mode, slot_tier(uniforms.size[3])));
+        let ray_caster = self.pipeline(gpu, mode, slot_tier(uniforms.size[3]));
+        rpass.set_pipeline(ray_caster);
         rpass.set_bind_group(0, &self.bind_group, &[]);
         let (width, height) = (uniforms.size[0], uniforms.size[1]);
         if self.target.accumulate {
@@ -431,7 +432,7 @@ impl RayCaster {
         if overwrite && !whole {
             rpass.set_pipeline(self.background_pipeline(gpu));
             draw(&mut rpass, region);
-            rpass.set_pipeline(self.pipeline(gpu, mode, slot_tier(uniforms.size[3])));
+            rpass.set_pipeline(ray_caster);
         }
         for &rect in &self.rects {
             draw(&mut rpass, rect);

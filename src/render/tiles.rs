@@ -119,7 +119,8 @@ struct Run {
 }
 
 impl Run {
-    /// The footprint that reaches every band the run's footprints reach.
+    /// The footprint that reaches every band the run's footprints reach (without a parent
+    /// a run holds one footprint).
     fn bound<'a>(&'a self, feet: &'a [Footprint]) -> &'a Footprint {
         self.parent.as_ref().unwrap_or(&feet[self.feet.0 as usize])
     }
@@ -414,13 +415,18 @@ impl TileLists {
         let mut runs: Vec<(Option<Footprint>, Vec<Footprint>)> = match coarse {
             Some(coarse) => (0..coarse.len())
                 .into_par_iter()
-                .filter_map(|j| {
+                .flat_map_iter(|j| {
                     let end = coarse
                         .get(j + 1)
                         .map_or(fine.len(), |c| c.first_child as usize);
                     let children = &fine[coarse[j].first_child as usize..end];
                     let feet: Vec<Footprint> = children.iter().filter_map(footprint).collect();
-                    (!feet.is_empty()).then(|| (footprint(&coarse[j]), feet))
+                    // A parent off screen (its children can be on it only by rounding):
+                    // a run per child, each binned by its own footprint.
+                    match footprint(&coarse[j]) {
+                        Some(parent) if !feet.is_empty() => vec![(Some(parent), feet)],
+                        _ => feet.into_iter().map(|f| (None, vec![f])).collect(),
+                    }
                 })
                 .collect(),
             None => fine
