@@ -132,23 +132,49 @@ fn every_hit_slot_pipeline_agrees_with_the_cpu() {
     }
 }
 
+/// What a GPU test draws `scene` with: its parameter values, its shader and its default
+/// hierarchy.
+fn caster_inputs(scene: &Scene) -> (Vec<f64>, codegen::Shader, fourfold::tree::Hierarchy) {
+    let (formula, params, tree) = common::build(scene, scene.tree.into());
+    let shader = codegen::generate(&formula).unwrap();
+    let h = fourfold::tree::Hierarchy::for_formula(&tree, &formula, &params);
+    (params, shader, h)
+}
+
+/// Frame 0 of `scene` seen by `camera` (by brute force at `brute_force_level`, if given).
+fn frame_uniforms(
+    scene: &Scene,
+    camera: &Camera,
+    h: &fourfold::tree::Hierarchy,
+    params: &[f64],
+    brute_force_level: Option<u32>,
+) -> fourfold::render::Uniforms {
+    let options = fourfold::render::FrameOptions {
+        frame: 0,
+        brute_force_level,
+    };
+    fourfold::render::Uniforms::new(camera, &scene.render, &scene.domain, h, params, options)
+}
+
+/// How many pixels (RGBA8) of two pictures differ.
+fn differing(a: &[u8], b: &[u8]) -> usize {
+    a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x != y).count()
+}
+
 #[test]
 fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
     // A view's tile lists and box records are written into the caster's buffers in place
     // (they grow when too small): what a view leaves behind must not show in the next.
     // Views alternate between many entries (a large picture) and few (a small one, at
     // other angles), on the tiger (many marched boxes) and the chapter's scene (one).
-    use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms};
-    use fourfold::tree::Hierarchy;
+    use fourfold::render::{RayCaster, TileLists};
     let gpu = gpu();
     for (name, scene) in example_scenes()
         .into_iter()
         .filter(|(n, _)| ["tiger", "fig-3-9-left"].contains(n))
     {
         let scene = small(&scene);
-        let (formula, params, tree) = common::build(&scene, scene.tree.into());
-        let shader = codegen::generate(&formula).unwrap();
-        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        let (params, shader, h) = caster_inputs(&scene);
         let mut reused = RayCaster::new(&gpu, &shader, &h).unwrap();
         let mut turned = scene.view;
         turned.angles = [0.3, 1.1, 0.4, 0.9, 0.2, 0.6];
@@ -162,20 +188,13 @@ fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
             let camera = Camera::new(&scene.domain, &view, size, size);
             let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
             entries.push(lists.entries());
-            let uniforms = Uniforms::new(
-                &camera,
-                &scene.render,
-                &scene.domain,
-                &h,
-                &params,
-                FrameOptions::default(),
-            );
+            let uniforms = frame_uniforms(&scene, &camera, &h, &params, None);
             reused.set_tiles(&gpu, Some(&lists));
             let mut fresh = RayCaster::new(&gpu, &shader, &h).unwrap();
             fresh.set_tiles(&gpu, Some(&lists));
             let a = reused.render_rgba(&gpu, &uniforms).unwrap();
             let b = fresh.render_rgba(&gpu, &uniforms).unwrap();
-            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x != y).count();
+            let differ = differing(&a, &b);
             assert_eq!(differ, 0, "{name}, {size}²: {differ} pixels differ");
             assert!(
                 b.chunks(4).any(|p| p[..3] != scene.render.background.0),
@@ -195,26 +214,18 @@ fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
         for v in moved.params.values_mut() {
             *v *= 1.5;
         }
-        let (formula, params, tree) = common::build(&moved, moved.tree.into());
-        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        let (params, _, h) = caster_inputs(&moved);
         reused.set_hierarchy(&gpu, &h).unwrap();
         let camera = Camera::new(&moved.domain, &moved.view, 64, 64);
         let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
-        let uniforms = Uniforms::new(
-            &camera,
-            &moved.render,
-            &moved.domain,
-            &h,
-            &params,
-            FrameOptions::default(),
-        );
+        let uniforms = frame_uniforms(&moved, &camera, &h, &params, None);
         let mut fresh = RayCaster::new(&gpu, &shader, &h).unwrap();
         for lists in [None, Some(&lists)] {
             reused.set_tiles(&gpu, lists);
             fresh.set_tiles(&gpu, lists);
             let a = reused.render_rgba(&gpu, &uniforms).unwrap();
             let b = fresh.render_rgba(&gpu, &uniforms).unwrap();
-            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(x, y)| x != y).count();
+            let differ = differing(&a, &b);
             let how = if lists.is_some() { "tiles" } else { "walk" };
             assert_eq!(
                 differ, 0,
@@ -230,17 +241,14 @@ fn passes_in_regions_blended_into_a_target_draw_the_offscreen_picture() {
     // in strips (regions). A first pass (weight 1) must set every pixel, background
     // included, whatever the target held; a second pass of the same frame (weight 1/2)
     // must leave the mean as it was. Against the offscreen picture of the same frame.
-    use fourfold::render::{FrameOptions, Pass, RayCaster, Target, TileLists, Uniforms};
-    use fourfold::tree::Hierarchy;
+    use fourfold::render::{Pass, RayCaster, Target, TileLists};
     let gpu = gpu();
     for (name, scene) in example_scenes()
         .into_iter()
         .filter(|(n, _)| ["fig-3-9-left", "tiger"].contains(n))
     {
         let scene = small(&scene);
-        let (formula, params, tree) = common::build(&scene, scene.tree.into());
-        let shader = codegen::generate(&formula).unwrap();
-        let h = Hierarchy::for_formula(&tree, &formula, &params);
+        let (params, shader, h) = caster_inputs(&scene);
         let (w, ht) = (72, 56);
         let camera = Camera::new(&scene.domain, &scene.view, w, ht);
         let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
@@ -253,17 +261,7 @@ fn passes_in_regions_blended_into_a_target_draw_the_offscreen_picture() {
         let mut caster = RayCaster::with_target(&gpu, &shader, &h, target).unwrap();
         caster.set_tiles(&gpu, Some(&lists));
         for brute_force_level in [None, Some(scene.tree.max_level)] {
-            let uniforms = Uniforms::new(
-                &camera,
-                &scene.render,
-                &scene.domain,
-                &h,
-                &params,
-                FrameOptions {
-                    frame: 0,
-                    brute_force_level,
-                },
-            );
+            let uniforms = frame_uniforms(&scene, &camera, &h, &params, brute_force_level);
             let expected = offscreen.render_rgba(&gpu, &uniforms).unwrap();
             let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
             let texture = caster.target_texture(&gpu, w, ht, usage);

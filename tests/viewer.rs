@@ -44,6 +44,18 @@ fn settle(h: &mut Harness<'static, FourfoldApp>) {
     h.step();
 }
 
+/// Steps the UI until the picture has taken all its passes.
+fn converge(h: &mut Harness<'static, FourfoldApp>) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !h.state().progressive.converged() {
+        h.step();
+        assert!(
+            Instant::now() < deadline,
+            "the picture did not converge in 120 s"
+        );
+    }
+}
+
 fn replace_formula(h: &mut Harness<'static, FourfoldApp>, text: &str) {
     let editor = h.get_by_label_contains("Formula");
     editor.focus();
@@ -270,14 +282,7 @@ fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
 fn a_picture_converges_with_one_binning_per_resolution() {
     let mut h = harness(small_scene());
     settle(&mut h);
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while !h.state().progressive.converged() {
-        h.step();
-        assert!(
-            Instant::now() < deadline,
-            "the picture did not converge in 120 s"
-        );
-    }
+    converge(&mut h);
     let app = h.state();
     // A preview, maybe a half-size pass, then the full size: the accumulated full-size passes
     // (same view, new ray offsets) reuse one set of leaf lists.
@@ -296,11 +301,7 @@ fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
     // first drag after a pause).
     let mut h = harness(small_scene());
     settle(&mut h);
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while !h.state().progressive.converged() {
-        h.step();
-        assert!(Instant::now() < deadline, "no convergence in 120 s");
-    }
+    converge(&mut h);
     h.step();
     let drawing = h.state().ui_frame_ms;
     std::thread::sleep(Duration::from_secs(3));
