@@ -314,17 +314,6 @@ impl RayCaster {
         self.tiling[2] != 0
     }
 
-    /// Records a frame into `target` (a view of a texture in this caster's format).
-    pub fn encode(
-        &self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::TextureView,
-        uniforms: &Uniforms,
-    ) {
-        self.encode_pass(gpu, encoder, target, uniforms, Pass::default());
-    }
-
     /// Records one pass: the whole target, or only `pass.region` (the rest is kept), blended
     /// with `pass.weight` when the target accumulates. The uniforms are written to the queue,
     /// so one submission should hold one set of uniforms.

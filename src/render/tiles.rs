@@ -477,8 +477,8 @@ impl TileLists {
         let tiles_x = w.div_ceil(tile);
         let tiles_y = h.div_ceil(tile);
         let tiles = (tiles_x * tiles_y) as usize;
-        // Bands of tile rows, binned in parallel; each visits its footprints in order and
-        // writes only its own tiles, so the order survives. Four bands per thread, so that
+        // Bands of tile rows, binned in parallel; each visits its runs of footprints in
+        // order and writes only its own tiles, so the order survives. Four bands per thread, so that
         // rayon can balance dense and empty ones (a footprint reaching more bands costs
         // more: 64 bands of 2 rows at 512² on 2 threads were 20% slower).
         let band_rows = tiles_y
