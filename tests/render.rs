@@ -718,6 +718,53 @@ fn no_adapter_gives_a_clear_message_not_a_panic() {
 }
 
 #[test]
+fn a_picture_over_the_devices_limits_is_a_clear_error_not_a_panic() {
+    use fourfold::render::{GpuError, check_image_size};
+    // wgpu's downlevel defaults: textures up to 2048 wide, buffers up to 256 MiB.
+    let limits = wgpu::Limits::downlevel_defaults();
+    assert!(check_image_size(2048, 2048, &limits).is_ok());
+    let err = check_image_size(4096, 512, &limits).unwrap_err();
+    assert!(
+        matches!(err, GpuError::ImageTooLarge { max_side: 2048, .. }),
+        "{err}"
+    );
+    let text = err.to_string();
+    assert!(text.contains("4096x512"), "{text}");
+    assert!(text.contains("largest texture side is 2048"), "{text}");
+    assert!(text.contains("--size"), "{text}");
+    // Within the side, over the read-back buffer: the largest square within both.
+    let small_buffers = wgpu::Limits {
+        max_texture_dimension_2d: 16384,
+        max_buffer_size: 64 << 20,
+        ..limits
+    };
+    let err = check_image_size(8192, 8192, &small_buffers).unwrap_err();
+    assert!(
+        matches!(err, GpuError::ImageTooLarge { max_side: 4096, .. }),
+        "{err}"
+    );
+    assert!(check_image_size(4096, 4096, &small_buffers).is_ok());
+    // And the device fourfold opens takes the largest picture its adapter can draw: the
+    // CLI's largest (8192x8192) on lavapipe, which failed on wgpu's default limits.
+    let gpu = gpu();
+    let limits = gpu.device.limits();
+    assert!(limits.max_texture_dimension_2d >= 2048);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(["render", "x + y + z + w = 9", "--size", "3000x8"])
+        .args(["--max-level", "2", "-o"])
+        .arg(std::env::temp_dir().join("fourfold-wide.png"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    if limits.max_texture_dimension_2d >= 3000 {
+        assert!(out.status.success(), "{stderr}");
+    } else {
+        assert!(stderr.contains("over this GPU's limit"), "{stderr}");
+    }
+}
+
+#[test]
 fn tile_lists_hold_every_leaf_a_pixel_can_see() {
     use fourfold::render::TileLists;
     use fourfold::render::tiles::{MAX_TILE, MIN_TILE};

@@ -34,6 +34,44 @@ pub enum GpuError {
     },
     #[error("reading the picture back from the GPU failed: {0}")]
     Readback(String),
+    #[error(
+        "a {width}x{height} image is over this GPU's limit ({reason}); use a smaller --size, \
+         at most {max_side}x{max_side} here, or render with --cpu"
+    )]
+    ImageTooLarge {
+        width: u32,
+        height: u32,
+        max_side: u32,
+        reason: String,
+    },
+}
+
+/// Whether this device can draw and read back a `width`×`height` picture: its sides within
+/// the largest texture side, and its read-back buffer (rows padded to 256 bytes) within the
+/// largest buffer.
+pub fn check_image_size(width: u32, height: u32, limits: &wgpu::Limits) -> Result<(), GpuError> {
+    let max_side = limits.max_texture_dimension_2d;
+    let row = u64::from(width * 4).div_ceil(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
+        * u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+    let bytes = row * u64::from(height);
+    let reason = if width > max_side || height > max_side {
+        format!("its largest texture side is {max_side} pixels")
+    } else if bytes > limits.max_buffer_size {
+        format!(
+            "reading it back takes {bytes} bytes, over its largest buffer of {} bytes",
+            limits.max_buffer_size
+        )
+    } else {
+        return Ok(());
+    };
+    // The largest square within both limits.
+    let by_buffer = ((limits.max_buffer_size / 4) as f64).sqrt() as u32 / 64 * 64;
+    Err(GpuError::ImageTooLarge {
+        width,
+        height,
+        max_side: max_side.min(by_buffer.max(1)),
+        reason,
+    })
 }
 
 /// A device and queue, with a description of the adapter. Cloning shares them.
@@ -71,9 +109,12 @@ impl Gpu {
             // Where the adapter has them: GPU timestamps around a frame's pass
             // (`RayCaster::render_rgba_timed`).
             required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            // The adapter's own limits where fourfold can use more than the defaults: tile
+            // lists and trees in storage buffers, and the largest picture (`render --size`).
             required_limits: wgpu::Limits {
                 max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
                 max_buffer_size: limits.max_buffer_size,
+                max_texture_dimension_2d: limits.max_texture_dimension_2d,
                 ..wgpu::Limits::downlevel_defaults()
             },
             ..Default::default()
@@ -498,6 +539,7 @@ impl RayCaster {
         uniforms: &Uniforms,
     ) -> Result<(Vec<u8>, Option<f64>), GpuError> {
         let (width, height) = (uniforms.size[0], uniforms.size[1]);
+        check_image_size(width, height, &gpu.device.limits())?;
         let texture = self.target_texture(
             gpu,
             width,

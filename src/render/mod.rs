@@ -11,6 +11,6 @@ pub mod uniforms;
 
 pub use camera::{Camera, Rotation4};
 pub use codegen::{CodegenError, Shader};
-pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target};
+pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
 pub use tiles::TileLists;
 pub use uniforms::{FrameOptions, Uniforms};

@@ -185,9 +185,12 @@ impl Progressive {
             renderer.free_texture(&t.id);
         }
         self.size = size;
+        // (A view wider or taller than the device's largest texture is drawn at that side
+        // and stretched.)
+        let max_side = gpu.device.limits().max_texture_dimension_2d;
         for div in DIVS {
-            let width = size[0].div_ceil(div).max(1);
-            let height = size[1].div_ceil(div).max(1);
+            let width = size[0].div_ceil(div).clamp(1, max_side);
+            let height = size[1].div_ceil(div).clamp(1, max_side);
             let texture = caster.target_texture(
                 gpu,
                 width,
