@@ -132,6 +132,40 @@ fn every_hit_slot_pipeline_agrees_with_the_cpu() {
     }
 }
 
+#[test]
+fn both_samplings_agree_with_the_cpu() {
+    // Each sampling has its own pipeline (the constant SAMPLING): the GPU's picture with
+    // each must be the CPU's with the same sampling, and the two must differ, so that a
+    // pipeline drawing the other sampling's rays fails.
+    use fourfold::scene::Sampling;
+    let gpu = gpu();
+    for (name, scene) in example_scenes()
+        .into_iter()
+        .filter(|(n, _)| ["fig-3-9-left", "glome"].contains(n))
+    {
+        let mut scene = small(&scene);
+        scene.render.rays = 6;
+        let mut cpu = Vec::new();
+        for sampling in [Sampling::Stratified, Sampling::Random] {
+            scene.render.sampling = sampling;
+            let g = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+            let c = render_scene(&scene, 40, 40, Device::Cpu, Default::default()).unwrap();
+            let (close, cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
+            eprintln!("{name}, {sampling:?}: colour {close:.3}, coverage {cover:.3}");
+            assert!(
+                cover >= 0.99 && close >= 0.90,
+                "{name}, {sampling:?}: colour {close}, coverage {cover}"
+            );
+            cpu.push((g.rgba, c.rgba));
+        }
+        let (strat, random) = (&cpu[0], &cpu[1]);
+        let samplings_differ = differing(&strat.1, &random.1);
+        let gpu_off = differing(&random.0, &random.1);
+        eprintln!("{name}: the samplings differ in {samplings_differ} pixels, GPU off {gpu_off}");
+        assert!(samplings_differ > 4 * gpu_off.max(1), "{name}");
+    }
+}
+
 /// What a GPU test draws `scene` with: its parameter values, its shader and its default
 /// hierarchy.
 fn caster_inputs(scene: &Scene) -> (Vec<f64>, codegen::Shader, fourfold::tree::Hierarchy) {

@@ -8,7 +8,7 @@ use crate::tree::{Hierarchy, NodeBounds, SphereNode};
 
 use super::codegen::Shader;
 use super::tiles::{BoxRecord, TileLists};
-use super::uniforms::Uniforms;
+use super::uniforms::{FLAG_RANDOM, Uniforms};
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -197,9 +197,9 @@ pub struct RayCaster {
     target: Target,
     module: wgpu::ShaderModule,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Per Mode and hit slots (`slot_tier`); the tile pipeline for the default K is built
-    /// at once, the others when first used.
-    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3 * SLOT_TIERS.len()],
+    /// Per [`Variant`] (`Variant::index`); the tile pipeline for the default settings is
+    /// built at once, the others when first used.
+    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
@@ -254,21 +254,19 @@ impl RayCaster {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let slots = slot_tier(crate::scene::RenderSettings::default().hits);
-        let pipeline = build_pipeline(
-            device,
-            &module,
-            &pipeline_layout,
-            target,
-            Mode::Tiles,
-            SLOT_TIERS[slots],
-        );
+        let settings = crate::scene::RenderSettings::default();
+        let variant = Variant {
+            mode: Mode::Tiles,
+            slots: slot_tier(settings.hits),
+            random: settings.sampling == crate::scene::Sampling::Random,
+        };
+        let pipeline = build_pipeline(device, &module, &pipeline_layout, target, variant);
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Pipeline(error.to_string()));
         }
-        let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 3 * SLOT_TIERS.len()] =
+        let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT] =
             Default::default();
-        let _ = pipelines[pipeline_index(Mode::Tiles, slots)].set(pipeline);
+        let _ = pipelines[variant.index()].set(pipeline);
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -425,7 +423,7 @@ impl RayCaster {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let ray_caster = self.pipeline(gpu, mode, slot_tier(uniforms.size[3]));
+        let ray_caster = self.pipeline(gpu, Variant::of(mode, &uniforms));
         rpass.set_pipeline(ray_caster);
         rpass.set_bind_group(0, &self.bind_group, &[]);
         let (width, height) = (uniforms.size[0], uniforms.size[1]);
@@ -484,17 +482,16 @@ impl RayCaster {
         })
     }
 
-    /// The pipeline of `mode`, built on first use (the shader module was validated when
-    /// the tile pipeline was built, so the others build too).
-    fn pipeline(&self, gpu: &Gpu, mode: Mode, slots: usize) -> &wgpu::RenderPipeline {
-        self.pipelines[pipeline_index(mode, slots)].get_or_init(|| {
+    /// The pipeline of `variant`, built on first use (the shader module was validated when
+    /// the first pipeline was built, so the others build too).
+    fn pipeline(&self, gpu: &Gpu, variant: Variant) -> &wgpu::RenderPipeline {
+        self.pipelines[variant.index()].get_or_init(|| {
             build_pipeline(
                 &gpu.device,
                 &self.module,
                 &self.pipeline_layout,
                 self.target,
-                mode,
-                SLOT_TIERS[slots],
+                variant,
             )
         })
     }
@@ -751,8 +748,35 @@ fn slot_tier(hits: u32) -> usize {
         .unwrap_or(SLOT_TIERS.len() - 1)
 }
 
-fn pipeline_index(mode: Mode, slots: usize) -> usize {
-    mode as usize * SLOT_TIERS.len() + slots
+/// What a ray-caster pipeline is specialised for, by the shader's pipeline constants: each
+/// is its own pipeline, so that a pixel runs only its own code (a SIMD rasterizer runs
+/// every branch).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Variant {
+    /// MODE: where a pixel's boxes come from.
+    mode: Mode,
+    /// The index in SLOT_TIERS of SLOTS, the hit slots kept.
+    slots: usize,
+    /// SAMPLING: the chapter's random rays (1) or stratified ones (0). Random rays cost
+    /// llvmpipe 4-5% of a stratified frame where the shader's flag chose them at run time.
+    random: bool,
+}
+
+impl Variant {
+    const COUNT: usize = 3 * SLOT_TIERS.len() * 2;
+
+    /// The variant that draws with `uniforms` in `mode`.
+    fn of(mode: Mode, uniforms: &Uniforms) -> Self {
+        Self {
+            mode,
+            slots: slot_tier(uniforms.size[3]),
+            random: uniforms.control[2] & FLAG_RANDOM != 0,
+        }
+    }
+
+    fn index(self) -> usize {
+        (self.mode as usize * SLOT_TIERS.len() + self.slots) * 2 + usize::from(self.random)
+    }
 }
 
 fn build_pipeline(
@@ -760,8 +784,7 @@ fn build_pipeline(
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     target: Target,
-    mode: Mode,
-    slots: u32,
+    variant: Variant,
 ) -> wgpu::RenderPipeline {
     fullscreen_pipeline(
         device,
@@ -771,8 +794,9 @@ fn build_pipeline(
         color_target(target),
         "fs_main",
         &[
-            ("MODE", f64::from(mode as u32)),
-            ("SLOTS", f64::from(slots)),
+            ("MODE", f64::from(variant.mode as u32)),
+            ("SLOTS", f64::from(SLOT_TIERS[variant.slots])),
+            ("SAMPLING", f64::from(u32::from(variant.random))),
         ],
     )
 }
