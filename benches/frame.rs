@@ -262,10 +262,10 @@ fn frame_at(
 
 /// A table cell of milliseconds: the frame, the binning in round brackets where there is
 /// one, the GPU's pass in square ones where timed; a dash for a column left out (NaN).
-/// Whole milliseconds from 10 on, tenths below.
+/// Whole milliseconds from 100 on, tenths below.
 fn ms(t: Timing) -> String {
     let num = |v: f64| {
-        if v < 10.0 {
+        if v < 100.0 {
             format!("{v:.1}")
         } else {
             format!("{v:.0}")
