@@ -316,7 +316,8 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
 // box's rays, a march). So the loops over a tile's boxes, a box's rays and a pixel's hits
 // test at the end, inside a branch that skips them on a GPU when there is nothing to do
 // (chapter scene, level 6, 512², 8 rays: GPU pass 21-22 -> 20-21 ms). The march's loops
-// stay as they are: tested at the end they made llvmpipe's code for brute force slower.
+// stay as they are: tested at the end, the chapter's pass took 7% less but the glome's
+// 10% and brute force's 3% more.
 struct Tracer {
     o: vec4<f32>,
     shift: vec2<f32>, // o - u.center along v1 and v2
@@ -357,8 +358,8 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
     var s = 1u;
     loop {
         // March to the next sign change, the span's end, or a point beyond the K kept.
-        // (Loops, not branches: a SIMD rasterizer skips a loop that no pixel of the group
-        // needs, but runs a branch's body for all of them whatever its condition.)
+        // (Loops, not branches: a SIMD rasterizer stops a loop once no pixel of the group
+        // needs it, but runs a branch's body for all of them whatever its condition.)
         var tb = ta;
         var fb = fa;
         var found = false;

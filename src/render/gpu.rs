@@ -51,7 +51,7 @@ pub enum GpuError {
 /// largest buffer.
 pub fn check_image_size(width: u32, height: u32, limits: &wgpu::Limits) -> Result<(), GpuError> {
     let max_side = limits.max_texture_dimension_2d;
-    let row = u64::from(width * 4).div_ceil(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
+    let row = (u64::from(width) * 4).div_ceil(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT))
         * u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
     let bytes = row * u64::from(height);
     let reason = if width > max_side || height > max_side {
@@ -757,8 +757,8 @@ struct Variant {
     mode: Mode,
     /// The index in SLOT_TIERS of SLOTS, the hit slots kept.
     slots: usize,
-    /// SAMPLING: the chapter's random rays (1) or stratified ones (0). Random rays cost
-    /// llvmpipe 4-5% of a stratified frame where the shader's flag chose them at run time.
+    /// SAMPLING: the chapter's random rays (1) or stratified ones (0). Chosen at run time
+    /// by the shader's flag, the random rays' code cost a stratified frame 4-5% on llvmpipe.
     random: bool,
 }
 
