@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::example_scenes;
+use common::{example_scenes, example_scenes_named};
 use fourfold::CompiledFormula;
 use fourfold::render::codegen;
 use fourfold::render::pipeline::{Device, render_scene};
@@ -67,10 +67,7 @@ fn small(scene: &Scene) -> Scene {
 fn gpu_and_cpu_renders_agree() {
     let gpu = gpu();
     let names = ["glome", "fig-3-9-left", "tiger", "hyperplane"];
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| names.contains(n))
-    {
+    for (name, scene) in example_scenes_named(&names) {
         let scene = small(&scene);
         let g = render_scene(&scene, 48, 48, Device::Gpu(&gpu), Default::default()).unwrap();
         let c = render_scene(&scene, 48, 48, Device::Cpu, Default::default()).unwrap();
@@ -97,10 +94,7 @@ fn every_hit_slot_pipeline_agrees_with_the_cpu() {
     // The GPU keeps 4, 8 or 16 hit slots (the pipeline constant SLOTS, the fewest that hold
     // K): K across the tiers, against the CPU reference, which keeps K in a list.
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["fig-3-9-left", "tiger"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "tiger"]) {
         let mut scene = small(&scene);
         scene.render.rays = 16;
         // Far hits weigh more with a lower alpha: K shows in the picture.
@@ -139,10 +133,7 @@ fn both_samplings_agree_with_the_cpu() {
     // pipeline drawing the other sampling's rays fails.
     use fourfold::scene::Sampling;
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["fig-3-9-left", "glome"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "glome"]) {
         let mut scene = small(&scene);
         scene.render.rays = 6;
         let mut cpu = Vec::new();
@@ -203,10 +194,7 @@ fn a_caster_reused_across_views_draws_what_a_fresh_one_draws() {
     // other angles), on the tiger (many marched boxes) and the chapter's scene (one).
     use fourfold::render::{RayCaster, TileLists};
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["tiger", "fig-3-9-left"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["tiger", "fig-3-9-left"]) {
         let scene = small(&scene);
         let (params, shader, h) = caster_inputs(&scene);
         let mut reused = RayCaster::new(&gpu, &shader, &h).unwrap();
@@ -277,10 +265,7 @@ fn passes_in_regions_blended_into_a_target_draw_the_offscreen_picture() {
     // must leave the mean as it was. Against the offscreen picture of the same frame.
     use fourfold::render::{Pass, RayCaster, Target, TileLists};
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["fig-3-9-left", "tiger"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "tiger"]) {
         let scene = small(&scene);
         let (params, shader, h) = caster_inputs(&scene);
         let (w, ht) = (72, 56);
@@ -356,10 +341,7 @@ fn brute_force_setting_draws_the_same_picture() {
     // render.brute_force (--brute-force, the viewer's checkbox): every ray marched across the
     // domain with the finest leaves' step, on the GPU and on the CPU.
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["fig-3-9-left", "duocylinder"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "duocylinder"]) {
         let scene = small(&scene);
         let mut brute = scene.clone();
         brute.render.brute_force = true;
@@ -426,10 +408,7 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
     use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
     use fourfold::tree::{Hierarchy, hierarchy::MARCH_LEVELS_ABOVE_FINEST};
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["glome", "fig-3-9-left", "tiger"].contains(n))
-    {
+    for (name, scene) in example_scenes_named(&["glome", "fig-3-9-left", "tiger"]) {
         let mut scene = small(&scene);
         scene.tree.min_level = 5;
         let (formula, params, tree) = common::build(&scene, scene.tree.into());
@@ -499,9 +478,8 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
     use fourfold::render::{FrameOptions, RayCaster, TileLists, Uniforms, cpu};
     use fourfold::tree::Hierarchy;
     let gpu = gpu();
-    for (name, scene) in example_scenes()
-        .into_iter()
-        .filter(|(n, _)| ["glome", "fig-3-11", "tiger", "duocylinder", "fig-3-9-left"].contains(n))
+    for (name, scene) in
+        example_scenes_named(&["glome", "fig-3-11", "tiger", "duocylinder", "fig-3-9-left"])
     {
         let mut scene = small(&scene);
         scene.tree.min_level = 5;

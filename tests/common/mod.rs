@@ -39,6 +39,14 @@ pub fn example_scenes() -> Vec<(&'static str, Scene)> {
         .collect()
 }
 
+/// The example scenes named in `names`, in the examples' order.
+pub fn example_scenes_named(names: &[&str]) -> Vec<(&'static str, Scene)> {
+    example_scenes()
+        .into_iter()
+        .filter(|(n, _)| names.contains(n))
+        .collect()
+}
+
 /// F at a point with the given parameter values.
 pub fn eval_f(formula: &CompiledFormula, p: [f64; 4], params: &[f64]) -> f64 {
     PointEvaluator::new().eval(&formula.tape_f, p, params)
