@@ -1,7 +1,8 @@
 // fourfold ray caster: the method of SPEC.md §5 for one formula F(x, y, z, w).
 //
 // Bindings, group 0:
-//   binding 0: uniform  Uniforms              view, settings, per-level box sizes, parameters
+//   binding 0: storage  Uniforms              view, settings, per-level box sizes, parameters
+//                                             (read-only storage, not uniform: see gpu.rs)
 //   binding 1: storage  array<SphereNode>     the sphere hierarchy, depth-first, with skips
 //   binding 2: storage  array<u32>            per-tile box lists (or two unused words)
 //   binding 3: storage  array<BoxRecord>      the boxes the lists index, per view (or one)
@@ -98,7 +99,7 @@ struct BoxRecord {
     center: vec4<f32>,
 }
 
-@group(0) @binding(0) var<uniform> u: Uniforms;
+@group(0) @binding(0) var<storage, read> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
 // Per screen tile, the boxes whose sphere may meet a pixel of it: offsets (one per tile, and
 // one past the last), then indices in `boxes`, nearest first. See src/render/tiles.rs.

@@ -3,7 +3,8 @@
 //!
 //! One `let` per tape instruction, in order: shared subexpressions are computed once and a
 //! deep formula never nests deeply. Integer powers become multiplications (square and
-//! multiply). Parameters are read from the uniform buffer, so changing one needs no new shader.
+//! multiply). Parameters are read from the frame's settings (binding 0), so changing one
+//! needs no new shader.
 //!
 //! Undefined values follow the CPU point evaluator: sqrt/ln/asin/acos outside their domain,
 //! division by 0, a negative or zero base of a real power with an exponent that needs a

@@ -1,6 +1,10 @@
 //! The GPU ray caster on wgpu: a pipeline per shader (per formula), the hierarchy in a
-//! storage buffer (per tree), and a uniform block per frame. Offscreen rendering returns an
-//! RGBA image; the viewer draws with the same pipeline into its own target.
+//! storage buffer (per tree), and the frame's settings (`Uniforms`) in a small read-only
+//! storage buffer rather than a uniform buffer: Mesa's lavapipe (22.3, Debian 12) bakes
+//! the values of a uniform buffer that steer a shader's loops and branches into the shader,
+//! and so rebuilt it at every pass once the buffer was written (4–5 ms a pass, most of a
+//! 64x64 frame; `cargo bench --bench frame` with FOURFOLD_BENCH_RAYS=0). Offscreen rendering
+//! returns an RGBA image; the viewer draws with the same pipeline into its own target.
 
 use wgpu::util::DeviceExt;
 
@@ -9,6 +13,9 @@ use crate::tree::{Hierarchy, NodeBounds, SphereNode};
 use super::codegen::Shader;
 use super::tiles::{BoxRecord, TileLists};
 use super::uniforms::{FLAG_RANDOM, Uniforms};
+
+/// Storage buffers the ray caster's shader reads (bindings 0-4).
+pub const STORAGE_BUFFERS: u32 = 5;
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -104,6 +111,12 @@ impl Gpu {
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let limits = adapter.limits();
+        if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
+            return Err(GpuError::Device(format!(
+                "{} reads at most {} storage buffers in a shader, and the ray caster needs {}",
+                info.name, limits.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS
+            )));
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("fourfold"),
             // Where the adapter has them: GPU timestamps around a frame's pass
@@ -115,6 +128,7 @@ impl Gpu {
                 max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
                 max_buffer_size: limits.max_buffer_size,
                 max_texture_dimension_2d: limits.max_texture_dimension_2d,
+                max_storage_buffers_per_shader_stage: STORAGE_BUFFERS,
                 ..wgpu::Limits::downlevel_defaults()
             },
             ..Default::default()
@@ -242,7 +256,7 @@ impl RayCaster {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("fourfold bindings"),
             entries: &[
-                buffer_entry(0, wgpu::BufferBindingType::Uniform),
+                buffer_entry(0, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(3, wgpu::BufferBindingType::Storage { read_only: true }),
@@ -270,7 +284,7 @@ impl RayCaster {
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let (nodes, bounds) = node_buffers(gpu, hierarchy)?;

@@ -1,5 +1,6 @@
-//! The uniform block the ray caster reads, laid out exactly as `Uniforms` in
-//! `templates/raycast.wgsl` (1088 bytes), and how a scene fills it.
+//! The block of per-frame settings the ray caster reads (binding 0, a read-only storage
+//! buffer: see `gpu`), laid out exactly as `Uniforms` in `templates/raycast.wgsl` (1088
+//! bytes), and how a scene fills it.
 
 use bytemuck::{Pod, Zeroable};
 
