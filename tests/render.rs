@@ -27,6 +27,41 @@ fn every_example_scene_generates_valid_wgsl() {
     codegen::generate(&CompiledFormula::compile(all).unwrap()).unwrap();
 }
 
+/// Mesa's lavapipe bakes the uniform-buffer values that steer a shader's loops into the
+/// shader, and rebuilt the ray caster at every pass (4-5 ms a pass, see src/render/gpu.rs):
+/// the frame's settings must stay in a storage buffer, with binding 0 as the header says.
+#[test]
+fn the_ray_caster_reads_no_uniform_buffer() {
+    let f = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
+    let shader = codegen::generate(&f).unwrap();
+    let mut bindings = Vec::new();
+    for (_, var) in shader.module.global_variables.iter() {
+        assert_ne!(
+            var.space,
+            naga::AddressSpace::Uniform,
+            "{:?} is a uniform buffer",
+            var.name
+        );
+        if let Some(b) = &var.binding {
+            assert!(
+                matches!(var.space, naga::AddressSpace::Storage { .. }),
+                "{:?}",
+                var.name
+            );
+            bindings.push(b.binding);
+        }
+    }
+    bindings.sort_unstable();
+    assert_eq!(
+        bindings,
+        (0..fourfold::render::gpu::STORAGE_BUFFERS).collect::<Vec<_>>()
+    );
+    assert!(
+        shader.source.contains("binding 0: storage  Uniforms"),
+        "the header documents binding 0"
+    );
+}
+
 #[test]
 fn wgsl_snapshots_of_small_formulas() {
     for text in ["x^2 + y^2 + z^2 + w^2 = 1", "sqrt(x) - R y^5"] {
