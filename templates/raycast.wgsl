@@ -2,7 +2,8 @@
 //
 // Bindings, group 0:
 //   binding 0: storage  Uniforms              view, settings, per-level box sizes, parameters
-//                                             (read-only storage, not uniform: see gpu.rs)
+//                                             (read-only storage, not uniform: see
+//                                             fourfold's src/render/gpu.rs)
 //   binding 1: storage  array<SphereNode>     the sphere hierarchy, depth-first, with skips
 //   binding 2: storage  array<u32>            per-tile box lists (or two unused words)
 //   binding 3: storage  array<BoxRecord>      the boxes the lists index, per view (or one)
@@ -119,7 +120,7 @@ const MARCHED: u32 = 512u;
 const TAU: f32 = 6.28318530718;
 
 // Undefined values (sqrt of a negative, x/0, ...) are NaN, as on the CPU; the NaN comes from
-// the uniform so that no compiler folds it away.
+// the settings buffer so that no compiler folds it away.
 fn ff_nan() -> f32 {
     return bitcast<f32>(u.counts.z);
 }
@@ -655,7 +656,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
     // once when the iteration cap is spent; the pixel is then marked with alpha 254/255 so
     // that the caller can tell the user (the picture may miss parts of M).
-    // (The bound reads a uniform so that no compiler unrolls the loop away.)
+    // (The bound reads the settings so that no compiler unrolls the loop away.)
     let rounds = 3u + (u.control.x >> 31u);
     var probe = 0u;
     loop {

@@ -113,7 +113,9 @@ impl Gpu {
         let limits = adapter.limits();
         if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
             return Err(GpuError::Device(format!(
-                "{} reads at most {} storage buffers in a shader, and the ray caster needs {}",
+                "{} reads at most {} storage buffers in a shader, and the ray caster needs {}; \
+                 use a Vulkan, Metal or DX12 adapter (WGPU_BACKEND=vulkan, or on Linux without \
+                 a GPU: apt-get install -y mesa-vulkan-drivers), or render with --cpu",
                 info.name, limits.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS
             )));
         }
