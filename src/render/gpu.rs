@@ -257,13 +257,7 @@ impl RayCaster {
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("fourfold bindings"),
-            entries: &[
-                buffer_entry(0, wgpu::BufferBindingType::Storage { read_only: true }),
-                buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
-                buffer_entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
-                buffer_entry(3, wgpu::BufferBindingType::Storage { read_only: true }),
-                buffer_entry(4, wgpu::BufferBindingType::Storage { read_only: true }),
-            ],
+            entries: &(0..STORAGE_BUFFERS).map(storage_entry).collect::<Vec<_>>(),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("fourfold pipeline layout"),
@@ -865,12 +859,13 @@ pub fn fullscreen_pipeline(
 }
 
 /// A buffer binding of the fragment stage.
-fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+/// Binding `binding` of the ray caster: a read-only storage buffer (all of them are).
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
         ty: wgpu::BindingType::Buffer {
-            ty,
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
             has_dynamic_offset: false,
             min_binding_size: None,
         },
