@@ -100,7 +100,13 @@ struct BoxRecord {
     center: vec4<f32>,
 }
 
-@group(0) @binding(0) var<storage, read> u: Uniforms;
+@group(0) @binding(0) var<storage, read> settings: Uniforms;
+// The settings as the pixel's code reads them: a copy of binding 0, made once at the top of
+// fs_main. llvmpipe loads a storage buffer in a fragment shader one pixel at a time (a loop
+// over the SIMD group's lanes, in case some are off), even where every pixel reads the same
+// word: read inside the march and the bisection (the bisection's |F| bound, F's parameters)
+// that was a fifth of the chapter's pass. Read once, the copy's words stay in registers.
+var<private> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
 // Per screen tile, the boxes whose sphere may meet a pixel of it: offsets (one per tile, and
 // one past the last), then indices in `boxes`, nearest first. See src/render/tiles.rs.
@@ -594,11 +600,12 @@ fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 // loops once for a group of such pixels, with every lane masked).
 @fragment
 fn fs_background() -> @location(0) vec4<f32> {
-    return vec4<f32>(u.background.rgb, 1.0);
+    return vec4<f32>(settings.background.rgb, 1.0);
 }
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    u = settings;
     let w = f32(u.size.x);
     let h = f32(u.size.y);
     let s = u.misc.x;

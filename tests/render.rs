@@ -62,6 +62,35 @@ fn the_ray_caster_reads_no_uniform_buffer() {
     );
 }
 
+/// llvmpipe loads a storage buffer word per pixel in a fragment shader, so the ray caster
+/// reads its settings (binding 0) once, into a private copy, and its functions read that.
+#[test]
+fn the_ray_caster_reads_its_settings_once() {
+    let f = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 - R^2").unwrap();
+    let shader = codegen::generate(&f).unwrap();
+    let module = &shader.module;
+    let (settings, _) = module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.binding.as_ref().is_some_and(|b| b.binding == 0))
+        .expect("binding 0");
+    let reads = |fun: &naga::Function| {
+        fun.expressions
+            .iter()
+            .filter(|(_, e)| matches!(e, naga::Expression::GlobalVariable(g) if *g == settings))
+            .count()
+    };
+    for (_, fun) in module.functions.iter() {
+        assert_eq!(reads(fun), 0, "{:?} reads binding 0", fun.name);
+    }
+    let main = module
+        .entry_points
+        .iter()
+        .find(|e| e.name == "fs_main")
+        .unwrap();
+    assert_eq!(reads(&main.function), 1, "fs_main copies binding 0 once");
+}
+
 #[test]
 fn wgsl_snapshots_of_small_formulas() {
     for text in ["x^2 + y^2 + z^2 + w^2 = 1", "sqrt(x) - R y^5"] {
