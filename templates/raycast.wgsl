@@ -9,7 +9,7 @@
 //   binding 3: storage  array<BoxRecord>      the boxes the lists index, per view (or one)
 //   binding 4: storage  array<NodeBounds>     per node, bounds on |dF/dx|..|dF/dw| and on F's
 //                                             second derivatives in its box (+-inf: none;
-//                                             see march_ray and bend_along)
+//                                             see march_ray and plane_curvature)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers);
 // fs_main returns the pixel's colour (target format rgba8unorm); fs_background the
 // background, for screen tiles with nothing to march (fourfold draws the tiles with boxes
@@ -59,13 +59,21 @@ struct Uniforms {
 }
 
 // Lower and upper bounds on d2F/dx_i dx_j over a box: the diagonal (xx, yy, zz, ww), then
-// xy, xz, xw, yz, and yw, zw in `rest` (lower, lower, upper, upper). See bend_along.
+// xy, xz, xw, yz, and yw, zw in `rest` (lower, lower, upper, upper). See plane_curvature.
 struct Curvature {
     diag_lo: vec4<f32>,
     diag_hi: vec4<f32>,
     off_lo: vec4<f32>,
     off_hi: vec4<f32>,
     rest: vec4<f32>,
+}
+
+// Bounds on F's second derivatives along the rays of the observer plane (n1, n2): along
+// d = a n1 + b n2, d2F/dt2 lies in a^2 A + ab B + b^2 C, with A = n1.H.n1 in ab.xy, B =
+// n1.H.n2 + n2.H.n1 in ab.zw, C = n2.H.n2 in c (lower, upper). See bend_in_plane.
+struct PlaneCurvature {
+    ab: vec4<f32>,
+    c: vec2<f32>,
 }
 
 // A node's bounds over its box: on |dF/dx|, |dF/dy|, |dF/dz|, |dF/dw|, and on d2F.
@@ -95,9 +103,11 @@ struct BoxRecord {
     view: vec3<f32>,   // centre minus u.center projected on v1, v2; |q| - r
     level: u32,        // bits 0-7 level, bit 8 leaf, bit 9 marched
     angles: vec2<f32>, // angle of q in the observer plane; half angle of the sphere (-1: all rays)
-    node: u32,         // the box's node in binding 1 (its bounds in binding 4)
+    node: u32,         // the box's node in binding 1
     unused: u32,
     center: vec4<f32>,
+    slope: vec4<f32>,  // its node's slope bounds (as in binding 4)
+    form: PlaneCurvature, // its node's curvature bounds in the observer plane (96 bytes in all)
 }
 
 @group(0) @binding(0) var<storage, read> settings: Uniforms;
@@ -351,7 +361,7 @@ fn sample(tr: ptr<function, Tracer>, d: vec4<f32>, t: f32) -> vec2<f32> {
 // Except for brute force (MODE 0) the march steps over the samples that cannot differ in
 // sign from the last one, by two bounds on the span: `slope` bounds |dF/dt| (+inf or NaN:
 // no bound), so none lies within |F| / slope of it; and `bend` bounds d2F/dt2 (see
-// bend_along), so from the last sample's F and dF/dt, F stays between two parabolas, and
+// bend_in_plane), so from the last sample's F and dF/dt, F stays between two parabolas, and
 // none lies before the nearest zero of the one on F's side of 0. That finds the sign
 // changes, and so the roots, of the plain march, with fewer samples of F.
 fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, slope: f32, bend: vec2<f32>) {
@@ -454,35 +464,63 @@ fn angles(q: vec2<f32>, r: f32) -> vec2<f32> {
     return vec2<f32>(atan2(q.y, q.x), delta);
 }
 
-// Bounds [lo, hi] on d2F/dt2 = d.H.d along a ray d in a box whose second derivatives lie
-// in `c` (binding 4), with a margin for f32's rounding; (-inf, +inf) where unbounded.
-fn bend_along(c: Curvature, d: vec4<f32>) -> vec2<f32> {
-    let sq = d * d;
-    // Off the diagonal, H_ij and H_ji: twice d_i d_j.
-    let p = 2.0 * vec4<f32>(d.x * d.y, d.x * d.z, d.x * d.w, d.y * d.z);
-    let q = 2.0 * vec2<f32>(d.y * d.w, d.z * d.w);
-    let pos = p >= vec4<f32>(0.0);
-    let qpos = q >= vec2<f32>(0.0);
-    let lo_p = select(c.off_hi, c.off_lo, pos) * p;
-    let hi_p = select(c.off_lo, c.off_hi, pos) * p;
-    let lo_q = select(c.rest.zw, c.rest.xy, qpos) * q;
-    let hi_q = select(c.rest.xy, c.rest.zw, qpos) * q;
-    let lo = dot(c.diag_lo, sq) + dot(lo_p, vec4<f32>(1.0)) + lo_q.x + lo_q.y;
-    let hi = dot(c.diag_hi, sq) + dot(hi_p, vec4<f32>(1.0)) + hi_q.x + hi_q.y;
-    let mag = dot(max(abs(c.diag_lo), abs(c.diag_hi)), sq) + dot(max(abs(lo_p), abs(hi_p)), vec4<f32>(1.0))
-        + dot(max(abs(lo_q), abs(hi_q)), vec2<f32>(1.0));
+// A box's curvature bounds `c` (binding 4) in the observer plane (fourfold works this out
+// on the CPU for the boxes of the tile lists: Curvature::in_plane): each form is the sum
+// of H_ij's bounds times its coefficient, widened for f32's rounding.
+fn plane_curvature(c: Curvature) -> PlaneCurvature {
+    let n1 = u.n1;
+    let n2 = u.n2;
+    var out: PlaneCurvature;
+    var lo = vec3<f32>(0.0);
+    var hi = vec3<f32>(0.0);
+    var mag = vec3<f32>(0.0);
+    // (i, j) in the order of Curvature: xx, yy, zz, ww, xy, xz, xw, yz, yw, zw.
+    let hl = array<f32, 10>(c.diag_lo.x, c.diag_lo.y, c.diag_lo.z, c.diag_lo.w, c.off_lo.x, c.off_lo.y, c.off_lo.z, c.off_lo.w, c.rest.x, c.rest.y);
+    let hh = array<f32, 10>(c.diag_hi.x, c.diag_hi.y, c.diag_hi.z, c.diag_hi.w, c.off_hi.x, c.off_hi.y, c.off_hi.z, c.off_hi.w, c.rest.z, c.rest.w);
+    let pi = array<u32, 10>(0u, 1u, 2u, 3u, 0u, 0u, 0u, 1u, 1u, 2u);
+    let pj = array<u32, 10>(0u, 1u, 2u, 3u, 1u, 2u, 3u, 2u, 3u, 3u);
+    for (var k = 0u; k < 10u; k = k + 1u) {
+        let i = pi[k];
+        let j = pj[k];
+        let twice = select(2.0, 1.0, i == j);
+        let p = twice * vec3<f32>(n1[i] * n1[j], n1[i] * n2[j] + n2[i] * n1[j], n2[i] * n2[j]);
+        let l = hl[k] * p;
+        let h = hh[k] * p;
+        lo = lo + min(l, h);
+        hi = hi + max(l, h);
+        mag = mag + max(abs(l), abs(h));
+    }
+    let margin = mag * 1e-5;
+    out.ab = vec4<f32>(lo.x - margin.x, hi.x + margin.x, lo.y - margin.y, hi.y + margin.y);
+    out.c = vec2<f32>(lo.z - margin.z, hi.z + margin.z);
+    return out;
+}
+
+// Bounds [lo, hi] on d2F/dt2 along the ray a n1 + b n2 (dir = (a, b)) in a box whose
+// curvature in the observer plane is `f`, with a margin for f32's rounding; (-inf, +inf)
+// where unbounded.
+fn bend_in_plane(f: PlaneCurvature, dir: vec2<f32>) -> vec2<f32> {
+    let a2 = dir.x * dir.x;
+    let b2 = dir.y * dir.y;
+    let ab = dir.x * dir.y;
+    let pos = ab >= 0.0;
+    let bl = select(f.ab.w, f.ab.z, pos) * ab;
+    let bh = select(f.ab.z, f.ab.w, pos) * ab;
+    let lo = a2 * f.ab.x + bl + b2 * f.c.x;
+    let hi = a2 * f.ab.y + bh + b2 * f.c.y;
+    let mag = a2 * max(abs(f.ab.x), abs(f.ab.y)) + max(abs(bl), abs(bh)) + b2 * max(abs(f.c.x), abs(f.c.y));
     let margin = mag * 1e-5 + 1e-30;
     let b = vec2<f32>(lo - margin, hi + margin);
-    // 0 * inf (an unbounded box, a ray along an axis) is NaN: no bound.
+    // 0 * inf (an unbounded box, a ray along n1 or n2) is NaN: no bound.
     return select(vec2<f32>(-ff_inf(), ff_inf()), b, b.x == b.x && b.y == b.y);
 }
 
 // Tries the rays that can meet the box [lo, hi] (its sphere seen at angles `ang` from o,
-// see `angles`) and marches each over its span in the box, with node `node`'s bounds
-// (binding 4; brute force, MODE 0, reads none): its slope bounds |dF/dx|, |dF/dy|, |dF/dz|,
-// |dF/dw| in the box, so |grad F . d| <= slope . |d| along a ray d; its curvature bounds
-// F's second derivatives (see bend_along).
-fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, node: u32) {
+// see `angles`) and marches each over its span in the box, with the box's bounds (brute
+// force, MODE 0, has none: +inf): `slope` bounds |dF/dx|, |dF/dy|, |dF/dz|, |dF/dw| in the
+// box, so |grad F . d| <= slope . |d| along a ray d; `form` bounds F's second derivatives
+// along the rays of the observer plane (see bend_in_plane).
+fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
     let n = u.size.z;
     let ni = i32(n);
     // Stratified rays are at angles TAU (k + offset) / n: only the k within the sphere's
@@ -493,12 +531,6 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
     let k1 = i32(floor((ang.x + ang.y) * scale - (*tr).offset));
     let rcount = select(n, u32(clamp(k1 - k0 + 1, 0, ni)), stratified);
     let nsteps = max(steps, 1u);
-    var slope = vec4<f32>(ff_inf());
-    var curv: Curvature;
-    if (MODE != 0u) {
-        slope = bounds[node].slope;
-        curv = bounds[node].curvature;
-    }
     // (Tested at the end: see "The pixel's work".)
     var j = 0u;
     if (rcount > 0u) {
@@ -514,7 +546,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
             let span = clip_to_box((*tr).o, d, lo, hi);
             if (span.x < span.y && span.x < (*tr).hits.far) {
                 (*tr).k = k;
-                march_ray(tr, d, span.x, span.y, nsteps, dot(abs(d), slope), bend_along(curv, d));
+                march_ray(tr, d, span.x, span.y, nsteps, dot(abs(d), slope), bend_in_plane(form, dir));
             }
             j = j + 1u;
             if (j >= rcount) {
@@ -568,7 +600,7 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & MARCHED) != 0u;
     if (meets && near && boxed) {
-        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), i);
+        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), bounds[i].slope, plane_curvature(bounds[i].curvature));
     }
     return vec2<bool>(meets, near);
 }
@@ -584,7 +616,7 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let near = view.z < (*tr).hits.far;
     if (meets && near) {
         let c = boxes[i].center;
-        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].node);
+        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope, boxes[i].form);
     }
     return near;
 }
@@ -627,7 +659,10 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             let c = 0.5 * (u.domain_lo + u.domain_hi);
             let half = 0.5 * (u.domain_hi - u.domain_lo);
             let rel = c - tr.o;
-            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, 0u);
+            var none: PlaneCurvature;
+            none.ab = vec4<f32>(-ff_inf(), ff_inf(), -ff_inf(), ff_inf());
+            none.c = vec2<f32>(-ff_inf(), ff_inf());
+            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec4<f32>(ff_inf()), none);
         } else if (MODE == 1u) {
             // The list is nearest first: past the first box that cannot hold a hit nearer
             // than the K kept, none can.

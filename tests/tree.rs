@@ -9,6 +9,7 @@ use common::{Rng, build, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
 use fourfold::formula::HESSIAN_PAIRS;
+use fourfold::render::Rotation4;
 use fourfold::scene::{Domain, Scene};
 use fourfold::tree::hierarchy::{MARCH_BIT, MARCH_LEVELS_ABOVE_FINEST};
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
@@ -398,6 +399,91 @@ fn slope_and_curvature_bounds_hold_at_sampled_points_of_every_box() {
             let marched = h.nodes.iter().filter(|n| n.is_marched()).count();
             assert_eq!(bent, marched, "{name}");
         }
+    }
+}
+
+#[test]
+fn curvature_in_the_observer_plane_bounds_every_ray_of_the_plane() {
+    // Curvature::in_plane gives A, B, C such that d2F/dt2 along d = a n1 + b n2 lies in
+    // a^2 A + ab B + b^2 C: the tile lists' boxes carry them, and the march steps over
+    // samples on that promise.
+    let mut eval = PointEvaluator::new();
+    let mut rng = Rng(77);
+    for (name, scene) in example_scenes() {
+        let (f, params, tree) = build(
+            &scene,
+            BuildSettings {
+                max_level: 3,
+                min_level: 3,
+                node_budget: 200_000,
+            },
+        );
+        let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
+        h.bound_slopes(&f, &params);
+        let mut checked = 0;
+        for (i, node) in h.nodes.iter().enumerate().step_by(7) {
+            let curvature = h.curvature(i);
+            let angles: [f64; 6] = std::array::from_fn(|_| rng.range(-3.2, 3.2));
+            let rotation = Rotation4::from_angles(angles);
+            let (n1, n2) = (rotation.row(2), rotation.row(3));
+            let [al, ah, bl, bh, cl, ch] = curvature.in_plane(n1, n2).map(f64::from);
+            if !curvature.is_bounded() {
+                assert!(al.is_infinite() && ah.is_infinite(), "{name}: node {i}");
+                continue;
+            }
+            let half = h.levels[node.level() as usize].half;
+            for _ in 0..6 {
+                let p: [f64; 4] = std::array::from_fn(|k| {
+                    let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
+                    rng.range(c - r, c + r)
+                });
+                let phi = rng.range(0.0, std::f64::consts::TAU);
+                let (a, b) = (phi.cos(), phi.sin());
+                let d: [f64; 4] = std::array::from_fn(|k| a * n1[k] + b * n2[k]);
+                let mut out = [0.0; 15];
+                eval.eval_into(&f.tape_second, p, &params, &mut out);
+                let bend: f64 = HESSIAN_PAIRS
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &(x, y))| {
+                        let (x, y) = (usize::from(x), usize::from(y));
+                        out[k + 5] * d[x] * d[y] * if x == y { 1.0 } else { 2.0 }
+                    })
+                    .sum();
+                if !bend.is_finite() {
+                    continue;
+                }
+                let ab = a * b;
+                let lo = a * a * al + (ab * bl).min(ab * bh) + b * b * cl;
+                let hi = a * a * ah + (ab * bl).max(ab * bh) + b * b * ch;
+                let slack = 1e-9 * (1.0 + bend.abs());
+                assert!(
+                    lo - slack <= bend && bend <= hi + slack,
+                    "{name}: node {i}: d2F/dt2 = {bend} outside [{lo}, {hi}]"
+                );
+                checked += 1;
+            }
+        }
+        eprintln!("{name}: {checked} samples checked");
+    }
+    // For the glome H = 2I exactly: A = C = 2, B = 0, for any observer plane.
+    let (f, params, tree) = build(
+        &glome(),
+        BuildSettings {
+            max_level: 2,
+            min_level: 2,
+            node_budget: 10_000,
+        },
+    );
+    let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
+    h.bound_slopes(&f, &params);
+    let rotation = Rotation4::from_angles([0.3, 1.1, -0.7, 2.0, 0.5, -1.3]);
+    let leaf = (0..h.nodes.len())
+        .find(|&i| h.curvature(i).is_bounded())
+        .expect("a box with curvature bounds");
+    let form = h.curvature(leaf).in_plane(rotation.row(2), rotation.row(3));
+    for (v, want) in form.iter().zip([2.0, 2.0, 0.0, 0.0, 2.0, 2.0]) {
+        assert!((f64::from(*v) - want).abs() < 1e-4, "{form:?}");
     }
 }
 

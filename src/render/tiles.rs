@@ -67,12 +67,20 @@ pub struct BoxRecord {
     /// The angle of q in the observer plane, and the half angle the sphere spans seen from
     /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
     pub angles: [f32; 2],
-    /// The box's index in the hierarchy (its slope bounds, `Hierarchy::slope`, are in the
-    /// shader's binding 4: a ray d sees F change by at most Σ slope_k·|d_k| per unit length).
+    /// The box's index in the hierarchy.
     pub node: u32,
     pub unused: u32,
     /// The box's centre.
     pub center: [f32; 4],
+    /// Its slope bounds (`Hierarchy::slope`: a ray d sees F change by at most
+    /// Σ slope_k·|d_k| per unit length).
+    pub slope: [f32; 4],
+    /// Its curvature bounds in the observer plane (`Curvature::in_plane`): A (lower,
+    /// upper) and B, then in `form_c` C; a ray a·n1 + b·n2 sees d²F/dt² within
+    /// a²·A + ab·B + b²·C.
+    pub form: [f32; 4],
+    pub form_c: [f32; 2],
+    pub unused2: [f32; 2],
 }
 
 /// The per-tile box lists of one view, and the records of the boxes they index.
@@ -176,7 +184,7 @@ fn row_span(f: &Footprint, r: &Reach, t: u32, ty: u32, w: u32) -> Option<(u32, u
 
 /// The record of node `i`, given its centre minus the camera's centre projected on v1, v2,
 /// n1 and n2 (see [`BoxRecord`]).
-fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord {
+fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4], camera: &Camera) -> BoxRecord {
     let node = &hierarchy.nodes[i as usize];
     let level_radius = f64::from(hierarchy.levels[node.level() as usize].radius);
     let dist = q1.hypot(q2);
@@ -187,6 +195,9 @@ fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord 
     } else {
         -1.0
     };
+    let [al, ah, bl, bh, cl, ch] = hierarchy
+        .curvature(i as usize)
+        .in_plane(camera.n1, camera.n2);
     BoxRecord {
         view: [a as f32, b as f32, (dist - level_radius) as f32],
         level: node.meta,
@@ -194,6 +205,10 @@ fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4]) -> BoxRecord 
         node: i,
         unused: 0,
         center: node.center,
+        slope: hierarchy.slope(i as usize),
+        form: [al, ah, bl, bh],
+        form_c: [cl, ch],
+        unused2: [0.0; 2],
     }
 }
 
@@ -379,7 +394,7 @@ impl TileLists {
                 let (cx, cy, view) = project(node.center);
                 pixel_range(cx, r.hx, w)?;
                 pixel_range(cy, r.hy, h)?;
-                let record = record(hierarchy, i as u32, view);
+                let record = record(hierarchy, i as u32, view, camera);
                 Some((order_key(record.view[2]), i as u32, record))
             })
             .collect();
