@@ -422,30 +422,27 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         // the last midpoint is the root (the middle of the step with no iterations). Once
         // f32 cannot split the bracket, the midpoint is one of its ends, and every further
         // iteration keeps it: stop there (the same root, fewer samples of F).
-        var bisecting = true;
         var lo = ta;
         var hi = tb;
         var flo = fa.x;
         var tm = 0.5 * (lo + hi);
         var it = 0u;
-        loop {
-            if (!bisecting || it >= iters) {
-                break;
+        // (One exit, tested at the end: each `break` costs a SIMD rasterizer mask updates.)
+        if (iters > 0u) {
+            loop {
+                tm = 0.5 * (lo + hi);
+                let split = tm != lo && tm != hi;
+                let fm = ff_f((*tr).o + tm * d);
+                let go = split && !(abs(fm) < u.root.x);
+                let keep_lo = (fm < 0.0) == (flo < 0.0);
+                lo = select(lo, tm, go && keep_lo);
+                flo = select(flo, fm, go && keep_lo);
+                hi = select(hi, tm, go && !keep_lo);
+                it = it + 1u;
+                if (!go || it >= iters) {
+                    break;
+                }
             }
-            tm = 0.5 * (lo + hi);
-            if (tm == lo || tm == hi) {
-                break;
-            }
-            let fm = ff_f((*tr).o + tm * d);
-            if (abs(fm) < u.root.x) {
-                bisecting = false;
-            } else if ((fm < 0.0) == (flo < 0.0)) {
-                lo = tm;
-                flo = fm;
-            } else {
-                hi = tm;
-            }
-            it = it + 1u;
         }
         insert_hit(tr, tm);
         // The march goes on from the step's end.
