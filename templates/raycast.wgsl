@@ -427,7 +427,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         var flo = fa.x;
         var tm = 0.5 * (lo + hi);
         var it = 0u;
-        // (One exit, tested at the end: each `break` costs a SIMD rasterizer mask updates.)
+        // (One exit, tested at the end: llvmpipe updates its lane masks at each `break`.)
         if (iters > 0u) {
             loop {
                 tm = 0.5 * (lo + hi);

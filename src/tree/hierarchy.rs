@@ -216,12 +216,41 @@ impl Curvature {
     /// the shader bounds its rays by the observer plane's forms instead
     /// ([`Curvature::in_plane`]).
     pub fn along(&self, d: [f64; 4]) -> (f32, f32) {
+        self.form(|i, j| d[i] * d[j])
+            .unwrap_or((f32::NEG_INFINITY, f32::INFINITY))
+    }
+
+    /// Bounds on the second derivative along any ray in the plane of `n1` and `n2`: for
+    /// d = a·n1 + b·n2, dᵀ H d = a²·A + ab·B + b²·C with A = n1ᵀ H n1, B = n1ᵀ H n2 + n2ᵀ H n1
+    /// and C = n2ᵀ H n2, and this is [A lo, A hi, B lo, B hi, C lo, C hi], rounded outwards
+    /// past f32's rounding; all infinite where unbounded. A view's rays all lie in that
+    /// plane, so the shader works A, B and C out once per box and view (a box record, see
+    /// `render::tiles`), not a ray's 10 products per ray. No looser than [`Curvature::along`]
+    /// where H is exact or n1, n2 are coordinate axes (the glome, the chapter's views);
+    /// elsewhere the sum over the three forms can be wider.
+    pub fn in_plane(&self, n1: [f64; 4], n2: [f64; 4]) -> [f32; 6] {
+        let forms = [
+            self.form(|i, j| n1[i] * n1[j]),
+            self.form(|i, j| n1[i] * n2[j] + n2[i] * n1[j]),
+            self.form(|i, j| n2[i] * n2[j]),
+        ];
+        match forms {
+            [Some(a), Some(b), Some(c)] => [a.0, a.1, b.0, b.1, c.0, c.1],
+            _ => {
+                let (lo, hi) = (f32::NEG_INFINITY, f32::INFINITY);
+                [lo, hi, lo, hi, lo, hi]
+            }
+        }
+    }
+
+    /// Bounds on Σ_ij H_ij·p(i, j) over the box (H symmetric: twice p off the diagonal),
+    /// rounded outwards past f32's rounding; None where not finite.
+    fn form(&self, p: impl Fn(usize, usize) -> f64) -> Option<(f32, f32)> {
         let (lo, hi) = self.pairs();
         let (mut a, mut b, mut mag) = (0.0f64, 0.0f64, 0.0f64);
         for (k, &(i, j)) in HESSIAN_PAIRS.iter().enumerate() {
             let (i, j) = (usize::from(i), usize::from(j));
-            // Off the diagonal, H_ij and H_ji: twice the term.
-            let p = d[i] * d[j] * if i == j { 1.0 } else { 2.0 };
+            let p = p(i, j) * if i == j { 1.0 } else { 2.0 };
             if p == 0.0 {
                 continue;
             }
@@ -236,54 +265,10 @@ impl Curvature {
             mag += x.abs().max(y.abs());
         }
         if !(a.is_finite() && b.is_finite()) {
-            return (f32::NEG_INFINITY, f32::INFINITY);
+            return None;
         }
         let margin = mag * 1e-6;
-        ((a - margin) as f32, (b + margin) as f32)
-    }
-
-    /// Bounds on the second derivative along any ray in the plane of `n1` and `n2`: for
-    /// d = a·n1 + b·n2, dᵀ H d = a²·A + ab·B + b²·C with A = n1ᵀ H n1, B = n1ᵀ H n2 + n2ᵀ H n1
-    /// and C = n2ᵀ H n2, and this is [A lo, A hi, B lo, B hi, C lo, C hi], rounded outwards
-    /// past f32's rounding; all infinite where unbounded. A view's rays all lie in that
-    /// plane, so the shader works A, B and C out once per box and view (a box record, see
-    /// `render::tiles`), not a ray's 10 products per ray. No looser than [`Curvature::along`]
-    /// where H is exact or n1, n2 are coordinate axes (the glome, the chapter's views);
-    /// elsewhere the sum over the three forms can be wider.
-    pub fn in_plane(&self, n1: [f64; 4], n2: [f64; 4]) -> [f32; 6] {
-        if !self.is_bounded() {
-            return [
-                f32::NEG_INFINITY,
-                f32::INFINITY,
-                f32::NEG_INFINITY,
-                f32::INFINITY,
-                f32::NEG_INFINITY,
-                f32::INFINITY,
-            ];
-        }
-        let (lo, hi) = self.pairs();
-        let mut out = [0f32; 6];
-        // The coefficient of H_ij (and H_ji) in each form.
-        let forms: [&dyn Fn(usize, usize) -> f64; 3] = [
-            &|i, j| n1[i] * n1[j],
-            &|i, j| n1[i] * n2[j] + n2[i] * n1[j],
-            &|i, j| n2[i] * n2[j],
-        ];
-        for (f, form) in forms.iter().enumerate() {
-            let (mut a, mut b, mut mag) = (0.0f64, 0.0f64, 0.0f64);
-            for (k, &(i, j)) in HESSIAN_PAIRS.iter().enumerate() {
-                let (i, j) = (usize::from(i), usize::from(j));
-                let p = form(i, j) * if i == j { 1.0 } else { 2.0 };
-                let (l, h) = (f64::from(lo[k]) * p, f64::from(hi[k]) * p);
-                a += l.min(h);
-                b += l.max(h);
-                mag += l.abs().max(h.abs());
-            }
-            let margin = mag * 1e-6;
-            out[2 * f] = (a - margin) as f32;
-            out[2 * f + 1] = (b + margin) as f32;
-        }
-        out
+        Some(((a - margin) as f32, (b + margin) as f32))
     }
 }
 
