@@ -12,7 +12,7 @@ use fourfold::formula::HESSIAN_PAIRS;
 use fourfold::render::Rotation4;
 use fourfold::scene::{Domain, Scene};
 use fourfold::tree::hierarchy::{MARCH_BIT, MARCH_LEVELS_ABOVE_FINEST};
-use fourfold::tree::{BuildError, BuildSettings, Hierarchy, Tree16};
+use fourfold::tree::{BuildError, BuildSettings, Hierarchy, SphereNode, Tree16};
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
 fn points_on_manifold(
@@ -320,6 +320,35 @@ fn no_surface_gives_an_empty_tree() {
     assert!(Hierarchy::from_tree(&tree).is_empty());
 }
 
+/// Every node of `scene`'s tree refined to levels `min..=max`, with its slope and curvature
+/// bounds, and the formula and parameters.
+fn bounded_hierarchy(
+    scene: &Scene,
+    min_level: u32,
+    max_level: u32,
+) -> (CompiledFormula, Vec<f64>, Hierarchy) {
+    let (f, params, tree) = build(
+        scene,
+        BuildSettings {
+            max_level,
+            min_level,
+            node_budget: 200_000,
+        },
+    );
+    let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
+    h.bound_slopes(&f, &params);
+    (f, params, h)
+}
+
+/// A random point of node `node`'s box.
+fn point_in(h: &Hierarchy, node: &SphereNode, rng: &mut Rng) -> [f64; 4] {
+    let half = h.levels[node.level() as usize].half;
+    std::array::from_fn(|k| {
+        let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
+        rng.range(c - r, c + r)
+    })
+}
+
 #[test]
 fn slope_and_curvature_bounds_hold_at_sampled_points_of_every_box() {
     // Hierarchy::slopes bound |∂F/∂x_k| and Hierarchy::curvature ∂²F/∂x_i∂x_j over each box:
@@ -328,16 +357,7 @@ fn slope_and_curvature_bounds_hold_at_sampled_points_of_every_box() {
     let mut eval = PointEvaluator::new();
     let mut rng = Rng(2024);
     for (name, scene) in example_scenes() {
-        let (f, params, tree) = build(
-            &scene,
-            BuildSettings {
-                max_level: 4,
-                min_level: 3,
-                node_budget: 200_000,
-            },
-        );
-        let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
-        h.bound_slopes(&f, &params);
+        let (f, params, h) = bounded_hierarchy(&scene, 3, 4);
         assert_eq!(h.slopes.len(), h.nodes.len(), "{name}");
         assert_eq!(h.curvature.len(), h.nodes.len(), "{name}");
         let (mut bounded, mut bent) = (0, 0);
@@ -350,12 +370,8 @@ fn slope_and_curvature_bounds_hold_at_sampled_points_of_every_box() {
             if h.curvature(i).is_bounded() {
                 bent += 1;
             }
-            let half = h.levels[node.level() as usize].half;
             for _ in 0..8 {
-                let p: [f64; 4] = std::array::from_fn(|k| {
-                    let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
-                    rng.range(c - r, c + r)
-                });
+                let p = point_in(&h, node, &mut rng);
                 let mut out = [0.0; 15];
                 eval.eval_into(&f.tape_second, p, &params, &mut out);
                 for (k, &(a, b)) in HESSIAN_PAIRS.iter().enumerate() {
@@ -410,16 +426,7 @@ fn curvature_in_the_observer_plane_bounds_every_ray_of_the_plane() {
     let mut eval = PointEvaluator::new();
     let mut rng = Rng(77);
     for (name, scene) in example_scenes() {
-        let (f, params, tree) = build(
-            &scene,
-            BuildSettings {
-                max_level: 3,
-                min_level: 3,
-                node_budget: 200_000,
-            },
-        );
-        let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
-        h.bound_slopes(&f, &params);
+        let (f, params, h) = bounded_hierarchy(&scene, 3, 3);
         let mut checked = 0;
         for (i, node) in h.nodes.iter().enumerate().step_by(7) {
             let curvature = h.curvature(i);
@@ -431,12 +438,8 @@ fn curvature_in_the_observer_plane_bounds_every_ray_of_the_plane() {
                 assert!(al.is_infinite() && ah.is_infinite(), "{name}: node {i}");
                 continue;
             }
-            let half = h.levels[node.level() as usize].half;
             for _ in 0..6 {
-                let p: [f64; 4] = std::array::from_fn(|k| {
-                    let (c, r) = (f64::from(node.center[k]), f64::from(half[k]));
-                    rng.range(c - r, c + r)
-                });
+                let p = point_in(&h, node, &mut rng);
                 let phi = rng.range(0.0, std::f64::consts::TAU);
                 let (a, b) = (phi.cos(), phi.sin());
                 let d: [f64; 4] = std::array::from_fn(|k| a * n1[k] + b * n2[k]);
@@ -467,16 +470,7 @@ fn curvature_in_the_observer_plane_bounds_every_ray_of_the_plane() {
         eprintln!("{name}: {checked} samples checked");
     }
     // For the glome H = 2I exactly: A = C = 2, B = 0, for any observer plane.
-    let (f, params, tree) = build(
-        &glome(),
-        BuildSettings {
-            max_level: 2,
-            min_level: 2,
-            node_budget: 10_000,
-        },
-    );
-    let mut h = Hierarchy::from_tree_at(&tree, u32::MAX);
-    h.bound_slopes(&f, &params);
+    let (_, _, h) = bounded_hierarchy(&glome(), 2, 2);
     let rotation = Rotation4::from_angles([0.3, 1.1, -0.7, 2.0, 0.5, -1.3]);
     let leaf = (0..h.nodes.len())
         .find(|&i| h.curvature(i).is_bounded())
