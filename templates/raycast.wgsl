@@ -10,7 +10,8 @@
 //   binding 4: storage  array<NodeBounds>     per node, bounds on |dF/dx|..|dF/dw| and on F's
 //                                             second derivatives in its box (+-inf: none;
 //                                             see march_ray and plane_curvature)
-// Entry points: vs_main draws one triangle covering the target (no vertex buffers);
+// Entry points: vs_main draws one triangle covering the target (no vertex buffers; it reads
+// binding 0 too, and hands some settings to the fragment stage as flat values, see Flat);
 // fs_main returns the pixel's colour (target format rgba8unorm); fs_background the
 // background, for screen tiles with nothing to march (fourfold draws the tiles with boxes
 // with fs_main and the others with fs_background, each run of tiles within a scissor
@@ -112,10 +113,11 @@ struct BoxRecord {
 
 @group(0) @binding(0) var<storage, read> settings: Uniforms;
 // The settings as the pixel's code reads them: a copy of binding 0, made once at the top of
-// fs_main. llvmpipe loads a storage buffer in a fragment shader one pixel at a time (a loop
-// over the SIMD group's lanes, in case some are off), even where every pixel reads the same
-// word: read inside the march and the bisection (the bisection's |F| bound, F's parameters)
-// that was a fifth of the chapter's pass. Read once, the copy's words stay in registers.
+// fs_main (the most read of them come from vs_main: see Flat). llvmpipe loads a storage
+// buffer in a fragment shader one pixel at a time (a loop over the SIMD group's lanes, in
+// case some are off), even where every pixel reads the same word: read inside the march
+// and the bisection (the bisection's |F| bound, F's parameters) that was a fifth of the
+// chapter's pass. Read once, the copy's words stay in registers.
 var<private> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
 // Per screen tile, the boxes whose sphere may meet a pixel of it: offsets (one per tile, and
@@ -618,11 +620,41 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     return near;
 }
 
+// The settings the pixel's code reads most, handed from vs_main to the fragment shaders as
+// flat (per triangle) values: llvmpipe reads a flat input for a group of pixels in one
+// load, where it reads a storage buffer's word lane by lane (see `u`). fs_main puts them
+// in its copy of the settings.
+struct Flat {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(flat) v1: vec4<f32>,
+    @location(1) @interpolate(flat) v2: vec4<f32>,
+    @location(2) @interpolate(flat) n1: vec4<f32>,
+    @location(3) @interpolate(flat) n2: vec4<f32>,
+    @location(4) @interpolate(flat) center: vec4<f32>,
+    @location(5) @interpolate(flat) half0: vec4<f32>,
+    @location(6) @interpolate(flat) misc: vec4<f32>,
+    @location(7) @interpolate(flat) root: vec4<f32>,
+    @location(8) @interpolate(flat) size: vec4<u32>,
+    @location(9) @interpolate(flat) control: vec4<u32>,
+}
+
 @vertex
-fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+fn vs_main(@builtin(vertex_index) i: u32) -> Flat {
     let x = f32((i << 1u) & 2u) * 2.0 - 1.0;
     let y = f32(i & 2u) * 2.0 - 1.0;
-    return vec4<f32>(x, y, 0.0, 1.0);
+    var o: Flat;
+    o.pos = vec4<f32>(x, y, 0.0, 1.0);
+    o.v1 = settings.v1;
+    o.v2 = settings.v2;
+    o.n1 = settings.n1;
+    o.n2 = settings.n2;
+    o.center = settings.center;
+    o.half0 = settings.half0;
+    o.misc = settings.misc;
+    o.root = settings.root;
+    o.size = settings.size;
+    o.control = settings.control;
+    return o;
 }
 
 // What fs_main returns where a pixel finds no root (a SIMD rasterizer would run fs_main's
@@ -633,8 +665,20 @@ fn fs_background() -> @location(0) vec4<f32> {
 }
 
 @fragment
-fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
+    let pos = fl.pos;
+    // The settings: from binding 0, but for those vs_main hands over.
     u = settings;
+    u.v1 = fl.v1;
+    u.v2 = fl.v2;
+    u.n1 = fl.n1;
+    u.n2 = fl.n2;
+    u.center = fl.center;
+    u.half0 = fl.half0;
+    u.misc = fl.misc;
+    u.root = fl.root;
+    u.size = fl.size;
+    u.control = fl.control;
     let w = f32(u.size.x);
     let h = f32(u.size.y);
     let s = u.misc.x;

@@ -858,12 +858,18 @@ pub fn fullscreen_pipeline(
     })
 }
 
-/// A buffer binding of the fragment stage.
-/// Binding `binding` of the ray caster: a read-only storage buffer (all of them are).
+/// Binding `binding` of the ray caster: a read-only storage buffer (all of them are), read
+/// by the fragment stage, and the settings (binding 0) by the vertex stage too (which hands
+/// the most read of them to the fragment stage as flat values).
 fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    let visibility = if binding == 0 {
+        wgpu::ShaderStages::VERTEX_FRAGMENT
+    } else {
+        wgpu::ShaderStages::FRAGMENT
+    };
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
+        visibility,
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Storage { read_only: true },
             has_dynamic_offset: false,
