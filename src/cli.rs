@@ -55,8 +55,12 @@ pub struct Input {
 pub struct TreeArgs {
     #[command(flatten)]
     pub input: Input,
+    /// Deepest level of the 16-tree (the scene's, else 6): each level halves the boxes'
+    /// sides; boxes that may hold M are split down to it.
     #[arg(long)]
     pub max_level: Option<u32>,
+    /// Level down to which every box is split, whatever the interval test says (the
+    /// scene's, else 4; at most --max-level).
     #[arg(long)]
     pub min_level: Option<u32>,
     /// Most nodes the tree may keep.
@@ -92,12 +96,17 @@ pub struct RenderArgs {
     /// The six rotation angles θ1..θ6 in radians.
     #[arg(long, allow_hyphen_values = true)]
     pub angles: Option<String>,
+    /// Rays per pixel in its observer plane, 1 to 1024 (the scene's, else 16): more rays
+    /// miss less of M.
     #[arg(long)]
     pub rays: Option<u32>,
+    /// Nearest hits kept and blended per pixel, 1 to 16 (the scene's, else 4).
     #[arg(long)]
     pub hits: Option<u32>,
+    /// Deepest level of the 16-tree (the scene's, else 6): finer boxes, finer steps.
     #[arg(long)]
     pub max_level: Option<u32>,
+    /// Level down to which every box is split (the scene's, else 4; at most --max-level).
     #[arg(long)]
     pub min_level: Option<u32>,
     /// Background colour, RRGGBB.
@@ -106,16 +115,21 @@ pub struct RenderArgs {
     /// random (the chapter's) or stratified.
     #[arg(long)]
     pub sampling: Option<String>,
+    /// Weight of the nearer hit when blending, 0 to 1 (the scene's, else 0.7).
     #[arg(long)]
     pub alpha: Option<f64>,
+    /// Magnification, above 0 (1: the whole domain fits the shorter side).
     #[arg(long)]
     pub zoom: Option<f64>,
+    /// No highlight on the silhouette (where ∇F is almost perpendicular to both observer
+    /// directions n1 and n2).
     #[arg(long)]
     pub no_silhouette: bool,
     /// March every ray across the whole domain (finest leaves' step) instead of the tree's
     /// boxes: the same picture, faster on some scenes and shallow trees.
     #[arg(long)]
     pub brute_force: bool,
+    /// No highlight near the faces of the domain.
     #[arg(long)]
     pub no_border: bool,
     /// Flat colour instead of Phong lighting.
