@@ -318,11 +318,20 @@ impl FourfoldApp {
             self.session.set_text(&text, self.gpu.as_ref());
         }
         if let Some(error) = &self.session.error {
-            ui.label(
-                RichText::new(error)
-                    .monospace()
-                    .color(Color32::from_rgb(255, 110, 100)),
-            );
+            // Unwrapped (scrolled sideways where wider than the panel), so that the caret
+            // and its label stay under the part of the formula they point at.
+            egui::ScrollArea::horizontal()
+                .id_salt("formula error")
+                .show(ui, |ui| {
+                    ui.add(
+                        egui::Label::new(
+                            RichText::new(error)
+                                .monospace()
+                                .color(Color32::from_rgb(255, 110, 100)),
+                        )
+                        .wrap_mode(egui::TextWrapMode::Extend),
+                    );
+                });
         } else if let Some(f) = &self.session.formula {
             ui.label(RichText::new(format!("F = {}", f.f_text())).small().weak());
         }
