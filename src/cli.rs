@@ -57,14 +57,14 @@ pub struct TreeArgs {
     pub input: Input,
     /// Deepest level of the 16-tree (the scene's, else 6): each level halves the boxes'
     /// sides; boxes that may hold M are split down to it.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_level: Option<u32>,
     /// Level down to which every box is split, whatever the interval test says (the
     /// scene's, else 4; at most --max-level).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub min_level: Option<u32>,
     /// Most nodes the tree may keep.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub node_budget: Option<u32>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -98,16 +98,16 @@ pub struct RenderArgs {
     pub angles: Option<String>,
     /// Rays per pixel in its observer plane, 1 to 1024 (the scene's, else 16): more rays
     /// miss less of M.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub rays: Option<u32>,
     /// Nearest hits kept and blended per pixel, 1 to 16 (the scene's, else 4).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub hits: Option<u32>,
     /// Deepest level of the 16-tree (the scene's, else 6): finer boxes, finer steps.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_level: Option<u32>,
     /// Level down to which every box is split (the scene's, else 4; at most --max-level).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub min_level: Option<u32>,
     /// Background colour, RRGGBB.
     #[arg(long)]
@@ -115,11 +115,24 @@ pub struct RenderArgs {
     /// random (the chapter's) or stratified.
     #[arg(long)]
     pub sampling: Option<String>,
+    /// Steps m of the composite interval method per leaf span, 1 to 256 (the scene's, else
+    /// 8): more find roots closer together.
+    #[arg(long, allow_hyphen_values = true)]
+    pub steps: Option<u32>,
+    /// Most bisection iterations per root, 1 to 256 (the scene's, else 24).
+    #[arg(long, allow_hyphen_values = true)]
+    pub bisection_iters: Option<u32>,
+    /// The bisection stops once |F| is below this, ≥ 0 (the scene's, else 1e-6).
+    #[arg(long, allow_hyphen_values = true)]
+    pub approximation: Option<f64>,
+    /// Seed of the random rays and of the stratified offsets (the scene's, else 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub seed: Option<u32>,
     /// Weight of the nearer hit when blending, 0 to 1 (the scene's, else 0.7).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub alpha: Option<f64>,
     /// Magnification, above 0 (1: the whole domain fits the shorter side).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub zoom: Option<f64>,
     /// No highlight on the silhouette (where ∇F is almost perpendicular to both observer
     /// directions n1 and n2).
@@ -500,6 +513,32 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
                 )));
             }
         };
+    }
+    for (flag, value, field) in [
+        ("--steps", args.steps, &mut r.steps),
+        (
+            "--bisection-iters",
+            args.bisection_iters,
+            &mut r.bisection_iters,
+        ),
+    ] {
+        if let Some(v) = value {
+            if !(1..=256).contains(&v) {
+                return Err(Failure::usage(format!("{flag} {v}: between 1 and 256")));
+            }
+            *field = v;
+        }
+    }
+    if let Some(a) = args.approximation {
+        if !(a.is_finite() && a >= 0.0) {
+            return Err(Failure::usage(format!(
+                "--approximation {a}: a number ≥ 0 (0: never stop early)"
+            )));
+        }
+        r.approximation = a;
+    }
+    if let Some(seed) = args.seed {
+        r.seed = seed;
     }
     if let Some(a) = args.alpha {
         if !(0.0..=1.0).contains(&a) {

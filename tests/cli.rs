@@ -1,0 +1,145 @@
+//! The command line's `render` flags: each overrides the scene file, and a bad value is a
+//! usage error (exit code 2) that names the flag and says what it takes, never a panic.
+
+use clap::Parser;
+use fourfold::cli::{Cli, Command, Failure, RenderArgs, render_scene_of};
+use fourfold::scene::{Sampling, Scene};
+
+const SCENE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/examples/scenes/fig-3-9-left.toml"
+);
+
+fn render_args(flags: &[&str]) -> RenderArgs {
+    let argv = ["fourfold", "render", SCENE, "-o", "x.png"]
+        .iter()
+        .chain(flags)
+        .copied();
+    match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {
+        Cli {
+            command: Some(Command::Render(args)),
+        } => args,
+        other => panic!("{flags:?} parsed as {other:?}"),
+    }
+}
+
+fn scene(flags: &[&str]) -> Result<Scene, Failure> {
+    render_scene_of(&render_args(flags))
+}
+
+#[test]
+fn render_flags_override_the_scene_file() {
+    let file = Scene::load(std::path::Path::new(SCENE)).unwrap();
+    let plain = scene(&[]).unwrap();
+    assert_eq!(plain.render, file.render);
+    assert_eq!(plain.view, file.view);
+    let s = scene(&[
+        "--rays",
+        "5",
+        "--hits",
+        "2",
+        "--steps",
+        "12",
+        "--bisection-iters",
+        "7",
+        "--approximation",
+        "0.001",
+        "--seed",
+        "42",
+        "--sampling",
+        "random",
+        "--alpha",
+        "0.25",
+        "--zoom",
+        "2",
+        "--angles",
+        "0.1,-0.2,0.3,0,0,1",
+        "--max-level",
+        "5",
+        "--min-level",
+        "3",
+        "--background",
+        "102030",
+        "--no-silhouette",
+        "--no-border",
+        "--no-lighting",
+        "--brute-force",
+    ])
+    .unwrap();
+    let r = &s.render;
+    assert_eq!((r.rays, r.hits, r.steps, r.bisection_iters), (5, 2, 12, 7));
+    assert_eq!((r.approximation, r.seed, r.alpha), (0.001, 42, 0.25));
+    assert_eq!(r.sampling, Sampling::Random);
+    assert_eq!(r.background.0, [0x10, 0x20, 0x30]);
+    assert!(!r.silhouette.enabled && !r.border.enabled && !r.lighting.enabled);
+    assert!(r.brute_force);
+    assert_eq!(s.view.angles, [0.1, -0.2, 0.3, 0.0, 0.0, 1.0]);
+    assert_eq!(s.view.zoom, 2.0);
+    assert_eq!((s.tree.max_level, s.tree.min_level), (5, 3));
+    // What no flag touched is the file's.
+    assert_eq!(s.formula, file.formula);
+    assert_eq!(s.domain, file.domain);
+    assert_eq!(s.render.lighting.shininess, file.render.lighting.shininess);
+}
+
+#[test]
+fn bad_render_flags_are_usage_errors_that_name_the_flag() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--rays", "0"], "--rays 0: between 1 and 1024"),
+        (&["--hits", "17"], "--hits 17: between 1 and 16"),
+        (&["--steps", "0"], "--steps 0: between 1 and 256"),
+        (
+            &["--bisection-iters", "257"],
+            "--bisection-iters 257: between 1 and 256",
+        ),
+        (
+            &["--approximation", "-1"],
+            "--approximation -1: a number ≥ 0",
+        ),
+        (
+            &["--approximation", "inf"],
+            "--approximation inf: a number ≥ 0",
+        ),
+        (&["--alpha", "1.5"], "--alpha 1.5: between 0 and 1"),
+        (&["--zoom", "-2"], "--zoom -2: a positive number"),
+        (
+            &["--angles", "1,2"],
+            "--angles 1,2: expected six numbers, got 2",
+        ),
+        (
+            &["--sampling", "even"],
+            "--sampling even: use random or stratified",
+        ),
+        (
+            &["--max-level", "13"],
+            "--max-level 13: the deepest level is 12",
+        ),
+        (
+            &["--min-level", "6", "--max-level", "5"],
+            "--min-level 6 is above --max-level 5",
+        ),
+        (&["--background", "zz"], "--background"),
+    ];
+    for (flags, expected) in cases {
+        let failure = scene(flags).expect_err(&format!("{flags:?} was accepted"));
+        assert_eq!(failure.code, 2, "{flags:?}: {}", failure.message);
+        assert!(
+            failure.message.contains(expected),
+            "{flags:?}: {:?} does not say {expected:?}",
+            failure.message
+        );
+    }
+}
+
+#[test]
+fn a_negative_number_for_a_count_is_clap_s_clear_error_not_an_unknown_flag() {
+    for flag in ["--rays", "--seed", "--max-level", "--steps"] {
+        let err = Cli::try_parse_from(["fourfold", "render", SCENE, "-o", "x.png", flag, "-3"])
+            .expect_err(flag)
+            .to_string();
+        assert!(
+            err.contains("invalid value '-3'") && err.contains(flag),
+            "{flag}: {err}"
+        );
+    }
+}
