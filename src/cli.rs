@@ -523,8 +523,11 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
         ),
     ] {
         if let Some(v) = value {
-            if !(1..=256).contains(&v) {
-                return Err(Failure::usage(format!("{flag} {v}: between 1 and 256")));
+            if !(1..=crate::scene::MAX_STEPS).contains(&v) {
+                return Err(Failure::usage(format!(
+                    "{flag} {v}: between 1 and {}",
+                    crate::scene::MAX_STEPS
+                )));
             }
             *field = v;
         }

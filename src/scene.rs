@@ -15,6 +15,8 @@ pub const MAX_TREE_LEVEL: u32 = 12;
 /// The most rays per pixel and hits kept per pixel.
 pub const MAX_RAYS: u32 = 1024;
 pub const MAX_HITS: u32 = 16;
+/// The most march steps per span and bisection iterations per root.
+pub const MAX_STEPS: u32 = 256;
 
 /// A whole scene, as stored in a `.toml` file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -385,7 +387,7 @@ fn hit_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
 }
 
 fn step_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    ranged(d, "a step count", 1, 256)
+    ranged(d, "a step count", 1, i64::from(MAX_STEPS))
 }
 
 fn float_in<'de, D: serde::Deserializer<'de>>(

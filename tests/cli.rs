@@ -143,3 +143,31 @@ fn a_negative_number_for_a_count_is_clap_s_clear_error_not_an_unknown_flag() {
         );
     }
 }
+
+#[test]
+fn the_help_states_the_defaults_the_scene_really_has() {
+    use clap::CommandFactory;
+    use fourfold::scene::{RenderSettings, TreeSettings};
+    let (r, t) = (RenderSettings::default(), TreeSettings::default());
+    let cli = Cli::command();
+    let render = cli.find_subcommand("render").unwrap();
+    let expected = [
+        ("rays", r.rays.to_string()),
+        ("hits", r.hits.to_string()),
+        ("steps", r.steps.to_string()),
+        ("bisection_iters", r.bisection_iters.to_string()),
+        ("approximation", format!("{:e}", r.approximation)),
+        ("seed", r.seed.to_string()),
+        ("alpha", r.alpha.to_string()),
+        ("max_level", t.max_level.to_string()),
+        ("min_level", t.min_level.to_string()),
+    ];
+    for (id, default) in expected {
+        let arg = render.get_arguments().find(|a| a.get_id() == id).unwrap();
+        let help = arg.get_help().unwrap().to_string();
+        assert!(
+            help.contains(&format!("else {default}")),
+            "--{id}: {help:?} does not give the default {default}"
+        );
+    }
+}
