@@ -426,7 +426,9 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         // iteration keeps it: stop there (the same root, fewer samples of F).
         var lo = ta;
         var hi = tb;
-        var flo = fa.x;
+        // F(lo) keeps fa's side of 0 (lo moves only to a midpoint on that side), so its
+        // sign is not carried through the loop.
+        let neg_lo = fa.x < 0.0;
         var tm = 0.5 * (lo + hi);
         var it = 0u;
         // (One exit, tested at the end: llvmpipe updates its lane masks at each `break`.)
@@ -436,9 +438,8 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
                 let split = tm != lo && tm != hi;
                 let fm = ff_f((*tr).o + tm * d);
                 let go = split && !(abs(fm) < u.root.x);
-                let keep_lo = (fm < 0.0) == (flo < 0.0);
+                let keep_lo = (fm < 0.0) == neg_lo;
                 lo = select(lo, tm, go && keep_lo);
-                flo = select(flo, fm, go && keep_lo);
                 hi = select(hi, tm, go && !keep_lo);
                 it = it + 1u;
                 if (!go || it >= iters) {

@@ -147,7 +147,9 @@ impl Pixel<'_> {
             let tb = t0 + s as f32 * dt;
             let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
             if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
-                let (mut lo, mut hi, mut flo) = (ta, tb, fa);
+                let (mut lo, mut hi) = (ta, tb);
+                // F(lo) stays on fa's side of 0 (as the shader: its sign is not carried).
+                let neg_lo = fa < 0.0;
                 let mut tm = 0.5 * (lo + hi);
                 for _ in 0..self.u.control[1] {
                     tm = 0.5 * (lo + hi);
@@ -160,9 +162,8 @@ impl Pixel<'_> {
                     if fm.abs() < self.u.root[0] {
                         break;
                     }
-                    if (fm < 0.0) == (flo < 0.0) {
+                    if (fm < 0.0) == neg_lo {
                         lo = tm;
-                        flo = fm;
                     } else {
                         hi = tm;
                     }
