@@ -162,12 +162,20 @@ fn the_help_states_the_defaults_the_scene_really_has() {
         ("max_level", t.max_level.to_string()),
         ("min_level", t.min_level.to_string()),
     ];
-    for (id, default) in expected {
-        let arg = render.get_arguments().find(|a| a.get_id() == id).unwrap();
+    let states = |command: &clap::Command, id: &str, default: &str| {
+        let arg = command.get_arguments().find(|a| a.get_id() == id).unwrap();
         let help = arg.get_help().unwrap().to_string();
         assert!(
             help.contains(&format!("else {default}")),
-            "--{id}: {help:?} does not give the default {default}"
+            "{} --{id}: {help:?} does not give the default {default}",
+            command.get_name()
         );
+    };
+    for (id, default) in expected {
+        states(render, id, &default);
     }
+    // `tree` states the tree's defaults too.
+    let tree = cli.find_subcommand("tree").unwrap();
+    states(tree, "max_level", &t.max_level.to_string());
+    states(tree, "min_level", &t.min_level.to_string());
 }
