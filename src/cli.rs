@@ -380,6 +380,12 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         s.interval_evaluations,
         s.build_ms
     ));
+    if s.mean_value_discarded > 0 {
+        out.push_str(&format!(
+            "discarded by the mean-value form of F (the natural interval extension held 0): {}\n",
+            s.mean_value_discarded
+        ));
+    }
     if tree.is_empty() {
         out.push_str(
             "no surface in this domain: F has no zero in the box (try a larger --domain)\n",
