@@ -884,6 +884,28 @@ fn tile_lists_hold_every_leaf_a_pixel_can_see() {
 /// `Hierarchy::cover`) passes the shader's pixel test (sphere and box support along v1, v2)
 /// is in the pixel's tile list, once; no node that is not marched is; each list is nearest
 /// first (by |q| − r).
+/// Whether the plane o + s·n1 + t·n2 meets the box [lo, hi]: the points (s, t) inside
+/// the box's 4 slabs form a convex polygon, bounded when n1 and n2 are independent, which
+/// is not empty iff one of its vertices, where the boundary lines of two slabs cross, is
+/// in all of them (up to 1e-9).
+fn plane_meets_box(o: [f64; 4], n1: [f64; 4], n2: [f64; 4], lo: [f64; 4], hi: [f64; 4]) -> bool {
+    let lines: Vec<(f64, f64, f64)> = (0..4)
+        .flat_map(|k| [lo[k], hi[k]].map(|b| (n1[k], n2[k], b - o[k])))
+        .collect();
+    let inside = |s: f64, t: f64| {
+        (0..4).all(|k| {
+            let x = o[k] + s * n1[k] + t * n2[k];
+            lo[k] - 1e-9 <= x && x <= hi[k] + 1e-9
+        })
+    };
+    lines.iter().enumerate().any(|(i, &(a1, b1, c1))| {
+        lines[i + 1..].iter().any(|&(a2, b2, c2)| {
+            let det = a1 * b2 - a2 * b1;
+            det.abs() > 1e-12 && inside((c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det)
+        })
+    })
+}
+
 fn check_tile_lists(
     name: &str,
     h: &fourfold::tree::Hierarchy,
@@ -939,9 +961,10 @@ fn check_tile_lists(
         }
     }
     // Per cover box: its marched box, its centre's offset from the camera's centre along
-    // v1 and v2, its sphere's radius and its support along v1 and v2.
+    // v1 and v2, its sphere's radius, its support along v1 and v2, and its box.
     let dot = |x: &[f64; 4], v: &[f64; 4]| -> f64 { (0..4).map(|k| x[k] * v[k]).sum() };
-    let cover: Vec<(u32, f64, f64, f64, f64, f64)> = h.cover[0]
+    type Cover = (u32, f64, f64, f64, f64, f64, [f64; 4], [f64; 4]);
+    let cover: Vec<Cover> = h.cover[0]
         .iter()
         .map(|c| {
             let (center, level) = (c.center, c.level);
@@ -956,6 +979,8 @@ fn check_tile_lists(
                 f64::from(info.radius),
                 support(&camera.v1),
                 support(&camera.v2),
+                std::array::from_fn(|k| f64::from(center[k]) - half[k]),
+                std::array::from_fn(|k| f64::from(center[k]) + half[k]),
             )
         })
         .collect();
@@ -965,12 +990,17 @@ fn check_tile_lists(
             let rel: [f64; 4] = std::array::from_fn(|k| o[k] - camera.center[k]);
             let (oa, ob) = (dot(&rel, &camera.v1), dot(&rel, &camera.v2));
             let list = lists.tile_nodes(px / t, py / t);
-            for &(i, ca, cb, r, sa, sb) in &cover {
+            for &(i, ca, cb, r, sa, sb, lo, hi) in &cover {
                 let (a, b) = (ca - oa, cb - ob);
-                if a * a + b * b <= r * r && a.abs() <= sa && b.abs() <= sb {
+                // (The sphere and the supports first: a plane that meets the box meets them.)
+                if a * a + b * b <= r * r
+                    && a.abs() <= sa
+                    && b.abs() <= sb
+                    && plane_meets_box(o, camera.n1, camera.n2, lo, hi)
+                {
                     assert!(
                         list.contains(&i),
-                        "{name} {}x{} tile {t}: box {i} covers a box that meets pixel ({px}, {py}) but is not in its tile",
+                        "{name} {}x{} tile {t}: box {i} covers a box whose plane meets pixel ({px}, {py}) but is not in its tile",
                         camera.width,
                         camera.height
                     );
