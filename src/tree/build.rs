@@ -161,17 +161,21 @@ impl Tree16 {
             // which the mean-value form needs too: there it costs F at the centre (the
             // chapter's scene builds in ~14 ms instead of ~9), so it is used where it
             // discards boxes in a sample of the level.
+            let step = Refinement {
+                formula,
+                params,
+                geometry: &geometry,
+                level,
+                parents: current,
+                cancel,
+            };
             let gradient = level + 1 >= settings.min_level;
             let mean_value = gradient && {
-                let (discards, evaluations) = mean_value_discards(
-                    formula, params, &geometry, level, current, &refine, cancel,
-                )?;
+                let (discards, evaluations) = step.mean_value_discards(&refine)?;
                 stats.interval_evaluations += evaluations;
                 discards
             };
-            let refined = refine_level(
-                formula, params, &geometry, level, current, &refine, gradient, mean_value, cancel,
-            )?;
+            let refined = step.children(&refine, gradient, mean_value)?;
             let children = refined.kept;
             stats.interval_evaluations += refined.evaluations;
             stats.mean_value_discarded += refined.pruned;
@@ -359,100 +363,99 @@ struct Refined {
     pruned: u64,
 }
 
-/// Evaluates the 16 children of each box in `refine`. A child is kept if F□ holds 0
-/// (SPEC.md §2): the natural interval extension, and with `mean_value` (which needs
-/// `gradient`), where F is continuous on the box, the mean-value form too (see
-/// `mean_value_may_vanish`). With `gradient` the topological criterion is set on the kept
-/// ones.
-#[allow(clippy::too_many_arguments)]
-fn refine_level(
-    formula: &CompiledFormula,
-    params: &[f64],
-    geometry: &Geometry,
+/// The refinement of one level: its boxes (`parents`) and what evaluating their children
+/// needs.
+struct Refinement<'a> {
+    formula: &'a CompiledFormula,
+    params: &'a [f64],
+    geometry: &'a Geometry,
     level: u32,
-    current: &[TreeBox],
-    refine: &[u32],
-    gradient: bool,
-    mean_value: bool,
-    cancel: &AtomicBool,
-) -> Result<Refined, BuildError> {
-    let groups: Vec<Refined> = refine
-        .par_chunks(64)
-        .map_init(IntervalEvaluator::new, |eval, parents| {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(BuildError::Cancelled);
-            }
-            let mut all = [Interval::EMPTY; 5];
-            let (mut evaluations, mut pruned) = (0u64, 0u64);
-            let mut kept = Vec::with_capacity(parents.len() * 4);
-            for &p in parents {
-                let c = current[p as usize].coords;
-                for k in 0..16u16 {
-                    let child = std::array::from_fn(|i| 2 * c[i] + ((k >> i) & 1));
-                    let bx = geometry.box_at(level + 1, child);
-                    evaluations += 1;
-                    if !contains_manifold(eval.eval(&formula.tape_f, &bx, params)) {
-                        continue;
-                    }
-                    let mut critical = false;
-                    let continuous = mean_value && eval.continuous_on_last_box(&formula.tape_f);
-                    if gradient {
-                        eval.eval_into(&formula.tape_all, &bx, params, &mut all);
-                        evaluations += 1;
-                        critical = all[1..].iter().all(|g| g.contains_zero());
-                    }
-                    if continuous {
-                        evaluations += 1;
-                        if !mean_value_may_vanish(eval, formula, params, &bx, &all[1..]) {
-                            pruned += 1;
-                            continue;
-                        }
-                    }
-                    kept.push(TreeBox {
-                        coords: child,
-                        parent: p,
-                        first_child: 0,
-                        child_count: 0,
-                        critical,
-                    });
-                }
-            }
-            Ok(Refined {
-                kept,
-                evaluations,
-                pruned,
-            })
-        })
-        .collect::<Result<_, _>>()?;
-    Ok(Refined {
-        evaluations: groups.iter().map(|g| g.evaluations).sum(),
-        pruned: groups.iter().map(|g| g.pruned).sum(),
-        kept: groups.into_iter().flat_map(|g| g.kept).collect(),
-    })
+    parents: &'a [TreeBox],
+    cancel: &'a AtomicBool,
 }
 
-/// Parents of a level's sample for `mean_value_discards`.
+/// Parents of a level's sample for `Refinement::mean_value_discards`.
 const MEAN_VALUE_SAMPLE: usize = 64;
 
-/// Whether the mean-value form discards any child of a sample of `refine` (up to
-/// MEAN_VALUE_SAMPLE boxes spread over it) that the natural extension keeps (where F's
-/// natural extension is exact or nearly, as for the glome's sum of squares, it never
-/// does), and the interval evaluations that took.
-fn mean_value_discards(
-    formula: &CompiledFormula,
-    params: &[f64],
-    geometry: &Geometry,
-    level: u32,
-    current: &[TreeBox],
-    refine: &[u32],
-    cancel: &AtomicBool,
-) -> Result<(bool, u64), BuildError> {
-    let n = refine.len().min(MEAN_VALUE_SAMPLE);
-    let sample: Vec<u32> = (0..n).map(|i| refine[i * refine.len() / n]).collect();
-    let probe = refine_level(
-        formula, params, geometry, level, current, &sample, true, true, cancel,
-    )?;
-    Ok((probe.pruned > 0, probe.evaluations))
+impl Refinement<'_> {
+    /// Evaluates the 16 children of each box in `refine` (indices in `parents`). A child
+    /// is kept if F□ holds 0 (SPEC.md §2): the natural interval extension, and with
+    /// `mean_value` (which needs `gradient`), where F is continuous on the box, the
+    /// mean-value form too (see `mean_value_may_vanish`). With `gradient` the topological
+    /// criterion is set on the kept ones.
+    fn children(
+        &self,
+        refine: &[u32],
+        gradient: bool,
+        mean_value: bool,
+    ) -> Result<Refined, BuildError> {
+        let (formula, params) = (self.formula, self.params);
+        let groups: Vec<Refined> = refine
+            .par_chunks(64)
+            .map_init(IntervalEvaluator::new, |eval, parents| {
+                if self.cancel.load(Ordering::Relaxed) {
+                    return Err(BuildError::Cancelled);
+                }
+                let mut all = [Interval::EMPTY; 5];
+                let (mut evaluations, mut pruned) = (0u64, 0u64);
+                let mut kept = Vec::with_capacity(parents.len() * 4);
+                for &p in parents {
+                    let c = self.parents[p as usize].coords;
+                    for k in 0..16u16 {
+                        let child = std::array::from_fn(|i| 2 * c[i] + ((k >> i) & 1));
+                        let bx = self.geometry.box_at(self.level + 1, child);
+                        evaluations += 1;
+                        if !contains_manifold(eval.eval(&formula.tape_f, &bx, params)) {
+                            continue;
+                        }
+                        // (Before the next evaluation: it reads the one of F just made.)
+                        let continuous = mean_value && eval.continuous_on_last_box(&formula.tape_f);
+                        let mut critical = false;
+                        if gradient {
+                            eval.eval_into(&formula.tape_all, &bx, params, &mut all);
+                            evaluations += 1;
+                            critical = all[1..].iter().all(|g| g.contains_zero());
+                        }
+                        if continuous {
+                            evaluations += 1;
+                            if !mean_value_may_vanish(eval, formula, params, &bx, &all[1..]) {
+                                pruned += 1;
+                                continue;
+                            }
+                        }
+                        kept.push(TreeBox {
+                            coords: child,
+                            parent: p,
+                            first_child: 0,
+                            child_count: 0,
+                            critical,
+                        });
+                    }
+                }
+                Ok(Refined {
+                    kept,
+                    evaluations,
+                    pruned,
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Refined {
+            evaluations: groups.iter().map(|g| g.evaluations).sum(),
+            pruned: groups.iter().map(|g| g.pruned).sum(),
+            kept: groups.into_iter().flat_map(|g| g.kept).collect(),
+        })
+    }
+
+    /// Whether the mean-value form discards any child of a sample of `refine` (up to
+    /// MEAN_VALUE_SAMPLE boxes spread over it) that the natural extension keeps (where F's
+    /// natural extension is exact or nearly, as for the glome's sum of squares, it never
+    /// does), and the interval evaluations that took.
+    fn mean_value_discards(&self, refine: &[u32]) -> Result<(bool, u64), BuildError> {
+        let n = refine.len().min(MEAN_VALUE_SAMPLE);
+        let sample: Vec<u32> = (0..n).map(|i| refine[i * refine.len() / n]).collect();
+        let probe = self.children(&sample, true, true)?;
+        Ok((probe.pruned > 0, probe.evaluations))
+    }
 }
 
 /// Removes refined boxes whose children were all discarded (SPEC.md §2), bottom-up: such
