@@ -433,14 +433,13 @@ impl TileLists {
                 let support = |v: &[f64; 4]| -> f64 {
                     (0..4).map(|i| f64::from(info.half[i]) * v[i].abs()).sum()
                 };
-                let radius = f64::from(info.radius);
                 let g = std::array::from_fn(|i| {
                     let h = f64::from(info.half[i]) / s;
                     [h * v1[i], -h * v2[i]]
                 });
                 Reach {
-                    hx: pad(support(&v1).min(radius) / s),
-                    hy: pad(support(&v2).min(radius) / s),
+                    hx: pad(support(&v1) / s),
+                    hy: pad(support(&v2) / s),
                     shape: Projection::new(g, 1.0 + 1e-4, 2e-3),
                 }
             })

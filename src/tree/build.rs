@@ -106,19 +106,21 @@ impl Tree16 {
         let geometry = Geometry::new(domain);
         let mut stats = TreeStats::default();
         let mut levels: Vec<Vec<TreeBox>> = Vec::new();
+        // The root: the component criterion, and the topological one (refining a level
+        // sets both on the next).
+        let root_box = geometry.box_at(0, [0; 4]);
+        let mut eval = IntervalEvaluator::new();
+        let root_f = eval.eval(&formula.tape_f, &root_box, params);
+        let mut all = [Interval::EMPTY; 5];
+        eval.eval_into(&formula.tape_all, &root_box, params, &mut all);
+        stats.interval_evaluations += 2;
         let root = TreeBox {
             coords: [0; 4],
             parent: u32::MAX,
             first_child: 0,
             child_count: 0,
-            critical: false,
+            critical: all[1..].iter().all(|g| g.contains_zero()),
         };
-        let root_f = IntervalEvaluator::new().eval(
-            &formula.tape_f,
-            &geometry.box_at(0, root.coords),
-            params,
-        );
-        stats.interval_evaluations += 1;
         let mut total: u64 = 0;
         if contains_manifold(root_f) {
             levels.push(vec![root]);
@@ -131,12 +133,6 @@ impl Tree16 {
         while let Some(current) = levels.last_mut() {
             if cancel.load(Ordering::Relaxed) {
                 return Err(BuildError::Cancelled);
-            }
-            // (Refining a level sets the criterion on the next; the root's is set here.)
-            if level == 0 {
-                mark_critical(
-                    formula, params, &geometry, level, current, cancel, &mut stats,
-                )?;
             }
             if level >= settings.max_level {
                 break;
@@ -321,39 +317,7 @@ impl Geometry {
     }
 }
 
-/// Sets `critical` (0 ∈ every partial of ∇F□) on the boxes of one level.
-fn mark_critical(
-    formula: &CompiledFormula,
-    params: &[f64],
-    geometry: &Geometry,
-    level: u32,
-    boxes: &mut [TreeBox],
-    cancel: &AtomicBool,
-    stats: &mut TreeStats,
-) -> Result<(), BuildError> {
-    boxes
-        .par_chunks_mut(256)
-        .try_for_each_init(IntervalEvaluator::new, |eval, chunk| {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(BuildError::Cancelled);
-            }
-            let mut out = [Interval::EMPTY; 5];
-            for b in chunk {
-                eval.eval_into(
-                    &formula.tape_all,
-                    &geometry.box_at(level, b.coords),
-                    params,
-                    &mut out,
-                );
-                b.critical = out[1..].iter().all(|g| g.contains_zero());
-            }
-            Ok(())
-        })?;
-    stats.interval_evaluations += boxes.len() as u64;
-    Ok(())
-}
-
-/// What `refine_level` made.
+/// What `Refinement::children` made.
 struct Refined {
     /// The kept children, grouped by parent in parent order.
     kept: Vec<TreeBox>,
