@@ -1,6 +1,7 @@
 //! Syntax tree → expression graph: resolves names (variables, constants, functions,
 //! parameters) and reports the ones it cannot make sense of, with a suggestion.
 
+use crate::syntax::words::{CONSTANTS, FUNCTIONS};
 use crate::syntax::{BinOp, Expr, ExprKind, Formula, SourceError, Span};
 
 use super::graph::{BinaryOp, ExprGraph, NodeId, UnaryOp, VARIABLES};
@@ -13,19 +14,6 @@ enum Function {
     /// `pow(a, b)` is `a^b`, with the integer-exponent rules of `^`.
     Pow,
 }
-
-/// The function names of the language, with their meaning.
-pub const FUNCTIONS: &[&str] = &[
-    "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "ln", "log",
-    "sqrt", "cbrt", "abs", "sign", "step", "min", "max", "pow", "atan2",
-];
-
-/// Named constants of the language.
-pub const CONSTANTS: &[(&str, f64)] = &[
-    ("pi", std::f64::consts::PI),
-    ("tau", std::f64::consts::TAU),
-    ("e", std::f64::consts::E),
-];
 
 fn function(name: &str) -> Option<Function> {
     use Function::*;

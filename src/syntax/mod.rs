@@ -3,6 +3,7 @@
 pub mod ast;
 pub mod diagnostic;
 pub mod parser;
+pub mod words;
 
 pub use ast::{BinOp, Expr, ExprKind, Formula, Span};
 pub use diagnostic::SourceError;

@@ -424,10 +424,7 @@ pub fn tokens(source: &str) -> Vec<Token> {
                 let name = pair.as_str();
                 if matches!(name, "x" | "y" | "z" | "w") {
                     TokenKind::Variable
-                } else if crate::expr::lower::CONSTANTS
-                    .iter()
-                    .any(|(c, _)| *c == name)
-                {
+                } else if super::words::CONSTANTS.iter().any(|(c, _)| *c == name) {
                     TokenKind::Constant
                 } else {
                     TokenKind::Parameter
