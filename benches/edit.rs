@@ -8,14 +8,12 @@
 //! rotating: previews at new angles, as the viewer draws while a slider or the mouse moves.
 //! The GPU is the first adapter wgpu finds; each figure is the best of RUNS.
 
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use fourfold::CompiledFormula;
-use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms, codegen};
+use fourfold::render::{FrameOptions, Gpu, Prepared, RayCaster, TileLists, codegen};
 use fourfold::scene::Scene;
 use fourfold::syntax;
-use fourfold::tree::{Hierarchy, Tree16};
 
 const RUNS: usize = 3;
 
@@ -58,39 +56,21 @@ fn main() {
             let t = Instant::now();
             let shader = codegen::generate(&f).unwrap();
             let wgsl = ms(t);
-            let params = scene.param_values(&f.param_names());
             let t = Instant::now();
-            let tree = Tree16::build(
-                &f,
-                &params,
-                &scene.domain,
-                scene.tree.into(),
-                &AtomicBool::new(false),
-                None,
-            )
-            .unwrap();
-            let hierarchy = Hierarchy::for_formula(&tree, &f, &params);
+            let prepared = Prepared::new(&f, &scene).unwrap();
             let tree_ms = ms(t);
+            let hierarchy = &prepared.hierarchy;
             let t = Instant::now();
-            let mut caster = RayCaster::new(&gpu, &shader, &hierarchy).unwrap();
+            let mut caster = RayCaster::new(&gpu, &shader, hierarchy).unwrap();
             let pipeline = ms(t);
-            let mut render = scene.render;
-            render.rays = 4;
+            let mut preview = scene.clone();
+            preview.render.rays = 4;
             let mut frame = |angles: [f64; 6]| {
-                let mut view = scene.view;
-                view.angles = angles;
-                let camera = Camera::new(&scene.domain, &view, pw, ph);
-                let u = Uniforms::new(
-                    &camera,
-                    &render,
-                    &scene.domain,
-                    &hierarchy,
-                    &params,
-                    FrameOptions::default(),
-                );
+                preview.view.angles = angles;
+                let (camera, u) = prepared.frame(&preview, pw, ph, FrameOptions::default());
                 // As the viewer: bin the leaves into screen tiles, then draw.
                 let t = Instant::now();
-                caster.set_tiles(&gpu, Some(&TileLists::build(&hierarchy, &camera)));
+                caster.set_tiles(&gpu, Some(&TileLists::build(hierarchy, &camera)));
                 caster.render_rgba(&gpu, &u).unwrap();
                 ms(t)
             };

@@ -31,7 +31,7 @@ use std::time::Instant;
 
 use fourfold::CompiledFormula;
 use fourfold::render::codegen;
-use fourfold::render::{Camera, FrameOptions, Gpu, RayCaster, TileLists, Uniforms};
+use fourfold::render::{Camera, FrameOptions, Gpu, Prepared, RayCaster, TileLists, Uniforms};
 use fourfold::scene::Scene;
 use fourfold::tree::{BuildSettings, Hierarchy, Tree16};
 
@@ -50,7 +50,7 @@ fn env_u32(name: &str, default: u32) -> u32 {
         .unwrap_or(default)
 }
 
-struct Prepared {
+struct Case {
     scene: Scene,
     formula: CompiledFormula,
     params: Vec<f64>,
@@ -65,7 +65,7 @@ struct Prepared {
     leaves: u64,
 }
 
-impl Prepared {
+impl Case {
     /// Swaps the full hierarchy and its caster in or out; false if the device can't hold it.
     fn swap_full(&mut self, gpu: &Gpu) -> bool {
         let full = self.full.get_or_insert_with(|| {
@@ -84,7 +84,7 @@ impl Prepared {
     }
 }
 
-fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
+fn prepare(gpu: &Gpu, name: &str, level: u32) -> Case {
     // An example's name, or the path of a scene file.
     let scene = if name.ends_with(".toml") {
         Scene::load(std::path::Path::new(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
@@ -92,20 +92,17 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
         Scene::example(name).unwrap_or_else(|| panic!("no example scene named {name}"))
     };
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
-    let params = scene.param_values(&formula.param_names());
-    let tree = Tree16::build(
-        &formula,
-        &params,
-        &scene.domain,
-        BuildSettings {
-            max_level: level,
-            min_level: level,
-            node_budget: 50_000_000,
-        },
-        &AtomicBool::new(false),
-        None,
-    )
-    .unwrap();
+    let uniform = BuildSettings {
+        max_level: level,
+        min_level: level,
+        node_budget: 50_000_000,
+    };
+    let Prepared {
+        params,
+        tree,
+        hierarchy,
+        ..
+    } = Prepared::build(&formula, &scene, uniform, &AtomicBool::new(false), None).unwrap();
     // FOURFOLD_BENCH_MARCH_UP: march every box that many levels above the finest instead
     // of the default cut.
     let hierarchy = match std::env::var("FOURFOLD_BENCH_MARCH_UP") {
@@ -118,11 +115,11 @@ fn prepare(gpu: &Gpu, name: &str, level: u32) -> Prepared {
             h.bound_slopes(&formula, &params);
             h
         }
-        Err(_) => Hierarchy::for_formula(&tree, &formula, &params),
+        Err(_) => hierarchy,
     };
     let shader = codegen::generate(&formula).unwrap();
     let caster = RayCaster::new(gpu, &shader, &hierarchy).unwrap();
-    Prepared {
+    Case {
         scene,
         formula,
         params,
@@ -171,7 +168,7 @@ impl Timing {
 }
 
 /// The best times of a frame and its picture.
-fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (Timing, Vec<u8>) {
+fn frame(gpu: &Gpu, p: &mut Case, size: u32, rays: u32, method: Method) -> (Timing, Vec<u8>) {
     if method == Method::Unskipped {
         // No bounds in the caster's node buffers (binding 4, which the records point to).
         let slopes = std::mem::take(&mut p.hierarchy.slopes);
@@ -194,13 +191,7 @@ fn frame(gpu: &Gpu, p: &mut Prepared, size: u32, rays: u32, method: Method) -> (
     out
 }
 
-fn frame_at(
-    gpu: &Gpu,
-    p: &mut Prepared,
-    size: u32,
-    rays: u32,
-    method: Method,
-) -> (Timing, Vec<u8>) {
+fn frame_at(gpu: &Gpu, p: &mut Case, size: u32, rays: u32, method: Method) -> (Timing, Vec<u8>) {
     let brute = match method {
         Method::Brute(level) => Some(level),
         _ => None,
@@ -392,7 +383,7 @@ fn main() {
     println!("| pixels | rays | level | ms (CPU binning) [GPU pass] | ms per megaray |");
     println!("|---|---|---|---|---|");
     let mut base = prepare(&gpu, "glome", 6);
-    let row = |p: &mut Prepared, px: u32, rays: u32, level: u32| {
+    let row = |p: &mut Case, px: u32, rays: u32, level: u32| {
         let (t, _) = frame(&gpu, p, px, rays, Method::Tiles);
         let megarays = f64::from(px * px) * f64::from(rays) / 1e6;
         println!(

@@ -34,6 +34,7 @@ fn main() {
         let scene = Scene::example(name).unwrap();
         let f = CompiledFormula::compile(&scene.formula).unwrap();
         let params = scene.param_values(&f.param_names());
+        let domain = scene.domain.to_box();
         for uniform in [true, false] {
             for level in 4..=7 {
                 let settings = BuildSettings {
@@ -45,7 +46,7 @@ fn main() {
                     Tree16::build(
                         &f,
                         &params,
-                        &scene.domain,
+                        &domain,
                         settings,
                         &AtomicBool::new(false),
                         None,

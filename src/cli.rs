@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Parser, Subcommand};
 
 use crate::formula::CompiledFormula;
-use crate::scene::{Domain, Scene};
+use crate::render::{MAX_PICTURE_SIDE, Prepared};
+use crate::scene::{Color, Domain, Sampling, Scene, Speaker};
+use crate::tree::BuildSettings;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -200,18 +202,22 @@ pub fn load_scene(input: &Input) -> Result<Scene, Failure> {
         let value: f64 = value.trim().parse().map_err(|_| {
             Failure::usage(format!("--param {assignment}: '{value}' is not a number"))
         })?;
-        if !value.is_finite() {
-            return Err(Failure::usage(format!(
-                "--param {assignment}: the value must be finite"
-            )));
-        }
         scene.params.insert(name.trim().to_string(), value);
     }
     if let Some(domain) = &input.domain {
         scene.domain = Domain::parse_list(domain)
             .map_err(|e| Failure::usage(format!("--domain {domain}: {e}")))?;
     }
-    Ok(scene)
+    checked(scene)
+}
+
+/// The scene, if the flags applied to it left every value in range (the scene file's own
+/// values were checked when it was read): else the problem, naming the flag.
+fn checked(scene: Scene) -> Result<Scene, Failure> {
+    match scene.check() {
+        Ok(()) => Ok(scene),
+        Err(problem) => Err(Failure::usage(problem.message(Speaker::Flag))),
+    }
 }
 
 /// Compiles the scene's formula, or renders its error with a caret under the formula.
@@ -278,59 +284,43 @@ pub fn grad(input: &Input) -> Result<String, Failure> {
     ))
 }
 
-/// The tree settings of `scene` with the command-line overrides, checked.
-fn tree_settings(
-    scene: &Scene,
+/// Sets the tree levels and node budget given on the command line. A lower max level alone
+/// takes the min level down with it, so `--max-level 3` works on a scene whose min level is 4.
+fn override_tree(
+    scene: &mut Scene,
     max_level: Option<u32>,
     min_level: Option<u32>,
     node_budget: Option<u32>,
-) -> Result<crate::tree::BuildSettings, Failure> {
-    let mut s = scene.tree;
+) {
+    let t = &mut scene.tree;
     if let Some(v) = max_level {
-        s.max_level = v;
+        t.max_level = v;
+        if min_level.is_none() {
+            t.min_level = t.min_level.min(v);
+        }
     }
     if let Some(v) = min_level {
-        s.min_level = v;
+        t.min_level = v;
     }
     if let Some(v) = node_budget {
-        s.node_budget = v;
+        t.node_budget = v;
     }
-    if s.max_level > crate::scene::MAX_TREE_LEVEL {
-        return Err(Failure::usage(format!(
-            "--max-level {}: the deepest level is {} (each level multiplies the boxes by up to 16)",
-            s.max_level,
-            crate::scene::MAX_TREE_LEVEL
-        )));
-    }
-    if max_level.is_some() && min_level.is_none() && s.min_level > s.max_level {
-        s.min_level = s.max_level;
-    }
-    if s.min_level > s.max_level {
-        return Err(Failure::usage(format!(
-            "--min-level {} is above --max-level {}: lower the first or raise the second",
-            s.min_level, s.max_level
-        )));
-    }
-    if s.node_budget < 16 {
-        return Err(Failure::usage("--node-budget must be at least 16"));
-    }
-    Ok(s.into())
 }
 
 /// `fourfold tree`.
 pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
-    use std::sync::atomic::AtomicBool;
-    let scene = load_scene(&args.input)?;
+    let mut scene = load_scene(&args.input)?;
+    override_tree(&mut scene, args.max_level, args.min_level, args.node_budget);
+    let scene = checked(scene)?;
     let formula = compile(&scene)?;
     for w in parameter_warnings(&scene, &formula) {
         eprintln!("{w}");
     }
-    let settings = tree_settings(&scene, args.max_level, args.min_level, args.node_budget)?;
-    let params = scene.param_values(&formula.param_names());
-    let cancel = AtomicBool::new(false);
-    let build =
-        || crate::tree::Tree16::build(&formula, &params, &scene.domain, settings, &cancel, None);
-    let tree = if args.single_thread {
+    let settings: BuildSettings = scene.tree.into();
+    let build = || Prepared::new(&formula, &scene);
+    let Prepared {
+        tree, hierarchy, ..
+    } = if args.single_thread {
         rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
@@ -340,7 +330,6 @@ pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
         build()
     }
     .map_err(|e| Failure::runtime(e.to_string()))?;
-    let hierarchy = crate::tree::Hierarchy::for_formula(&tree, &formula, &params);
     let s = &tree.stats;
     if args.json {
         let mut value = serde_json::to_value(s).expect("stats serialise");
@@ -451,9 +440,9 @@ fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
         w.trim().parse().map_err(|_| bad())?,
         h.trim().parse().map_err(|_| bad())?,
     );
-    if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
+    if !(1..=MAX_PICTURE_SIDE).contains(&w) || !(1..=MAX_PICTURE_SIDE).contains(&h) {
         return Err(Failure::usage(format!(
-            "--size {text}: each side must be between 1 and 8192"
+            "--size {text}: each side must be between 1 and {MAX_PICTURE_SIDE}"
         )));
     }
     Ok((w, h))
@@ -462,57 +451,22 @@ fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
 /// The scene of a `render` command, with every flag applied and checked.
 pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
     let mut scene = load_scene(&args.input)?;
-    let settings = tree_settings(&scene, args.max_level, args.min_level, None)?;
-    scene.tree.max_level = settings.max_level;
-    scene.tree.min_level = settings.min_level;
+    override_tree(&mut scene, args.max_level, args.min_level, None);
     if let Some(text) = &args.angles {
-        let values: Vec<f64> = text
-            .split(',')
-            .map(|v| v.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| {
-                Failure::usage(format!("--angles {text}: expected six numbers a,b,c,d,e,f"))
-            })?;
-        let angles: [f64; 6] = values.try_into().map_err(|v: Vec<f64>| {
-            Failure::usage(format!(
-                "--angles {text}: expected six numbers, got {}",
-                v.len()
-            ))
-        })?;
-        if angles.iter().any(|a| !a.is_finite()) {
-            return Err(Failure::usage(format!(
-                "--angles {text}: angles must be finite"
-            )));
-        }
-        scene.view.angles = angles;
+        scene.view.angles = parse_angles(text)?;
+    }
+    if let Some(z) = args.zoom {
+        scene.view.zoom = z;
     }
     let r = &mut scene.render;
-    if let Some(rays) = args.rays {
-        if !(1..=crate::scene::MAX_RAYS).contains(&rays) {
-            return Err(Failure::usage(format!(
-                "--rays {rays}: between 1 and {}",
-                crate::scene::MAX_RAYS
-            )));
-        }
-        r.rays = rays;
-    }
-    if let Some(hits) = args.hits {
-        if !(1..=crate::scene::MAX_HITS).contains(&hits) {
-            return Err(Failure::usage(format!(
-                "--hits {hits}: between 1 and {}",
-                crate::scene::MAX_HITS
-            )));
-        }
-        r.hits = hits;
-    }
     if let Some(bg) = &args.background {
-        r.background = crate::scene::Color::parse(bg)
-            .map_err(|e| Failure::usage(format!("--background: {e}")))?;
+        r.background =
+            Color::parse(bg).map_err(|e| Failure::usage(format!("--background: {e}")))?;
     }
     if let Some(s) = &args.sampling {
         r.sampling = match s.as_str() {
-            "random" => crate::scene::Sampling::Random,
-            "stratified" => crate::scene::Sampling::Stratified,
+            "random" => Sampling::Random,
+            "stratified" => Sampling::Stratified,
             other => {
                 return Err(Failure::usage(format!(
                     "--sampling {other}: use random or stratified"
@@ -520,61 +474,48 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
             }
         };
     }
-    for (flag, value, field) in [
-        ("--steps", args.steps, &mut r.steps),
-        (
-            "--bisection-iters",
-            args.bisection_iters,
-            &mut r.bisection_iters,
-        ),
-    ] {
-        if let Some(v) = value {
-            if !(1..=crate::scene::MAX_STEPS).contains(&v) {
-                return Err(Failure::usage(format!(
-                    "{flag} {v}: between 1 and {}",
-                    crate::scene::MAX_STEPS
-                )));
-            }
+    let counts = [
+        (args.rays, &mut r.rays),
+        (args.hits, &mut r.hits),
+        (args.steps, &mut r.steps),
+        (args.bisection_iters, &mut r.bisection_iters),
+        (args.seed, &mut r.seed),
+    ];
+    for (flag, field) in counts {
+        if let Some(v) = flag {
             *field = v;
         }
     }
-    if let Some(a) = args.approximation {
-        if !(a.is_finite() && a >= 0.0) {
-            return Err(Failure::usage(format!(
-                "--approximation {a}: a number ≥ 0 (0: never stop early)"
-            )));
+    for (flag, field) in [
+        (args.approximation, &mut r.approximation),
+        (args.alpha, &mut r.alpha),
+    ] {
+        if let Some(v) = flag {
+            *field = v;
         }
-        r.approximation = a;
     }
-    if let Some(seed) = args.seed {
-        r.seed = seed;
-    }
-    if let Some(a) = args.alpha {
-        if !(0.0..=1.0).contains(&a) {
-            return Err(Failure::usage(format!("--alpha {a}: between 0 and 1")));
-        }
-        r.alpha = a;
-    }
-    if let Some(z) = args.zoom {
-        if !(z.is_finite() && z > 0.0) {
-            return Err(Failure::usage(format!("--zoom {z}: a positive number")));
-        }
-        scene.view.zoom = z;
-    }
-    let r = &mut scene.render;
-    if args.brute_force {
-        r.brute_force = true;
-    }
-    if args.no_silhouette {
-        r.silhouette.enabled = false;
-    }
-    if args.no_border {
-        r.border.enabled = false;
-    }
-    if args.no_lighting {
-        r.lighting.enabled = false;
-    }
-    Ok(scene)
+    r.brute_force |= args.brute_force;
+    r.silhouette.enabled &= !args.no_silhouette;
+    r.border.enabled &= !args.no_border;
+    r.lighting.enabled &= !args.no_lighting;
+    checked(scene)
+}
+
+/// `--angles a,b,c,d,e,f`.
+fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            Failure::usage(format!("--angles {text}: expected six numbers a,b,c,d,e,f"))
+        })?;
+    values.try_into().map_err(|v: Vec<f64>| {
+        Failure::usage(format!(
+            "--angles {text}: expected six numbers, got {}",
+            v.len()
+        ))
+    })
 }
 
 /// `fourfold render`.

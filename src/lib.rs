@@ -10,6 +10,7 @@
 pub mod eval;
 pub mod expr;
 pub mod formula;
+pub mod gpu_layout;
 pub mod render;
 pub mod syntax;
 pub mod tree;

@@ -179,3 +179,40 @@ fn the_help_states_the_defaults_the_scene_really_has() {
     states(tree, "max_level", &t.max_level.to_string());
     states(tree, "min_level", &t.min_level.to_string());
 }
+
+#[test]
+fn a_scene_file_s_bad_value_is_told_as_the_flag_s_with_the_line_it_is_on() {
+    // The scene file and the flags share one check: the same range, said with the key's
+    // name and pointing at the line that sets it.
+    let cases = [
+        ("[render]\nrays = 0\n", "rays = 0: between 1 and 1024", 2),
+        (
+            "[tree]\nmax_level = 13\n",
+            "max_level = 13: the deepest level is 12",
+            2,
+        ),
+        (
+            "[tree]\nmax_level = 3\nmin_level = 5\n",
+            "min_level 5 is above max_level 3",
+            3,
+        ),
+        ("[view]\nzoom = -1.0\n", "zoom = -1: a positive number", 2),
+        (
+            "[render.silhouette]\nenabled = true\ntolerance = 0.1\ncolor = \"#ffffff\"\n\
+             [render.border]\nenabled = true\ntolerance = -0.5\ncolor = \"#ffffff\"\n",
+            "tolerance = -0.5: a number ≥ 0",
+            7,
+        ),
+    ];
+    for (body, expected, line) in cases {
+        let text = format!("formula = \"x^2 + y^2 + z^2 + w^2 - 1\"\n{body}");
+        let message = Scene::parse(&text, "bad.toml").expect_err(body).to_string();
+        assert!(message.contains(expected), "{body:?}: {message}");
+        // codespan names the line: bad.toml:LINE:COLUMN (the formula is line 1).
+        assert!(
+            message.contains(&format!("bad.toml:{}:", line + 1)),
+            "{body:?} should point at line {}: {message}",
+            line + 1
+        );
+    }
+}

@@ -423,10 +423,10 @@ fn brute_force_setting_draws_the_same_picture() {
         );
         let finest = h.finest_level();
         assert_ne!(
-            u.control[2] & fourfold::render::uniforms::FLAG_BRUTE_FORCE,
+            u.control.flags & fourfold::render::uniforms::FLAG_BRUTE_FORCE,
             0
         );
-        assert_eq!(u.counts[3], brute.render.steps << finest);
+        assert_eq!(u.counts.brute_steps, brute.render.steps << finest);
         let tiles = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
         for device in [Device::Gpu(&gpu), Device::Cpu] {
             let b = render_scene(&brute, 40, 40, device, Default::default()).unwrap();

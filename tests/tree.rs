@@ -9,9 +9,10 @@ use common::{Rng, build, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{IntervalEvaluator, PointEvaluator};
 use fourfold::formula::HESSIAN_PAIRS;
+use fourfold::gpu_layout::MARCH_BIT;
 use fourfold::render::Rotation4;
 use fourfold::scene::{Domain, Scene};
-use fourfold::tree::hierarchy::{MARCH_BIT, MARCH_LEVELS_ABOVE_FINEST};
+use fourfold::tree::hierarchy::MARCH_LEVELS_ABOVE_FINEST;
 use fourfold::tree::{BuildError, BuildSettings, Hierarchy, SphereNode, Tree16};
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
@@ -324,7 +325,7 @@ fn a_build_can_be_cancelled() {
     let result = Tree16::build(
         &f,
         &[],
-        &dense().domain,
+        &dense().domain.to_box(),
         settings,
         &cancel,
         Some(&|level, _| {

@@ -303,10 +303,10 @@ fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
     settle(&mut h);
     converge(&mut h);
     h.step();
-    let drawing = h.state().ui_frame_ms;
+    let drawing = h.state().pacing.ui_frame_ms;
     std::thread::sleep(Duration::from_secs(3));
     h.step();
-    let after = h.state().ui_frame_ms;
+    let after = h.state().pacing.ui_frame_ms;
     assert!(
         after < drawing + 100.0,
         "{after:.0} ms per UI frame after a 3 s pause, {drawing:.0} ms before"

@@ -6,10 +6,9 @@ use rayon::prelude::*;
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
-use crate::tree::{
-    Curvature, Hierarchy,
-    hierarchy::{march_steps, slope_along},
-};
+use crate::tree::{Curvature, Hierarchy};
+
+use super::march::{march_steps, slope_along};
 
 use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
 
@@ -69,8 +68,8 @@ impl Pixel<'_> {
     }
 
     fn dir2(&self, k: u32) -> [f32; 2] {
-        let n = self.u.size[2];
-        if self.u.control[2] & FLAG_RANDOM != 0 {
+        let n = self.u.size.rays;
+        if self.u.control.flags & FLAG_RANDOM != 0 {
             let a = [
                 2.0 * rand01(self.seed.wrapping_add(2 * k)) - 1.0,
                 2.0 * rand01(self.seed.wrapping_add(2 * k + 1)) - 1.0,
@@ -151,7 +150,7 @@ impl Pixel<'_> {
                 // F(lo) stays on fa's side of 0 (as the shader: its sign is not carried).
                 let neg_lo = fa < 0.0;
                 let mut tm = 0.5 * (lo + hi);
-                for _ in 0..self.u.control[1] {
+                for _ in 0..self.u.control.bisection_iters {
                     tm = 0.5 * (lo + hi);
                     // As the shader: f32 cannot split the bracket, every further midpoint
                     // is this one.
@@ -159,7 +158,7 @@ impl Pixel<'_> {
                         break;
                     }
                     let fm = self.f(add(o, scale(d, tm)));
-                    if fm.abs() < self.u.root[0] {
+                    if fm.abs() < self.u.root.approximation {
                         break;
                     }
                     if (fm < 0.0) == neg_lo {
@@ -180,7 +179,7 @@ impl Pixel<'_> {
     /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
     /// bound) and `curvature` F's second derivatives.
     fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4, curvature: Curvature) {
-        for k in 0..self.u.size[2] {
+        for k in 0..self.u.size.rays {
             let d = self.direction(k);
             let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
             for i in 0..4 {
@@ -209,11 +208,13 @@ impl Pixel<'_> {
         );
         let g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
         let glen = dot(g, g).sqrt();
-        let flags = u.control[2];
+        let flags = u.control.flags;
         let rgb = |c: V4| [c[0], c[1], c[2]];
         if flags & FLAG_SILHOUETTE != 0 && glen > 0.0 {
             let gu = scale(g, 1.0 / glen);
-            if dot(gu, u.n1).abs() < u.misc[2] && dot(gu, u.n2).abs() < u.misc[2] {
+            if dot(gu, u.n1).abs() < u.misc.silhouette_tolerance
+                && dot(gu, u.n2).abs() < u.misc.silhouette_tolerance
+            {
                 return rgb(u.silhouette_color);
             }
         }
@@ -221,7 +222,7 @@ impl Pixel<'_> {
             let inside = (0..4)
                 .map(|i| (p[i] - u.domain_lo[i]).min(u.domain_hi[i] - p[i]))
                 .fold(f32::INFINITY, f32::min);
-            if inside < u.misc[3] {
+            if inside < u.misc.border_tolerance {
                 return rgb(u.border_color);
             }
         }
@@ -239,9 +240,10 @@ impl Pixel<'_> {
         let l = u.light;
         let diffuse = dot(n, l).max(0.0);
         let r = sub(scale(n, 2.0 * dot(n, l)), l);
-        let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading[3]);
+        let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading.shininess);
         std::array::from_fn(|i| {
-            u.surface[i] * (u.shading[0] + u.shading[1] * diffuse) + u.shading[2] * specular
+            u.surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
+                + u.shading.specular * specular
         })
     }
 }
@@ -272,7 +274,7 @@ pub fn render_rgba(
     hierarchy: &Hierarchy,
     u: &Uniforms,
 ) -> Vec<u8> {
-    let (width, height) = (u.size[0], u.size[1]);
+    let (width, height) = (u.size.width, u.size.height);
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
         .map(|py| {
@@ -296,8 +298,8 @@ fn render_pixel(
     px: u32,
     py: u32,
 ) -> [f32; 3] {
-    let (w, hgt) = (u.size[0] as f32, u.size[1] as f32);
-    let s = u.misc[0];
+    let (w, hgt) = (u.size.width as f32, u.size.height as f32);
+    let s = u.misc.pixel_size;
     let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
     let o = add(
         u.center,
@@ -306,9 +308,10 @@ fn render_pixel(
             scale(u.v2, s * (0.5 * hgt - fy)),
         ),
     );
-    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(
-        u.control[3].wrapping_add(7919u32.wrapping_mul(u.counts[1]))
-    )))));
+    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
+        .control
+        .seed
+        .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
     let mut pixel = Pixel {
         u,
         formula,
@@ -317,20 +320,20 @@ fn render_pixel(
         seed,
         offset: rand01(seed ^ 0x9e37_79b9),
         hits: Vec::with_capacity(16),
-        k_max: u.size[3].clamp(1, 16) as usize,
+        k_max: u.size.hits.clamp(1, 16) as usize,
     };
     if u.brute_force() {
         pixel.trace_box(
             o,
             u.domain_lo,
             u.domain_hi,
-            u.counts[3],
+            u.counts.brute_steps,
             [f32::INFINITY; 4],
             Curvature::NONE,
         );
     } else {
         let mut i = 0usize;
-        let n = u.counts[0] as usize;
+        let n = u.counts.nodes as usize;
         while i < n {
             let node = &h.nodes[i];
             let level = &u.levels[node.level() as usize];
@@ -345,9 +348,9 @@ fn render_pixel(
                 let lo = sub(node.center, level.half);
                 let hi = add(node.center, level.half);
                 let steps = if node.is_leaf() {
-                    u.control[0]
+                    u.control.steps
                 } else {
-                    march_steps(u.control[0], u.march[0].saturating_sub(node.level()))
+                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
                 };
                 pixel.trace_box(o, lo, hi, steps, h.slope(i), h.curvature(i));
                 i = node.skip as usize;
@@ -359,7 +362,7 @@ fn render_pixel(
     if pixel.hits.is_empty() {
         return [u.background[0], u.background[1], u.background[2]];
     }
-    let alpha = u.misc[1];
+    let alpha = u.misc.alpha;
     let hits = pixel.hits.clone();
     let mut color = [0.0f32; 3];
     for (j, &(t, ray)) in hits.iter().rev().enumerate() {

@@ -6,13 +6,15 @@
 //! 64x64 frame; `cargo bench --bench frame` with FOURFOLD_BENCH_RAYS=0). Offscreen rendering
 //! returns an RGBA image; the viewer draws with the same pipeline into its own target.
 
+use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
-use crate::tree::{Hierarchy, NodeBounds, SphereNode};
+use crate::gpu_layout::{BoxRecord, NodeBounds, SphereNode};
+use crate::tree::Hierarchy;
 
 use super::codegen::Shader;
-use super::tiles::{BoxRecord, TileLists};
-use super::uniforms::{FLAG_RANDOM, Uniforms};
+use super::tiles::TileLists;
+use super::uniforms::{FLAG_RANDOM, Tiling, Uniforms};
 
 /// Storage buffers the ray caster's shader reads (bindings 0-4).
 pub const STORAGE_BUFFERS: u32 = 5;
@@ -226,7 +228,7 @@ pub struct RayCaster {
     /// The records of the boxes the tile lists index.
     boxes: wgpu::Buffer,
     /// `Uniforms::tiling` for the tile lists bound (zero: walk the hierarchy).
-    tiling: [u32; 4],
+    tiling: Tiling,
     bind_group: wgpu::BindGroup,
     /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
     /// background elsewhere.
@@ -302,7 +304,7 @@ impl RayCaster {
             bounds,
             tiles,
             boxes,
-            tiling: [0; 4],
+            tiling: Tiling::zeroed(),
             bind_group,
             rects: Default::default(),
             background: Default::default(),
@@ -331,10 +333,15 @@ impl RayCaster {
         });
         let Some(l) = lists else {
             // The walk reads neither buffer, and draws the whole target.
-            self.tiling = [0; 4];
+            self.tiling = Tiling::zeroed();
             return;
         };
-        self.tiling = [l.tile, l.tiles_x, 1, l.tiles_x * l.tiles_y + 1];
+        self.tiling = Tiling {
+            tile: l.tile,
+            tiles_per_row: l.tiles_x,
+            bound: 1,
+            entries_start: l.tiles_x * l.tiles_y + 1,
+        };
         self.rects = l.rects();
         let grew_tiles = write_or_grow(gpu, &mut self.tiles, bytemuck::cast_slice(&l.data));
         let grew_boxes = write_or_grow(gpu, &mut self.boxes, bytemuck::cast_slice(&l.boxes));
@@ -360,7 +367,7 @@ impl RayCaster {
 
     /// Whether tile lists are bound.
     pub fn tiled(&self) -> bool {
-        self.tiling[2] != 0
+        self.tiling.bound != 0
     }
 
     /// Records one pass: the whole target, or only `pass.region` (the rest is kept), blended
@@ -436,7 +443,7 @@ impl RayCaster {
         let ray_caster = self.pipeline(gpu, Variant::of(mode, &uniforms));
         rpass.set_pipeline(ray_caster);
         rpass.set_bind_group(0, &self.bind_group, &[]);
-        let (width, height) = (uniforms.size[0], uniforms.size[1]);
+        let (width, height) = (uniforms.size.width, uniforms.size.height);
         if self.target.accumulate {
             let c = pass.weight.clamp(0.0, 1.0);
             rpass.set_blend_constant(wgpu::Color {
@@ -545,7 +552,7 @@ impl RayCaster {
         gpu: &Gpu,
         uniforms: &Uniforms,
     ) -> Result<(Vec<u8>, Option<f64>), GpuError> {
-        let (width, height) = (uniforms.size[0], uniforms.size[1]);
+        let (width, height) = (uniforms.size.width, uniforms.size.height);
         check_image_size(width, height, &gpu.device.limits())?;
         let texture = self.target_texture(
             gpu,
@@ -779,8 +786,8 @@ impl Variant {
     fn of(mode: Mode, uniforms: &Uniforms) -> Self {
         Self {
             mode,
-            slots: slot_tier(uniforms.size[3]),
-            random: uniforms.control[2] & FLAG_RANDOM != 0,
+            slots: slot_tier(uniforms.size.hits),
+            random: uniforms.control.flags & FLAG_RANDOM != 0,
         }
     }
 

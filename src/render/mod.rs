@@ -5,12 +5,16 @@ pub mod camera;
 pub mod codegen;
 pub mod cpu;
 pub mod gpu;
+pub mod march;
 pub mod pipeline;
+pub mod prepare;
 pub mod tiles;
 pub mod uniforms;
 
 pub use camera::{Camera, Rotation4};
 pub use codegen::{CodegenError, Shader};
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
+pub use pipeline::MAX_PICTURE_SIDE;
+pub use prepare::Prepared;
 pub use tiles::TileLists;
 pub use uniforms::{FrameOptions, Uniforms};

@@ -1,18 +1,22 @@
 //! The whole pipeline for one picture: formula → tree → hierarchy → shader → frame, with the
 //! time of each stage. The CLI's `render` and the benchmarks call this.
 
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use crate::formula::CompiledFormula;
 use crate::scene::Scene;
-use crate::tree::{Hierarchy, Tree16, TreeStats};
+use crate::tree::{Hierarchy, TreeStats};
 
 use super::camera::Camera;
 use super::codegen;
 use super::gpu::{Gpu, RayCaster};
+use super::prepare::Prepared;
 use super::tiles::TileLists;
 use super::uniforms::{FrameOptions, Uniforms};
+
+/// The largest picture side `render` takes (within the device's own limit, which
+/// `gpu::check_image_size` reports).
+pub const MAX_PICTURE_SIDE: u32 = 8192;
 
 /// Milliseconds per stage.
 #[derive(Debug, Clone, Default)]
@@ -68,7 +72,9 @@ pub enum RenderError {
     Codegen(#[from] codegen::CodegenError),
     #[error("{0}")]
     Gpu(#[from] super::gpu::GpuError),
-    #[error("the image size {0}x{1} is not allowed: both sides must be between 1 and 8192")]
+    #[error(
+        "the image size {0}x{1} is not allowed: both sides must be between 1 and {MAX_PICTURE_SIDE}"
+    )]
     Size(u32, u32),
 }
 
@@ -106,33 +112,20 @@ pub fn render_compiled(
     device: Device<'_>,
     options: FrameOptions,
 ) -> Result<Picture, RenderError> {
-    if !(1..=8192).contains(&width) || !(1..=8192).contains(&height) {
+    let sides = 1..=MAX_PICTURE_SIDE;
+    if !sides.contains(&width) || !sides.contains(&height) {
         return Err(RenderError::Size(width, height));
     }
     let mut times = StageTimes::default();
-    let params = scene.param_values(&formula.param_names());
-
-    let t = Instant::now();
-    let tree = Tree16::build(
-        formula,
-        &params,
-        &scene.domain,
-        scene.tree.into(),
-        &AtomicBool::new(false),
-        None,
-    )?;
-    let hierarchy = Hierarchy::for_formula(&tree, formula, &params);
-    times.tree_ms = ms(t);
-
-    let camera = Camera::new(&scene.domain, &scene.view, width, height);
-    let uniforms = Uniforms::new(
-        &camera,
-        &scene.render,
-        &scene.domain,
-        &hierarchy,
-        &params,
-        options,
-    );
+    let prepared = Prepared::new(formula, scene)?;
+    times.tree_ms = prepared.build_ms;
+    let (camera, uniforms) = prepared.frame(scene, width, height, options);
+    let Prepared {
+        params,
+        tree,
+        hierarchy,
+        ..
+    } = prepared;
     let t = Instant::now();
     let shader = codegen::generate(formula)?;
     times.codegen_ms = ms(t);

@@ -26,9 +26,10 @@
 //! serves all tiles, and a pixel stops at the first box that cannot hold a hit nearer than
 //! the K it keeps: every later one is at least as far (nearest-first with early exit).
 
-use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
+pub use crate::gpu_layout::BoxRecord;
+use crate::gpu_layout::PlaneCurvature;
 use crate::tree::{CoverBox, Hierarchy};
 
 use super::camera::Camera;
@@ -50,38 +51,6 @@ pub const RECT_BAND: u32 = 32;
 /// Words (tile offsets and box indices) the lists may hold: the tile side grows until they
 /// fit (96 MiB).
 pub const MAX_ENTRIES: usize = 24 << 20;
-
-/// One box of a view's lists as the shader reads it (binding 3): the parts of its pixel
-/// test and of its choice of rays that are the same for every pixel, worked out once per
-/// view instead of per pixel (the angles cost a pixel more than the rest of a visit).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct BoxRecord {
-    /// The centre minus the domain's centre, projected on v1 and v2 (the pixel whose origin
-    /// is at offset (sx, sy) along them sees the centre at (a − sx, b − sy)); |q| − r, the
-    /// least distance of a hit in the box (q: the centre projected on n1, n2; r: the
-    /// sphere's radius).
-    pub view: [f32; 3],
-    /// The level (bits 0–7) and leaf flag (bit 8), as in `SphereNode`.
-    pub level: u32,
-    /// The angle of q in the observer plane, and the half angle the sphere spans seen from
-    /// any pixel's origin, with a margin (−1 where |q| ≤ r: every ray is tried).
-    pub angles: [f32; 2],
-    /// The box's index in the hierarchy.
-    pub node: u32,
-    pub unused: u32,
-    /// The box's centre.
-    pub center: [f32; 4],
-    /// Its slope bounds (`Hierarchy::slope`: a ray d sees F change by at most
-    /// Σ slope_k·|d_k| per unit length).
-    pub slope: [f32; 4],
-    /// Its curvature bounds in the observer plane (`Curvature::in_plane`): A (lower,
-    /// upper) and B, then in `form_c` C; a ray a·n1 + b·n2 sees d²F/dt² within
-    /// a²·A + ab·B + b²·C.
-    pub form: [f32; 4],
-    pub form_c: [f32; 2],
-    pub unused2: [f32; 2],
-}
 
 /// The per-tile box lists of one view, and the records of the boxes they index.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -277,9 +246,11 @@ fn record(hierarchy: &Hierarchy, i: u32, [a, b, q1, q2]: [f64; 4], camera: &Came
         unused: 0,
         center: node.center,
         slope: hierarchy.slope(i as usize),
-        form: [al, ah, bl, bh],
-        form_c: [cl, ch],
-        unused2: [0.0; 2],
+        form: PlaneCurvature {
+            ab: [al, ah, bl, bh],
+            c: [cl, ch],
+            unused: [0.0; 2],
+        },
     }
 }
 
@@ -402,29 +373,22 @@ fn span_mask(i: usize, lo: u32, last: usize, hi: u32) -> u64 {
     from & to
 }
 
-impl TileLists {
-    /// Bins the marched boxes of `hierarchy` for `camera`.
-    pub fn build(hierarchy: &Hierarchy, camera: &Camera) -> Self {
-        Self::build_within(hierarchy, camera, MAX_ENTRIES)
-    }
+/// The view as the binning sees it: pixel units, and each level's reach on the screen.
+struct Screen<'a> {
+    camera: &'a Camera,
+    w: u32,
+    h: u32,
+    /// Per level, the box's reach (see [`Reach`]).
+    reach: Vec<Reach>,
+    /// For the runs' parents (see `Bins::parent_reach`).
+    parent_reach: Vec<Reach>,
+}
 
-    /// Bins the marched boxes in at most about `max_entries` words, offsets included (the smallest
-    /// tile side whose estimate fits; MAX_TILE if none does).
-    pub fn build_within(hierarchy: &Hierarchy, camera: &Camera, max_entries: usize) -> Self {
-        let (w, h) = (camera.width.max(1), camera.height.max(1));
+impl<'a> Screen<'a> {
+    fn new(hierarchy: &Hierarchy, camera: &'a Camera) -> Self {
         let s = camera.pixel_size;
-        let (v1, v2, n1, n2) = (camera.v1, camera.v2, camera.n1, camera.n2);
+        let (v1, v2) = (camera.v1, camera.v2);
         let pad = |x: f64| (x * (1.0 + 1e-4) + 2e-3) as f32;
-        // A centre's position in pixel units (inverting Camera::origin), and its offset from
-        // the camera's centre along v1, v2, n1 and n2.
-        let project = |center: [f32; 4]| -> (f32, f32, [f64; 4]) {
-            let rel: [f64; 4] = std::array::from_fn(|k| f64::from(center[k]) - camera.center[k]);
-            let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
-            let (a, b) = (dot(&v1), dot(&v2));
-            let cx = (a / s + 0.5 * f64::from(w)) as f32;
-            let cy = (0.5 * f64::from(h) - b / s) as f32;
-            (cx, cy, [a, b, dot(&n1), dot(&n2)])
-        };
         let reach: Vec<Reach> = hierarchy
             .levels
             .iter()
@@ -444,10 +408,10 @@ impl TileLists {
                 }
             })
             .collect();
-        // For the runs' parents (see `Bins::parent_reach`): wider by far more than the
-        // rounding of f32 centres and their projections (~1e-5 pixels).
+        // Wider by far more than the rounding of f32 centres and their projections (~1e-5
+        // pixels).
         let widen = |x: f32| x * 1.001 + 0.01;
-        let parent_reach: Vec<Reach> = reach
+        let parent_reach = reach
             .iter()
             .map(|r| Reach {
                 hx: widen(r.hx),
@@ -459,20 +423,44 @@ impl TileLists {
                 },
             })
             .collect();
-        // The marched boxes on screen, nearest first (by |q| − r, then node), with their
-        // records.
+        Self {
+            camera,
+            w: camera.width.max(1),
+            h: camera.height.max(1),
+            reach,
+            parent_reach,
+        }
+    }
+
+    /// A centre's position in pixel units (inverting `Camera::origin`), and its offset from
+    /// the camera's centre along v1, v2, n1 and n2.
+    fn project(&self, center: [f32; 4]) -> (f32, f32, [f64; 4]) {
+        let c = self.camera;
+        let rel: [f64; 4] = std::array::from_fn(|k| f64::from(center[k]) - c.center[k]);
+        let dot = |v: &[f64; 4]| -> f64 { (0..4).map(|k| rel[k] * v[k]).sum() };
+        let (a, b) = (dot(&c.v1), dot(&c.v2));
+        let cx = (a / c.pixel_size + 0.5 * f64::from(self.w)) as f32;
+        let cy = (0.5 * f64::from(self.h) - b / c.pixel_size) as f32;
+        (cx, cy, [a, b, dot(&c.n1), dot(&c.n2)])
+    }
+
+    /// The marched boxes on screen, nearest first (by |q| − r, then node), with their
+    /// records; and each node's place in that order (`u32::MAX`: off screen).
+    #[allow(clippy::type_complexity)]
+    fn boxes_on_screen(&self, hierarchy: &Hierarchy) -> (Vec<(u32, u32, BoxRecord)>, Vec<u32>) {
         let mut on_screen: Vec<(u32, u32, BoxRecord)> = hierarchy
             .nodes
             .par_iter()
             .enumerate()
             .filter_map(|(i, node)| {
-                let r = reach
+                let r = self
+                    .reach
                     .get(node.level() as usize)
                     .filter(|_| hierarchy.marches(node))?;
-                let (cx, cy, view) = project(node.center);
-                pixel_range(cx, r.hx, w)?;
-                pixel_range(cy, r.hy, h)?;
-                let record = record(hierarchy, i as u32, view, camera);
+                let (cx, cy, view) = self.project(node.center);
+                pixel_range(cx, r.hx, self.w)?;
+                pixel_range(cy, r.hy, self.h)?;
+                let record = record(hierarchy, i as u32, view, self.camera);
                 Some((order_key(record.view[2]), i as u32, record))
             })
             .collect();
@@ -482,15 +470,22 @@ impl TileLists {
         for (k, &(_, node, _)) in on_screen.iter().enumerate() {
             rank[node as usize] = k as u32;
         }
-        // Their footprints: those of the boxes they cover (see `Hierarchy::cover`), in the
-        // boxes' order. Where the cover holds more than COVER_PER_TILE boxes per smallest
-        // tile, its boxes' ancestors stand in for them (the binning's cost grows with their
-        // number; a small image gains little from boxes much smaller than a tile).
+        (on_screen, rank)
+    }
+
+    /// The marched boxes' footprints: those of the boxes they cover (see
+    /// `Hierarchy::cover`), in the boxes' order (`rank`), in runs under the boxes of the next
+    /// coarser cover (see `Run`), each box's runs together. Where the cover holds more than
+    /// COVER_PER_TILE boxes per smallest tile, its boxes' ancestors stand in for them (the
+    /// binning's cost grows with their number; a small image gains little from boxes much
+    /// smaller than a tile).
+    fn footprint_runs(&self, hierarchy: &Hierarchy, rank: &[u32]) -> (Vec<Footprint>, Vec<Run>) {
+        let (w, h) = (self.w, self.h);
         let limit = COVER_PER_TILE * (w.div_ceil(MIN_TILE) * h.div_ceil(MIN_TILE)) as usize;
         let footprint = |c: &CoverBox| {
             let slot = *rank.get(c.node as usize).filter(|&&k| k != u32::MAX)?;
-            let r = reach.get(c.level as usize)?;
-            let (cx, cy, _) = project(c.center);
+            let r = self.reach.get(c.level as usize)?;
+            let (cx, cy, _) = self.project(c.center);
             pixel_range(cx, r.hx, w)?;
             pixel_range(cy, r.hy, h)?;
             Some(Footprint {
@@ -500,8 +495,6 @@ impl TileLists {
                 level: c.level,
             })
         };
-        // In runs under the boxes of the next coarser cover (see `Run`), each box's runs
-        // together.
         let level = hierarchy.cover_level_within(limit);
         let fine = level.map_or(&[][..], |k| hierarchy.cover[k].as_slice());
         let coarse = level.and_then(|k| hierarchy.cover.get(k + 1));
@@ -541,13 +534,18 @@ impl TileLists {
                 }
             })
             .collect();
-        // The smallest tile side whose lists fit (estimated from the rectangles, for every
-        // side in one pass).
+        (feet, runs)
+    }
+
+    /// The smallest tile side whose lists fit in `max_entries` words (estimated from the
+    /// footprints' rectangles, for every side in one pass).
+    fn tile_side(&self, feet: &[Footprint], max_entries: usize) -> u32 {
         const SIDES: usize = (MAX_TILE.ilog2() - MIN_TILE.ilog2() + 1) as usize;
+        let (w, h) = (self.w, self.h);
         let estimates = feet
             .par_iter()
             .map(|f| {
-                let r = &reach[f.level()];
+                let r = &self.reach[f.level()];
                 let mut n = [0usize; SIDES];
                 if let (Some((x0, x1)), Some((y0, y1))) =
                     (pixel_range(f.cx, r.hx, w), pixel_range(f.cy, r.hy, h))
@@ -564,9 +562,73 @@ impl TileLists {
             let t = MIN_TILE << i;
             estimates[i] + (w.div_ceil(t) * h.div_ceil(t)) as usize + 1
         };
-        let tile = (0..SIDES)
+        (0..SIDES)
             .find(|&i| words(i) <= max_entries)
-            .map_or(MAX_TILE, |i| MIN_TILE << i);
+            .map_or(MAX_TILE, |i| MIN_TILE << i)
+    }
+}
+
+/// The lists' words: `tiles + 1` offsets, then each tile's entries, from the bands' entries
+/// (tile index within the band, box slot), each band `band_tiles` tiles.
+fn lay_out(entries: &[Vec<(u32, u32)>], tiles: usize, band_tiles: usize) -> Vec<u32> {
+    let mut counts = vec![0u32; tiles];
+    counts
+        .par_chunks_mut(band_tiles)
+        .zip(entries)
+        .for_each(|(counts, band)| {
+            for &(t, _) in band {
+                counts[t as usize] += 1;
+            }
+        });
+    let mut offsets = vec![0u32; tiles + 1];
+    for t in 0..tiles {
+        offsets[t + 1] = offsets[t] + counts[t];
+    }
+    let total = offsets[tiles] as usize;
+    let mut data = Vec::with_capacity(tiles + 1 + total);
+    data.extend_from_slice(&offsets);
+    data.resize(tiles + 1 + total, 0);
+    // Split the entries into the bands' own slices.
+    let mut slices = Vec::new();
+    let mut rest = &mut data[tiles + 1..];
+    for start in (0..tiles).step_by(band_tiles) {
+        let end = (start + band_tiles).min(tiles);
+        let (band, tail) = rest.split_at_mut((offsets[end] - offsets[start]) as usize);
+        slices.push((start, band));
+        rest = tail;
+    }
+    slices
+        .into_par_iter()
+        .zip(entries)
+        .for_each(|((start, out), band)| {
+            let first = offsets[start];
+            let mut fill: Vec<u32> = offsets[start..(start + band_tiles).min(tiles)]
+                .iter()
+                .map(|o| o - first)
+                .collect();
+            for &(t, slot) in band {
+                out[fill[t as usize] as usize] = slot;
+                fill[t as usize] += 1;
+            }
+        });
+    data
+}
+
+impl TileLists {
+    /// Bins the marched boxes of `hierarchy` for `camera`.
+    pub fn build(hierarchy: &Hierarchy, camera: &Camera) -> Self {
+        Self::build_within(hierarchy, camera, MAX_ENTRIES)
+    }
+
+    /// Bins the marched boxes in at most about `max_entries` words, offsets included (the smallest
+    /// tile side whose estimate fits; MAX_TILE if none does).
+    pub fn build_within(hierarchy: &Hierarchy, camera: &Camera, max_entries: usize) -> Self {
+        let screen = Screen::new(hierarchy, camera);
+        let (w, h) = (screen.w, screen.h);
+        let (on_screen, rank) = screen.boxes_on_screen(hierarchy);
+        let (feet, runs) = screen.footprint_runs(hierarchy, &rank);
+        let tile = screen.tile_side(&feet, max_entries);
+        let (reach, parent_reach) = (&screen.reach, &screen.parent_reach);
         let tiles_x = w.div_ceil(tile);
         let tiles_y = h.div_ceil(tile);
         let tiles = (tiles_x * tiles_y) as usize;
@@ -605,8 +667,8 @@ impl TileLists {
         let bins = Bins {
             feet: &feet,
             runs: &runs,
-            reach: &reach,
-            parent_reach: &parent_reach,
+            reach,
+            parent_reach,
             members: &members,
             tile,
             tiles_x,
@@ -620,46 +682,7 @@ impl TileLists {
             .into_par_iter()
             .map(|b| bins.entries(b))
             .collect();
-        let mut counts = vec![0u32; tiles];
-        counts
-            .par_chunks_mut(band_tiles)
-            .zip(&entries)
-            .for_each(|(counts, band)| {
-                for &(t, _) in band {
-                    counts[t as usize] += 1;
-                }
-            });
-        let mut offsets = vec![0u32; tiles + 1];
-        for t in 0..tiles {
-            offsets[t + 1] = offsets[t] + counts[t];
-        }
-        let total = offsets[tiles] as usize;
-        let mut data = Vec::with_capacity(tiles + 1 + total);
-        data.extend_from_slice(&offsets);
-        data.resize(tiles + 1 + total, 0);
-        // Split the entries into the bands' own slices.
-        let mut slices = Vec::new();
-        let mut rest = &mut data[tiles + 1..];
-        for start in (0..tiles).step_by(band_tiles) {
-            let end = (start + band_tiles).min(tiles);
-            let (band, tail) = rest.split_at_mut((offsets[end] - offsets[start]) as usize);
-            slices.push((start, band));
-            rest = tail;
-        }
-        slices
-            .into_par_iter()
-            .zip(&entries)
-            .for_each(|((start, out), band)| {
-                let first = offsets[start];
-                let mut fill: Vec<u32> = offsets[start..(start + band_tiles).min(tiles)]
-                    .iter()
-                    .map(|o| o - first)
-                    .collect();
-                for &(t, slot) in band {
-                    out[fill[t as usize] as usize] = slot;
-                    fill[t as usize] += 1;
-                }
-            });
+        let data = lay_out(&entries, tiles, band_tiles);
         let boxes = on_screen.iter().map(|&(_, _, r)| r).collect();
         Self {
             tile,

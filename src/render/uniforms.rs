@@ -1,65 +1,17 @@
-//! The block of per-frame settings the ray caster reads (binding 0, a read-only storage
-//! buffer: see `gpu`), laid out exactly as `Uniforms` in `templates/raycast.wgsl` (1088
-//! bytes), and how a scene fills it.
+//! How a scene, a view and a hierarchy fill the block of per-frame settings the ray caster
+//! reads (binding 0; its layout is [`crate::gpu_layout::Uniforms`]).
 
-use bytemuck::{Pod, Zeroable};
+use bytemuck::Zeroable;
 
+pub use crate::gpu_layout::{
+    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE,
+    LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
+};
 use crate::scene::{RenderSettings, Sampling};
-use crate::tree::{Hierarchy, LevelInfo, hierarchy::march_steps};
+use crate::tree::{Hierarchy, LevelInfo};
 
 use super::camera::Camera;
-
-/// Flag bits of `control[2]`.
-pub const FLAG_LIGHTING: u32 = 1;
-pub const FLAG_SILHOUETTE: u32 = 2;
-pub const FLAG_BORDER: u32 = 4;
-pub const FLAG_RANDOM: u32 = 8;
-/// Brute force: the ray caster picks its brute-force pipeline (see `gpu::Mode`).
-pub const FLAG_BRUTE_FORCE: u32 = 16;
-
-/// Entries of the per-level table (levels 0..=15).
-pub const LEVEL_SLOTS: usize = 16;
-
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct Uniforms {
-    pub v1: [f32; 4],
-    pub v2: [f32; 4],
-    pub n1: [f32; 4],
-    pub n2: [f32; 4],
-    pub center: [f32; 4],
-    pub domain_lo: [f32; 4],
-    pub domain_hi: [f32; 4],
-    pub light: [f32; 4],
-    pub surface: [f32; 4],
-    pub background: [f32; 4],
-    pub silhouette_color: [f32; 4],
-    pub border_color: [f32; 4],
-    /// ambient, diffuse, specular, shininess
-    pub shading: [f32; 4],
-    /// pixel size, alpha, silhouette tolerance, border tolerance
-    pub misc: [f32; 4],
-    /// bisection approximation, box padding
-    pub root: [f32; 4],
-    /// width, height, rays, hits kept
-    pub size: [u32; 4],
-    /// steps per span, bisection iterations, flags, seed
-    pub control: [u32; 4],
-    /// node count, frame, NaN bit pattern, brute-force steps
-    pub counts: [u32; 4],
-    /// tile side, tiles per row, tile lists bound (0/1), index where the leaf entries start;
-    /// set by the ray caster from its tile lists (see `tiles.rs`).
-    pub tiling: [u32; 4],
-    /// Half extents of a level-0 box before padding (`root[1]` is the padding): the shader
-    /// computes a level's box from them (see `Hierarchy::base_half`).
-    pub half0: [f32; 4],
-    /// The finest level of the tree (a marched box at level l that is not a leaf takes
-    /// `march_steps(steps, finest - l)` steps per span: the finest leaves' step length),
-    /// unused x3.
-    pub march: [u32; 4],
-    pub levels: [LevelInfo; LEVEL_SLOTS],
-    pub params: [[f32; 4]; 16],
-}
+use super::march::march_steps;
 
 fn v4(a: [f64; 4]) -> [f32; 4] {
     a.map(|v| v as f32)
@@ -83,7 +35,7 @@ pub struct FrameOptions {
 impl Uniforms {
     /// Whether the frame marches every ray across the domain (no tree leaves read).
     pub fn brute_force(&self) -> bool {
-        self.control[2] & FLAG_BRUTE_FORCE != 0
+        self.control.flags & FLAG_BRUTE_FORCE != 0
     }
 
     pub fn new(
@@ -146,35 +98,47 @@ impl Uniforms {
             background: rgb(render.background.to_f32()),
             silhouette_color: rgb(render.silhouette.color.to_f32()),
             border_color: rgb(render.border.color.to_f32()),
-            shading: [
-                render.lighting.ambient as f32,
-                render.lighting.diffuse as f32,
-                render.lighting.specular as f32,
-                render.lighting.shininess as f32,
-            ],
-            misc: [
-                camera.pixel_size as f32,
-                render.alpha as f32,
-                render.silhouette.tolerance as f32,
-                render.border.tolerance as f32,
-            ],
-            root: [render.approximation as f32, hierarchy.pad, 0.0, 0.0],
-            size: [
-                camera.width,
-                camera.height,
-                render.rays,
-                render.hits.min(16),
-            ],
-            control: [render.steps, render.bisection_iters, flags, render.seed],
-            counts: [
-                hierarchy.nodes.len() as u32,
-                options.frame,
-                f32::NAN.to_bits(),
+            shading: Shading {
+                ambient: render.lighting.ambient as f32,
+                diffuse: render.lighting.diffuse as f32,
+                specular: render.lighting.specular as f32,
+                shininess: render.lighting.shininess as f32,
+            },
+            misc: Misc {
+                pixel_size: camera.pixel_size as f32,
+                alpha: render.alpha as f32,
+                silhouette_tolerance: render.silhouette.tolerance as f32,
+                border_tolerance: render.border.tolerance as f32,
+            },
+            root: Root {
+                approximation: render.approximation as f32,
+                pad: hierarchy.pad,
+                unused: [0.0; 2],
+            },
+            size: Size {
+                width: camera.width,
+                height: camera.height,
+                rays: render.rays,
+                hits: render.hits.min(16),
+            },
+            control: Control {
+                steps: render.steps,
+                bisection_iters: render.bisection_iters,
+                flags,
+                seed: render.seed,
+            },
+            counts: Counts {
+                nodes: hierarchy.nodes.len() as u32,
+                frame: options.frame,
+                nan_bits: f32::NAN.to_bits(),
                 brute_steps,
-            ],
-            tiling: [0; 4],
+            },
+            tiling: Tiling::zeroed(),
             half0: hierarchy.base_half,
-            march: [finest, 0, 0, 0],
+            march: March {
+                finest,
+                unused: [0; 3],
+            },
             levels,
             params: packed,
         }

@@ -7,11 +7,15 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::eval::{Box4, Interval};
 use crate::syntax::SourceError;
+use crate::tree::BuildSettings;
 
-/// The largest `max_level` accepted. At level 12 a box is 1/4096 of the domain per axis;
-/// deeper trees only hit the node budget.
-pub const MAX_TREE_LEVEL: u32 = 12;
+mod check;
+pub use check::{Invalid, Problem, Speaker, flag_of};
+
+/// The largest `max_level` accepted (the tree's limit).
+pub const MAX_TREE_LEVEL: u32 = crate::tree::MAX_LEVEL;
 /// The most rays per pixel and hits kept per pixel.
 pub const MAX_RAYS: u32 = 1024;
 pub const MAX_HITS: u32 = 16;
@@ -142,6 +146,11 @@ impl Domain {
         self.axes().map(|a| 0.5 * (a.lo + a.hi))
     }
 
+    /// The domain as the box the 16-tree refines.
+    pub fn to_box(&self) -> Box4 {
+        self.axes().map(|a| Interval::new(a.lo, a.hi))
+    }
+
     /// Half the length of the main diagonal: the radius of the sphere around H.
     pub fn half_diagonal(&self) -> f64 {
         0.5 * self
@@ -157,10 +166,9 @@ impl Domain {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct View {
-    /// θ1..θ6 of SPEC.md §4.
+    /// θ1..θ6 of docs/method.md §4.
     pub angles: [f64; 6],
     /// 1 shows the whole domain; 2 shows half as much, twice as large.
-    #[serde(deserialize_with = "positive")]
     pub zoom: f64,
 }
 
@@ -177,12 +185,20 @@ impl Default for View {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TreeSettings {
-    #[serde(deserialize_with = "tree_level")]
     pub max_level: u32,
-    #[serde(deserialize_with = "tree_level")]
     pub min_level: u32,
     /// At most this many nodes are kept; refinement stops level by level past it.
     pub node_budget: u32,
+}
+
+impl From<TreeSettings> for BuildSettings {
+    fn from(t: TreeSettings) -> Self {
+        Self {
+            max_level: t.max_level,
+            min_level: t.min_level,
+            node_budget: t.node_budget,
+        }
+    }
 }
 
 impl Default for TreeSettings {
@@ -195,7 +211,7 @@ impl Default for TreeSettings {
     }
 }
 
-/// How rays are spread in the observer plane (SPEC.md §5.2).
+/// How rays are spread in the observer plane (docs/method.md §5.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Sampling {
@@ -247,7 +263,7 @@ impl Color {
     }
 }
 
-/// Phong lighting (SPEC.md §5.5).
+/// Phong lighting (docs/method.md §5.5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Lighting {
@@ -255,13 +271,9 @@ pub struct Lighting {
     pub enabled: bool,
     /// Light direction in the camera frame: coefficients of v1, v2, n1, n2.
     pub direction: [f64; 4],
-    #[serde(deserialize_with = "unit")]
     pub ambient: f64,
-    #[serde(deserialize_with = "unit")]
     pub diffuse: f64,
-    #[serde(deserialize_with = "unit")]
     pub specular: f64,
-    #[serde(deserialize_with = "positive")]
     pub shininess: f64,
     pub color: Color,
 }
@@ -285,33 +297,26 @@ impl Default for Lighting {
 #[serde(deny_unknown_fields)]
 pub struct Highlight {
     pub enabled: bool,
-    #[serde(deserialize_with = "non_negative")]
     pub tolerance: f64,
     pub color: Color,
 }
 
-/// How the ray caster runs and shades (SPEC.md §5).
+/// How the ray caster runs and shades (docs/method.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSettings {
     /// Rays per pixel, n.
-    #[serde(deserialize_with = "ray_count")]
     pub rays: u32,
     /// Hits kept per pixel, K.
-    #[serde(deserialize_with = "hit_count")]
     pub hits: u32,
     /// Blending weight of the nearer hit.
-    #[serde(deserialize_with = "unit")]
     pub alpha: f64,
     pub sampling: Sampling,
     /// Steps m of the composite interval method per leaf span.
-    #[serde(deserialize_with = "step_count")]
     pub steps: u32,
     /// Bisection iterations per sign change.
-    #[serde(deserialize_with = "step_count")]
     pub bisection_iters: u32,
     /// Bisection stops once |F| is below this.
-    #[serde(deserialize_with = "non_negative")]
     pub approximation: f64,
     pub background: Color,
     pub lighting: Lighting,
@@ -351,69 +356,6 @@ impl Default for RenderSettings {
             brute_force: false,
         }
     }
-}
-
-fn tree_level<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    let v = i64::deserialize(d)?;
-    if !(0..=i64::from(MAX_TREE_LEVEL)).contains(&v) {
-        return Err(serde::de::Error::custom(format!(
-            "a tree level must be between 0 and {MAX_TREE_LEVEL}, got {v}"
-        )));
-    }
-    Ok(v as u32)
-}
-
-fn ranged<'de, D: serde::Deserializer<'de>>(
-    d: D,
-    what: &str,
-    lo: i64,
-    hi: i64,
-) -> Result<u32, D::Error> {
-    let v = i64::deserialize(d)?;
-    if !(lo..=hi).contains(&v) {
-        return Err(serde::de::Error::custom(format!(
-            "{what} must be between {lo} and {hi}, got {v}"
-        )));
-    }
-    Ok(v as u32)
-}
-
-fn ray_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    ranged(d, "the number of rays", 1, i64::from(MAX_RAYS))
-}
-
-fn hit_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    ranged(d, "the number of hits kept", 1, i64::from(MAX_HITS))
-}
-
-fn step_count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
-    ranged(d, "a step count", 1, i64::from(MAX_STEPS))
-}
-
-fn float_in<'de, D: serde::Deserializer<'de>>(
-    d: D,
-    ok: fn(f64) -> bool,
-    what: &str,
-) -> Result<f64, D::Error> {
-    let v = f64::deserialize(d)?;
-    if !ok(v) {
-        return Err(serde::de::Error::custom(format!(
-            "expected {what}, got {v}"
-        )));
-    }
-    Ok(v)
-}
-
-fn unit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    float_in(d, |v| (0.0..=1.0).contains(&v), "a number between 0 and 1")
-}
-
-fn positive<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    float_in(d, |v| v.is_finite() && v > 0.0, "a positive number")
-}
-
-fn non_negative<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    float_in(d, |v| v.is_finite() && v >= 0.0, "a number ≥ 0")
 }
 
 /// A scene file that could not be read, with its text for rendering the error.
@@ -457,7 +399,7 @@ impl Scene {
             let span = e.span().unwrap_or(0..0);
             let message = e.message().to_string();
             let hint = if message.contains("unknown field") {
-                Some("check the spelling; `fourfold scene --help` lists every key")
+                Some("check the spelling against the keys the message lists")
             } else if message.contains("missing field `formula`") {
                 Some("add a line such as formula = \"x^2 + y^2 + z^2 + w^2 = 1\"")
             } else {
@@ -469,9 +411,13 @@ impl Scene {
             }
             invalid(error)
         })?;
-        scene.validate().map_err(|(message, key)| {
-            let span = find_key(text, key);
-            invalid(SourceError::new(message, span, "here"))
+        scene.check().map_err(|problem| {
+            let span = check::locate(text, &problem.key);
+            invalid(SourceError::new(
+                problem.message(Speaker::File),
+                span,
+                "here",
+            ))
         })?;
         Ok(scene)
     }
@@ -488,45 +434,6 @@ impl Scene {
         toml::to_string_pretty(self).expect("a scene always serialises")
     }
 
-    /// Checks that go across fields; returns the message and the key to point at.
-    pub fn validate(&self) -> Result<(), (String, &'static str)> {
-        if self.tree.min_level > self.tree.max_level {
-            return Err((
-                format!(
-                    "min_level ({}) is above max_level ({}): lower min_level or raise max_level",
-                    self.tree.min_level, self.tree.max_level
-                ),
-                "min_level",
-            ));
-        }
-        if self.tree.node_budget < 16 {
-            return Err(("node_budget must be at least 16".to_string(), "node_budget"));
-        }
-        if let Some((name, _)) = self.params.iter().find(|(_, v)| !v.is_finite()) {
-            return Err((
-                format!("parameter {name} must be a finite number"),
-                "params",
-            ));
-        }
-        if self.view.angles.iter().any(|a| !a.is_finite()) {
-            return Err(("angles must be finite numbers".to_string(), "angles"));
-        }
-        if self.render.lighting.direction.iter().all(|c| *c == 0.0)
-            || self
-                .render
-                .lighting
-                .direction
-                .iter()
-                .any(|c| !c.is_finite())
-        {
-            return Err((
-                "the light direction must be finite and not all zero".to_string(),
-                "direction",
-            ));
-        }
-        Ok(())
-    }
-
     /// Parameter values in the order of `names` (1.0 where the scene has none).
     pub fn param_values(&self, names: &[&str]) -> Vec<f64> {
         names
@@ -534,22 +441,6 @@ impl Scene {
             .map(|n| self.params.get(*n).copied().unwrap_or(1.0))
             .collect()
     }
-}
-
-/// The span of the first line that sets `key`, for errors found after parsing.
-fn find_key(text: &str, key: &str) -> std::ops::Range<usize> {
-    let mut offset = 0;
-    for line in text.split_inclusive('\n') {
-        let trimmed = line.trim_start();
-        if trimmed.starts_with(key) && trimmed[key.len()..].trim_start().starts_with(['=', ']'])
-            || trimmed.starts_with(&format!("[{key}"))
-        {
-            let start = offset + (line.len() - trimmed.len());
-            return start..offset + line.trim_end().len();
-        }
-        offset += line.len();
-    }
-    0..0
 }
 
 impl Scene {
@@ -564,32 +455,38 @@ impl Scene {
 
 /// The example scenes shipped with fourfold (also embedded in the viewer).
 pub const EXAMPLES: &[(&str, &str)] = &[
-    ("glome", include_str!("../examples/scenes/glome.toml")),
+    ("glome", include_str!("../../examples/scenes/glome.toml")),
     (
         "fig-3-9-left",
-        include_str!("../examples/scenes/fig-3-9-left.toml"),
+        include_str!("../../examples/scenes/fig-3-9-left.toml"),
     ),
     (
         "fig-3-9-right",
-        include_str!("../examples/scenes/fig-3-9-right.toml"),
+        include_str!("../../examples/scenes/fig-3-9-right.toml"),
     ),
-    ("fig-3-11", include_str!("../examples/scenes/fig-3-11.toml")),
-    ("fig-3-12", include_str!("../examples/scenes/fig-3-12.toml")),
+    (
+        "fig-3-11",
+        include_str!("../../examples/scenes/fig-3-11.toml"),
+    ),
+    (
+        "fig-3-12",
+        include_str!("../../examples/scenes/fig-3-12.toml"),
+    ),
     (
         "spheritorus",
-        include_str!("../examples/scenes/spheritorus.toml"),
+        include_str!("../../examples/scenes/spheritorus.toml"),
     ),
-    ("tiger", include_str!("../examples/scenes/tiger.toml")),
+    ("tiger", include_str!("../../examples/scenes/tiger.toml")),
     (
         "fermat-quartic",
-        include_str!("../examples/scenes/fermat-quartic.toml"),
+        include_str!("../../examples/scenes/fermat-quartic.toml"),
     ),
     (
         "hyperplane",
-        include_str!("../examples/scenes/hyperplane.toml"),
+        include_str!("../../examples/scenes/hyperplane.toml"),
     ),
     (
         "duocylinder",
-        include_str!("../examples/scenes/duocylinder.toml"),
+        include_str!("../../examples/scenes/duocylinder.toml"),
     ),
 ];

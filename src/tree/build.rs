@@ -13,7 +13,6 @@ use serde::Serialize;
 
 use crate::eval::{Box4, Interval, IntervalEvaluator};
 use crate::formula::CompiledFormula;
-use crate::scene::{Domain, MAX_TREE_LEVEL};
 
 /// The criteria and limits of a build.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,15 +24,9 @@ pub struct BuildSettings {
     pub node_budget: u32,
 }
 
-impl From<crate::scene::TreeSettings> for BuildSettings {
-    fn from(t: crate::scene::TreeSettings) -> Self {
-        Self {
-            max_level: t.max_level,
-            min_level: t.min_level,
-            node_budget: t.node_budget,
-        }
-    }
-}
+/// The deepest level a build accepts. At level 12 a box is 1/4096 of the domain per axis;
+/// deeper trees only hit the node budget.
+pub const MAX_LEVEL: u32 = 12;
 
 /// A kept box: its integer coordinates at its level, its parent (index into the level above)
 /// and whether it was refined.
@@ -73,7 +66,8 @@ pub struct TreeStats {
 /// A built 16-tree: kept boxes per level.
 #[derive(Debug, Clone)]
 pub struct Tree16 {
-    pub domain: Domain,
+    /// The domain box H, the root.
+    pub domain: Box4,
     pub levels: Vec<Vec<TreeBox>>,
     pub stats: TreeStats,
 }
@@ -96,7 +90,7 @@ impl Tree16 {
     pub fn build(
         formula: &CompiledFormula,
         params: &[f64],
-        domain: &Domain,
+        domain: &Box4,
         settings: BuildSettings,
         cancel: &AtomicBool,
         progress: Option<Progress<'_>>,
@@ -241,9 +235,9 @@ impl Tree16 {
 }
 
 fn validate(s: BuildSettings) -> Result<(), BuildError> {
-    if s.max_level > MAX_TREE_LEVEL {
+    if s.max_level > MAX_LEVEL {
         return Err(BuildError::InvalidSettings(format!(
-            "max_level {} is above the limit {MAX_TREE_LEVEL}",
+            "max_level {} is above the limit {MAX_LEVEL}",
             s.max_level
         )));
     }
@@ -297,11 +291,10 @@ pub struct Geometry {
 }
 
 impl Geometry {
-    pub fn new(domain: &Domain) -> Self {
-        let axes = domain.axes();
+    pub fn new(domain: &Box4) -> Self {
         Self {
-            lo: axes.map(|a| a.lo),
-            size: axes.map(|a| a.hi - a.lo),
+            lo: domain.map(|a| a.lo()),
+            size: domain.map(|a| a.hi() - a.lo()),
         }
     }
 

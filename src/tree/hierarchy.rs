@@ -1,65 +1,17 @@
-//! The sphere hierarchy sent to the GPU (SPEC.md §3): the kept boxes of a [`Tree16`] in
+//! The sphere hierarchy sent to the GPU (docs/method.md §3): the kept boxes of a [`Tree16`] in
 //! depth-first order, each with a skip index to the next node outside its subtree, so a
 //! shader walks it with a loop and no stack.
 //!
-//! Layout (`SphereNode`, 24 bytes, `#[repr(C)]`, all 4-byte scalars so WGSL sees the same
-//! struct with no padding):
-//!
-//! | offset | field    | meaning                                                         |
-//! |--------|----------|-----------------------------------------------------------------|
-//! | 0      | center   | centre of the box, f32 × 4 (x, y, z, w)                         |
-//! | 16     | skip     | index of the next node after this node's subtree                 |
-//! | 20     | meta     | bits 0-7: level; bit 8: leaf; bit 9: marched as one box          |
-//!
-//! A box's half extents and its sphere's radius depend only on its level, so they live in a
-//! per-level table ([`LevelInfo`]) rather than in every node. The radius is half the box's
-//! diagonal (SPEC.md §3: the chapter's full diagonal is twice what is needed).
+//! Its records are laid out for the shader in [`crate::gpu_layout`]. The radius of a box's
+//! sphere is half the box's diagonal (docs/method.md §3: the chapter's full diagonal is twice
+//! what is needed).
 
-use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
 use super::build::Tree16;
 use crate::eval::{Interval, IntervalEvaluator};
 use crate::formula::{CompiledFormula, HESSIAN_PAIRS};
-
-/// One node of the flattened hierarchy; see the module documentation for the layout.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct SphereNode {
-    pub center: [f32; 4],
-    pub skip: u32,
-    pub meta: u32,
-}
-
-/// Bit of `SphereNode::meta` that marks a leaf.
-pub const LEAF_BIT: u32 = 1 << 8;
-
-/// Bit of `SphereNode::meta` that marks a box the ray caster marches whole (its subtree,
-/// if any, is not kept).
-pub const MARCH_BIT: u32 = 1 << 9;
-
-impl SphereNode {
-    pub fn level(&self) -> u32 {
-        self.meta & 0xff
-    }
-    pub fn is_leaf(&self) -> bool {
-        self.meta & LEAF_BIT != 0
-    }
-    pub fn is_marched(&self) -> bool {
-        self.meta & MARCH_BIT != 0
-    }
-}
-
-/// Half extents of a box at one level, padded outward so the f32 box holds the exact one,
-/// and the radius of the sphere around it. 32 bytes, as the shader reads it.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct LevelInfo {
-    pub half: [f32; 4],
-    pub radius: f32,
-    /// Unused (zero): pads the entry to the shader's 32 bytes.
-    pub support: [f32; 3],
-}
+use crate::gpu_layout::{Curvature, LEAF_BIT, LevelInfo, MARCH_BIT, NodeBounds, SphereNode};
 
 /// Half extents of a level-`level` box: `base · 2^-level + pad`, in f32 (the scaling by a
 /// power of two is exact, so the shader gets the same bits).
@@ -145,27 +97,6 @@ pub struct CoverBox {
     /// In `cover[k]`, k > 0: the index in `cover[k - 1]` of its first child; its children
     /// run to the next box's first child (or the end). 0 in `cover[0]`.
     pub first_child: u32,
-}
-
-/// Bounds on F's second derivatives ∂²F/∂x_i∂x_j over a box, as the shader reads them
-/// (five vec4 of `NodeBounds`, binding 4): lower and upper bounds of the diagonal (xx, yy, zz, ww), of xy,
-/// xz, xw, yz, and in `rest` yw and zw (lower, lower, upper, upper). ±∞ where unbounded.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Curvature {
-    pub diag_lo: [f32; 4],
-    pub diag_hi: [f32; 4],
-    pub off_lo: [f32; 4],
-    pub off_hi: [f32; 4],
-    pub rest: [f32; 4],
-}
-
-/// A node's bounds as the shader reads them (binding 4, `NodeBounds`).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct NodeBounds {
-    pub slope: [f32; 4],
-    pub curvature: Curvature,
 }
 
 impl Curvature {
@@ -272,13 +203,6 @@ impl Curvature {
     }
 }
 
-/// The centre of the cell `coords` at `level` of the grid with corner `lo` and extents
-/// `size` (the tree's domain), in f32 as the nodes' centres.
-fn cell_center(lo: [f64; 4], size: [f64; 4], level: u32, coords: [u16; 4]) -> [f32; 4] {
-    let cells = f64::from(1u32 << level);
-    std::array::from_fn(|a| (lo[a] + size[a] * ((f64::from(coords[a]) + 0.5) / cells)) as f32)
-}
-
 impl Hierarchy {
     /// Flattens `tree` (empty tree → empty hierarchy) down to the default march level:
     /// [`MARCH_LEVELS_ABOVE_FINEST`] above the finest level, or higher where that level holds
@@ -314,39 +238,16 @@ impl Hierarchy {
         march_level: u32,
         formula: Option<(&CompiledFormula, &[f64])>,
     ) -> Self {
-        let axes = tree.domain.axes();
-        let size = axes.map(|a| a.hi - a.lo);
-        let lo = axes.map(|a| a.lo);
-        let scale = axes
-            .iter()
-            .map(|a| a.lo.abs().max(a.hi.abs()))
-            .fold(0.0, f64::max);
-        // Pad by more than the f32 rounding of centre and extents.
-        let base_half = size.map(|s| (0.5 * s * (1.0 + 1e-5)) as f32);
-        let pad = (scale * 1e-6) as f32;
-        let levels: Vec<LevelInfo> = (0..tree.levels.len().max(1))
-            .map(|l| {
-                let half = level_half(base_half, pad, l as u32);
-                let radius = half
-                    .iter()
-                    .map(|&h| f64::from(h).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
-                LevelInfo {
-                    half,
-                    radius: (radius * (1.0 + 1e-6)) as f32,
-                    support: [0.0; 3],
-                }
-            })
-            .collect();
+        let geometry = FlatGeometry::of(tree);
+        let levels = geometry.level_table(tree.levels.len().max(1));
         let march_level = march_level.min(levels.len() as u32 - 1);
         let depth = (march_level as usize + 1).min(tree.levels.len());
         let mut hierarchy = Self {
             nodes: Vec::new(),
             levels,
             march_level,
-            base_half,
-            pad,
+            base_half: geometry.base_half,
+            pad: geometry.pad,
             slopes: Vec::new(),
             curvature: Vec::new(),
             cover: Vec::new(),
@@ -363,7 +264,7 @@ impl Hierarchy {
             .map(|(l, boxes)| {
                 boxes
                     .iter()
-                    .map(|b| cell_center(lo, size, l as u32, b.coords))
+                    .map(|b| geometry.center(l as u32, b.coords))
                     .collect()
             })
             .collect();
@@ -394,102 +295,14 @@ impl Hierarchy {
             None => Curvature::NONE,
         };
         let (marched, known) = cut(tree, depth, &slopes, curvature_of);
-        // Subtree sizes with that cut, bottom-up.
-        let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
-            .iter()
-            .map(|l| vec![1; l.len()])
-            .collect();
-        for l in (0..depth.saturating_sub(1)).rev() {
-            let (here, below) = subtree.split_at_mut(l + 1);
-            for (i, b) in tree.levels[l].iter().enumerate() {
-                if marched[l][i] {
-                    continue;
-                }
-                let children =
-                    b.first_child as usize..b.first_child as usize + b.child_count as usize;
-                here[l][i] += below[0][children].iter().sum::<u32>();
-            }
-        }
-        let kept = subtree[0][0] as usize;
-        let mut nodes = Vec::with_capacity(kept);
-        // Each node's box in the tree (level, index), for its curvature below.
-        let mut origin = Vec::with_capacity(kept);
-        let mut kept_slopes = Vec::with_capacity(if slopes.is_empty() { 0 } else { kept });
-        let mut cover = Vec::new();
-        let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
-        while let Some((l, i)) = stack.pop() {
-            let (lu, iu) = (l as usize, i as usize);
-            let b = &tree.levels[lu][iu];
-            let index = nodes.len() as u32;
-            let leaf = b.child_count == 0;
-            nodes.push(SphereNode {
-                center: centers[lu][iu],
-                skip: index + subtree[lu][iu],
-                meta: l
-                    | if leaf { LEAF_BIT } else { 0 }
-                    | if marched[lu][iu] { MARCH_BIT } else { 0 },
-            });
-            origin.push((lu, iu));
-            if let Some(s) = slopes.get(lu) {
-                kept_slopes.push(s[iu]);
-            }
-            if !marched[lu][iu] {
-                for c in (0..u32::from(b.child_count)).rev() {
-                    stack.push((l + 1, b.first_child + c));
-                }
-                continue;
-            }
-            // Its descendants at the cover's level, and leaves above it.
-            let mut below = vec![(l, i)];
-            while let Some((l, i)) = below.pop() {
-                let b = &tree.levels[l as usize][i as usize];
-                if l as usize == cover_level || b.child_count == 0 {
-                    cover.push((b.coords, l, index));
-                } else {
-                    below.extend((0..u32::from(b.child_count)).map(|c| (l + 1, b.first_child + c)));
-                }
-            }
-        }
-        // The cover, then its boxes' ancestors level by level until each is its marched
-        // box (an ancestor's boxes are consecutive: the cover is depth first).
-        let mut first_child = vec![0; cover.len()];
-        loop {
-            hierarchy.cover.push(
-                cover
-                    .iter()
-                    .zip(&first_child)
-                    .map(|(&(coords, level, node), &first_child)| CoverBox {
-                        center: cell_center(lo, size, level, coords),
-                        level,
-                        node,
-                        first_child,
-                    })
-                    .collect(),
-            );
-            let mut up: Vec<([u16; 4], u32, u32)> = Vec::with_capacity(cover.len());
-            let mut up_first = Vec::with_capacity(cover.len());
-            for (i, &(coords, level, node)) in cover.iter().enumerate() {
-                let parent = if level > nodes[node as usize].level() {
-                    (coords.map(|k| k >> 1), level - 1, node)
-                } else {
-                    (coords, level, node)
-                };
-                if up.last() != Some(&parent) {
-                    up.push(parent);
-                    up_first.push(i as u32);
-                }
-            }
-            if up == cover {
-                break;
-            }
-            cover = up;
-            first_child = up_first;
-        }
+        let walk = DepthFirst::walk(tree, &marched, &centers, &slopes, cover_level);
+        hierarchy.cover = cover_levels(walk.cover, &walk.nodes, &geometry);
         // The marched boxes' curvature: what the cut worked out, the rest now.
         if formula.is_some() {
-            hierarchy.curvature = nodes
+            hierarchy.curvature = walk
+                .nodes
                 .par_iter()
-                .zip(&origin)
+                .zip(&walk.origin)
                 .map_init(IntervalEvaluator::new, |eval, (node, &(l, i))| {
                     if !node.is_marched() {
                         return Curvature::NONE;
@@ -498,8 +311,8 @@ impl Hierarchy {
                 })
                 .collect();
         }
-        hierarchy.nodes = nodes;
-        hierarchy.slopes = kept_slopes;
+        hierarchy.nodes = walk.nodes;
+        hierarchy.slopes = walk.slopes;
         hierarchy
     }
 
@@ -617,6 +430,196 @@ impl Hierarchy {
     }
 }
 
+/// The domain's geometry as the hierarchy stores it, in f32 and padded.
+struct FlatGeometry {
+    lo: [f64; 4],
+    size: [f64; 4],
+    /// Half extents of the root box, padded by more than the f32 rounding of centres and
+    /// extents.
+    base_half: [f32; 4],
+    /// A further padding of every box, for the f32 rounding of the domain's coordinates.
+    pad: f32,
+}
+
+impl FlatGeometry {
+    fn of(tree: &Tree16) -> Self {
+        let lo = tree.domain.map(|a| a.lo());
+        let size = tree.domain.map(|a| a.hi() - a.lo());
+        let scale = tree
+            .domain
+            .iter()
+            .map(|a| a.lo().abs().max(a.hi().abs()))
+            .fold(0.0, f64::max);
+        Self {
+            lo,
+            size,
+            base_half: size.map(|s| (0.5 * s * (1.0 + 1e-5)) as f32),
+            pad: (scale * 1e-6) as f32,
+        }
+    }
+
+    /// The half extents and sphere radius of each of `count` levels.
+    fn level_table(&self, count: usize) -> Vec<LevelInfo> {
+        (0..count)
+            .map(|l| {
+                let half = level_half(self.base_half, self.pad, l as u32);
+                let radius = half
+                    .iter()
+                    .map(|&h| f64::from(h).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                LevelInfo {
+                    half,
+                    radius: (radius * (1.0 + 1e-6)) as f32,
+                    support: [0.0; 3],
+                }
+            })
+            .collect()
+    }
+
+    /// The centre of the box `coords` at `level`, in f32 as the nodes' centres.
+    fn center(&self, level: u32, coords: [u16; 4]) -> [f32; 4] {
+        let cells = f64::from(1u32 << level);
+        std::array::from_fn(|a| {
+            (self.lo[a] + self.size[a] * ((f64::from(coords[a]) + 0.5) / cells)) as f32
+        })
+    }
+}
+
+/// A box of the cover while it is gathered: its integer coordinates, its level and the node
+/// it is marched in.
+type CoverCell = ([u16; 4], u32, u32);
+
+/// The hierarchy's nodes in depth-first order, with what goes along with each.
+struct DepthFirst {
+    nodes: Vec<SphereNode>,
+    /// Each node's box in the tree (level, index), for its curvature.
+    origin: Vec<(usize, usize)>,
+    /// Each node's slope bounds (empty without a formula).
+    slopes: Vec<[f32; 4]>,
+    /// The marched boxes' descendants at the cover's level, and leaves above it, depth first.
+    cover: Vec<CoverCell>,
+}
+
+impl DepthFirst {
+    /// Flattens the first levels of `tree` down to its marched boxes (`marched`), with the
+    /// skip index of each node (the index after its subtree).
+    fn walk(
+        tree: &Tree16,
+        marched: &[Vec<bool>],
+        centers: &[Vec<[f32; 4]>],
+        slopes: &[Vec<[f32; 4]>],
+        cover_level: usize,
+    ) -> Self {
+        let subtree = subtree_sizes(tree, marched);
+        let kept = subtree[0][0] as usize;
+        let mut walk = Self {
+            nodes: Vec::with_capacity(kept),
+            origin: Vec::with_capacity(kept),
+            slopes: Vec::with_capacity(if slopes.is_empty() { 0 } else { kept }),
+            cover: Vec::new(),
+        };
+        let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
+        while let Some((l, i)) = stack.pop() {
+            let (lu, iu) = (l as usize, i as usize);
+            let b = &tree.levels[lu][iu];
+            let index = walk.nodes.len() as u32;
+            let leaf = b.child_count == 0;
+            walk.nodes.push(SphereNode {
+                center: centers[lu][iu],
+                skip: index + subtree[lu][iu],
+                meta: l
+                    | if leaf { LEAF_BIT } else { 0 }
+                    | if marched[lu][iu] { MARCH_BIT } else { 0 },
+            });
+            walk.origin.push((lu, iu));
+            if let Some(s) = slopes.get(lu) {
+                walk.slopes.push(s[iu]);
+            }
+            if !marched[lu][iu] {
+                for c in (0..u32::from(b.child_count)).rev() {
+                    stack.push((l + 1, b.first_child + c));
+                }
+                continue;
+            }
+            // Its descendants at the cover's level, and leaves above it.
+            let mut below = vec![(l, i)];
+            while let Some((l, i)) = below.pop() {
+                let b = &tree.levels[l as usize][i as usize];
+                if l as usize == cover_level || b.child_count == 0 {
+                    walk.cover.push((b.coords, l, index));
+                } else {
+                    below.extend((0..u32::from(b.child_count)).map(|c| (l + 1, b.first_child + c)));
+                }
+            }
+        }
+        walk
+    }
+}
+
+/// The number of nodes in each box's subtree when the boxes `marched` end it, bottom-up.
+fn subtree_sizes(tree: &Tree16, marched: &[Vec<bool>]) -> Vec<Vec<u32>> {
+    let depth = marched.len();
+    let mut subtree: Vec<Vec<u32>> = tree.levels[..depth]
+        .iter()
+        .map(|l| vec![1; l.len()])
+        .collect();
+    for l in (0..depth.saturating_sub(1)).rev() {
+        let (here, below) = subtree.split_at_mut(l + 1);
+        for (i, b) in tree.levels[l].iter().enumerate() {
+            if marched[l][i] {
+                continue;
+            }
+            let children = b.first_child as usize..b.first_child as usize + b.child_count as usize;
+            here[l][i] += below[0][children].iter().sum::<u32>();
+        }
+    }
+    subtree
+}
+
+/// The cover, then its boxes' ancestors level by level until each is its marched box (an
+/// ancestor's boxes are consecutive: the cover is depth first).
+fn cover_levels(
+    mut cover: Vec<CoverCell>,
+    nodes: &[SphereNode],
+    geometry: &FlatGeometry,
+) -> Vec<Vec<CoverBox>> {
+    let mut levels = Vec::new();
+    let mut first_child = vec![0; cover.len()];
+    loop {
+        levels.push(
+            cover
+                .iter()
+                .zip(&first_child)
+                .map(|(&(coords, level, node), &first_child)| CoverBox {
+                    center: geometry.center(level, coords),
+                    level,
+                    node,
+                    first_child,
+                })
+                .collect(),
+        );
+        let mut up: Vec<CoverCell> = Vec::with_capacity(cover.len());
+        let mut up_first = Vec::with_capacity(cover.len());
+        for (i, &(coords, level, node)) in cover.iter().enumerate() {
+            let parent = if level > nodes[node as usize].level() {
+                (coords.map(|k| k >> 1), level - 1, node)
+            } else {
+                (coords, level, node)
+            };
+            if up.last() != Some(&parent) {
+                up.push(parent);
+                up_first.push(i as u32);
+            }
+        }
+        if up == cover {
+            return levels;
+        }
+        cover = up;
+        first_child = up_first;
+    }
+}
+
 /// The default march level of `tree` (see [`Hierarchy::from_tree`]).
 fn default_march_level(tree: &Tree16) -> u32 {
     let finest = tree.levels.len().saturating_sub(1);
@@ -715,17 +718,6 @@ fn cut(
     (marched, known)
 }
 
-/// A bound on |∇F·d| (d a unit vector) from bounds on |∂F/∂x_k|, rounded up past f32's
-/// rounding; +∞ if any bound is. The CPU reference's rule for a ray's slope; the shader
-/// states it in WGSL (`trace_box`: slope · |d|, in f32, with the march's 0.999 margin).
-pub fn slope_along(slope: [f32; 4], d: [f64; 4]) -> f32 {
-    if slope.iter().any(|s| !s.is_finite()) {
-        return f32::INFINITY;
-    }
-    let sum: f64 = (0..4).map(|k| f64::from(slope[k]) * d[k].abs()).sum();
-    (sum * (1.0 + 1e-6)) as f32
-}
-
 /// Largest |F| on a box that gets a slope bound (f32 overflows at 3.4e38).
 const F32_SAFE: f64 = 1e30;
 
@@ -805,14 +797,4 @@ fn box_curvature(
     let lo = std::array::from_fn(|k| (second[k].lo() - widen(second[k].lo())) as f32);
     let hi = std::array::from_fn(|k| (second[k].hi() + widen(second[k].hi())) as f32);
     Curvature::from_pairs(lo, hi)
-}
-
-/// `steps · 2^levels_up`, at most 2^16 (the shader's rule, see templates/raycast.wgsl).
-pub fn march_steps(steps: u32, levels_up: u32) -> u32 {
-    let up = levels_up.min(16);
-    if steps <= (1 << 16) >> up {
-        steps << up
-    } else {
-        1 << 16
-    }
 }

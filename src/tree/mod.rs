@@ -4,5 +4,8 @@
 pub mod build;
 pub mod hierarchy;
 
-pub use build::{BuildError, BuildSettings, Geometry, Tree16, TreeBox, TreeStats};
-pub use hierarchy::{CoverBox, Curvature, Hierarchy, LevelInfo, NodeBounds, SphereNode};
+pub use crate::gpu_layout::{Curvature, LevelInfo, NodeBounds, SphereNode};
+pub use build::{
+    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Tree16, TreeBox, TreeStats,
+};
+pub use hierarchy::{CoverBox, Hierarchy};

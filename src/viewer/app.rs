@@ -4,34 +4,30 @@
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
-use std::sync::mpsc::{Receiver, channel};
 use std::time::Instant;
 
 use eframe::{egui, egui_wgpu};
 use egui::{Color32, RichText, TextFormat, text::LayoutJob};
 
 use crate::render::camera::rotate_view;
-use crate::render::pipeline::{Device, render_scene};
-use crate::render::{FrameOptions, Gpu};
+use crate::render::{Gpu, MAX_PICTURE_SIDE};
 use crate::scene::{
-    AxisRange, Color, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_TREE_LEVEL, Sampling, Scene,
+    AxisRange, Color, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling, Scene,
+    Speaker,
 };
 use crate::syntax::parser::{TokenKind, tokens};
 
-use super::progressive::Progressive;
+use super::files::{self, Notice, PngExport};
+use super::pacing::Pacing;
+use super::progressive::{Progressive, ViewKey};
 use super::session::Session;
 
 /// Storage keys (eframe persistence).
 const KEY_SCENE: &str = "fourfold.scene";
 const KEY_UI: &str = "fourfold.ui";
 
-/// The UI frame time the viewer aims at: 20 frames per second with a margin. Ray casting gets
-/// what the rest of a frame (egui's widgets, the picture blit, presenting) leaves of it.
-const FRAME_TARGET_MS: f64 = 40.0;
-/// Ray casting per UI frame at least (so the picture always progresses) and at most, and at
-/// most while the user drags (a quicker preview).
-const RAY_BUDGET_MS: [f64; 2] = [3.0, 20.0];
-const RAY_BUDGET_DRAGGING_MS: f64 = 12.0;
+/// The largest side of the picture in the window, in pixels.
+const MAX_WINDOW_PICTURE: u32 = 4096;
 
 /// UI settings that survive a restart besides the scene.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -71,17 +67,10 @@ pub struct FourfoldApp {
     pub ui: UiSettings,
     gpu: Option<Gpu>,
     renderer: Option<std::sync::Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>>,
-    /// A short message after a file action ("saved …", or what went wrong).
-    pub message: Option<(String, bool)>,
-    export: Option<Receiver<Result<String, String>>>,
-    /// When the last UI frame began, if it asked for the next (None after an idle frame).
-    last_ui_frame: Option<Instant>,
-    /// Smoothed UI frame interval while the window draws continuously, ms.
-    pub ui_frame_ms: f64,
-    /// Running mean of the ray casting time per UI frame, milliseconds.
-    pub ray_ms: f64,
-    /// The view key drawn last (to notice changes made by the user).
-    interacting_until: Option<Instant>,
+    /// A short message after an action ("saved …", or what went wrong).
+    pub message: Option<Notice>,
+    export: Option<PngExport>,
+    pub pacing: Pacing,
     /// Edit latency of the last edit: text change to the first frame of its picture, ms.
     pub edit_latency_ms: Option<f64>,
     latency_generation: u64,
@@ -126,18 +115,14 @@ impl FourfoldApp {
             renderer,
             message: None,
             export: None,
-            last_ui_frame: None,
-            ui_frame_ms: 0.0,
-            ray_ms: 0.0,
-            interacting_until: None,
+            pacing: Pacing::default(),
             edit_latency_ms: None,
             latency_generation: 0,
             preset: None,
         };
         if app.gpu.is_none() {
-            app.message = Some((
-                "no GPU renderer: the viewer needs wgpu (on Linux without a GPU: apt-get install -y mesa-vulkan-drivers)".into(),
-                true,
+            app.message = Some(Notice::error(
+                "no GPU renderer: the viewer needs wgpu (on Linux without a GPU: apt-get install -y mesa-vulkan-drivers)",
             ));
         }
         app.session.load_scene(scene, app.gpu.as_ref());
@@ -157,82 +142,42 @@ impl FourfoldApp {
                     self.session.load_scene(scene, self.gpu.as_ref());
                     self.preset = Some(name);
                 }
-                Err(e) => self.message = Some((e.to_string(), true)),
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
     }
 
-    fn view_key(&self, size: [u32; 2]) -> String {
-        format!(
-            "{:?}|{:?}|{:?}|{size:?}",
-            self.session.scene.view, self.session.scene.render, self.session.scene.domain
-        )
-    }
-
     fn poll_export(&mut self) {
-        if let Some(rx) = &self.export
-            && let Ok(result) = rx.try_recv()
-        {
-            self.message = Some(match result {
-                Ok(m) => (m, false),
-                Err(m) => (m, true),
-            });
+        if let Some(notice) = self.export.as_ref().and_then(PngExport::poll) {
+            self.message = Some(notice);
             self.export = None;
         }
     }
 
     fn export_png(&mut self) {
-        let scene = self.session.scene.clone();
         let [w, h] = self.ui.export_size;
         let path = self.ui.png_path.clone();
-        let (tx, rx) = channel();
-        self.export = Some(rx);
-        self.message = Some((format!("rendering {w}x{h} to {path}…"), false));
-        std::thread::spawn(move || {
-            let result = render_scene(&scene, w, h, Device::NewGpu, FrameOptions::default())
-                .map_err(|e| e.to_string())
-                .and_then(|pic| {
-                    image::save_buffer(&path, &pic.rgba, w, h, image::ExtendedColorType::Rgba8)
-                        .map_err(|e| format!("cannot write {path}: {e}"))
-                        .map(|_| {
-                            format!(
-                                "saved {path} ({w}x{h}, frame {:.0} ms on {})",
-                                pic.times.frame_ms, pic.adapter
-                            )
-                        })
-                });
-            let _ = tx.send(result);
-        });
-    }
-
-    fn save_scene(&mut self) {
-        let path = self.ui.scene_path.clone();
-        self.message = Some(match std::fs::write(&path, self.session.scene.to_toml()) {
-            Ok(()) => (format!("saved scene to {path}"), false),
-            Err(e) => (format!("cannot write {path}: {e}"), true),
-        });
+        self.message = Some(Notice::done(format!("rendering {w}x{h} to {path}…")));
+        self.export = Some(PngExport::start(self.session.scene.clone(), w, h, path));
     }
 
     fn open_scene(&mut self) {
         let path = self.ui.scene_path.clone();
-        match Scene::load(std::path::Path::new(&path)) {
+        match files::open_scene(&path) {
             Ok(scene) => {
                 self.session.load_scene(scene, self.gpu.as_ref());
                 self.preset = None;
-                self.message = Some((format!("opened {path}"), false));
+                self.message = Some(Notice::done(format!("opened {path}")));
             }
-            Err(e) => self.message = Some((e.to_string(), true)),
+            Err(notice) => self.message = Some(notice),
         }
     }
 
     fn export_wgsl(&mut self) {
-        let path = self.ui.wgsl_path.clone();
+        let path = &self.ui.wgsl_path;
         self.message = Some(match &self.session.shader {
-            Some(shader) => match std::fs::write(&path, &shader.source) {
-                Ok(()) => (format!("saved the shader to {path}"), false),
-                Err(e) => (format!("cannot write {path}: {e}"), true),
-            },
-            None => ("no valid shader yet".into(), true),
+            Some(shader) => files::export_wgsl(&shader.source, path),
+            None => Notice::error("no valid shader yet"),
         });
     }
 
@@ -259,18 +204,18 @@ impl FourfoldApp {
                 self.open_scene();
             }
             if ui.button("Save").clicked() {
-                self.save_scene();
+                self.message = Some(files::save_scene(&self.session.scene, &self.ui.scene_path));
             }
             ui.separator();
             ui.add(egui::TextEdit::singleline(&mut self.ui.png_path).desired_width(120.0));
             ui.add(
                 egui::DragValue::new(&mut self.ui.export_size[0])
-                    .range(1..=8192)
+                    .range(1..=MAX_PICTURE_SIDE)
                     .suffix(" w"),
             );
             ui.add(
                 egui::DragValue::new(&mut self.ui.export_size[1])
-                    .range(1..=8192)
+                    .range(1..=MAX_PICTURE_SIDE)
                     .suffix(" h"),
             );
             if ui
@@ -286,7 +231,7 @@ impl FourfoldApp {
             }
             if ui.button("Copy formula").clicked() {
                 ui.ctx().copy_text(self.session.text.clone());
-                self.message = Some(("formula copied".into(), false));
+                self.message = Some(Notice::done("formula copied"));
             }
         });
         let description = &self.session.scene.description;
@@ -424,7 +369,7 @@ impl FourfoldApp {
                             changed = true;
                         }
                         Err(e) => {
-                            self.message = Some((format!("domain {name}: {e}"), true));
+                            self.message = Some(Notice::error(format!("domain {name}: {e}")));
                         }
                     }
                 }
@@ -461,7 +406,7 @@ impl FourfoldApp {
         );
         ui.add(egui::Slider::new(&mut r.hits, 1..=MAX_HITS).text("hits kept"));
         ui.add(egui::Slider::new(&mut r.alpha, 0.0..=1.0).text("α"));
-        ui.add(egui::Slider::new(&mut r.steps, 1..=256).text("steps per leaf"));
+        ui.add(egui::Slider::new(&mut r.steps, 1..=MAX_STEPS).text("steps per leaf"));
         ui.horizontal(|ui| {
             ui.label("sampling");
             ui.radio_value(&mut r.sampling, Sampling::Stratified, "stratified");
@@ -539,30 +484,45 @@ impl FourfoldApp {
             }
             ui.label(RichText::new(frame).small());
             ui.separator();
-            ui.label(
-                RichText::new(format!("UI {:.0} fps", 1000.0 / self.ui_frame_ms.max(1.0))).small(),
-            );
+            ui.label(RichText::new(format!("UI {:.0} fps", self.pacing.fps())).small());
             if let Some(ms) = self.edit_latency_ms {
                 ui.separator();
                 ui.label(RichText::new(format!("edit to picture {ms:.0} ms")).small());
             }
-            if let Some((m, bad)) = &self.message {
+            if let Some(Notice { text, is_error }) = &self.message {
                 ui.separator();
-                let color = if *bad {
+                let color = if *is_error {
                     Color32::from_rgb(255, 110, 100)
                 } else {
                     Color32::LIGHT_GREEN
                 };
-                ui.label(RichText::new(m).small().color(color));
+                ui.label(RichText::new(text).small().color(color));
             }
         });
     }
 
+    /// The picture: turns and zooms it by the mouse, draws what the ray caster has made,
+    /// and lets it make more; true while more frames are wanted.
     fn picture(&mut self, ui: &mut egui::Ui) -> bool {
         let rect = ui.available_rect_before_wrap();
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
-        let mut interacting = false;
-        // Drag = rotate in the view's own planes; scroll = zoom.
+        if self.turn_and_zoom(ui, &response) {
+            self.pacing.interacted();
+        }
+        let painter = ui.painter_at(rect);
+        self.paint_layers(&painter, rect);
+        self.paint_build_state(&painter, rect);
+        let ppp = ui.ctx().pixels_per_point();
+        let size = [rect.width(), rect.height()]
+            .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE));
+        let more = self.cast_rays(size);
+        self.note_edit_latency();
+        more || self.pacing.interacting()
+    }
+
+    /// Drag = rotate in the view's own planes; scroll = zoom. True if the view changed.
+    fn turn_and_zoom(&mut self, ui: &egui::Ui, response: &egui::Response) -> bool {
+        let mut changed = false;
         if response.dragged() {
             let d = response.drag_delta();
             let mods = ui.input(|i| i.modifiers);
@@ -576,22 +536,21 @@ impl FourfoldApp {
                 rotate_view(a, 1, n, -f64::from(d.y) * k)
             };
             self.session.scene.view.angles = angles;
-            interacting = true;
+            changed = true;
         }
         if response.hovered() {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 let z = &mut self.session.scene.view.zoom;
                 *z = (*z * (1.0 + f64::from(scroll) * 0.002)).clamp(0.05, 50.0);
-                interacting = true;
+                changed = true;
             }
         }
-        let ppp = ui.ctx().pixels_per_point();
-        let size = [
-            ((rect.width() * ppp).round() as u32).clamp(1, 4096),
-            ((rect.height() * ppp).round() as u32).clamp(1, 4096),
-        ];
-        let painter = ui.painter_at(rect);
+        changed
+    }
+
+    /// Paints the ray caster's textures over `rect` (the background until there are any).
+    fn paint_layers(&self, painter: &egui::Painter, rect: egui::Rect) {
         let layers = self.progressive.paint().layers;
         if layers.is_empty() {
             painter.rect_filled(rect, 0.0, {
@@ -628,6 +587,11 @@ impl FourfoldApp {
                 }
             }
         }
+    }
+
+    /// "building…" over the picture while a tree is built, or a word where there is nothing
+    /// to see.
+    fn paint_build_state(&self, painter: &egui::Painter, rect: egui::Rect) {
         if self.session.building() {
             let nodes = self.session.build_progress().unwrap_or(0);
             painter.text(
@@ -646,46 +610,45 @@ impl FourfoldApp {
                 Color32::from_rgb(255, 210, 90),
             );
         }
-        if interacting {
-            self.interacting_until = Some(Instant::now() + std::time::Duration::from_millis(150));
-        }
-        let interacting = self.interacting_until.is_some_and(|t| Instant::now() < t);
-        let key = self.view_key(size);
+    }
+
+    /// Lets the ray caster draw for this frame's budget; true while it has more to do.
+    fn cast_rays(&mut self, size: [u32; 2]) -> bool {
+        let key = ViewKey::new(&self.session.scene, size);
+        let interacting = self.pacing.interacting();
+        let budget_ms = self.pacing.ray_budget_ms();
+        let started = Instant::now();
         let mut more = false;
-        let step_started = Instant::now();
-        let rest_ms = (self.ui_frame_ms - self.ray_ms).max(0.0);
-        let cap = if interacting {
-            RAY_BUDGET_DRAGGING_MS
-        } else {
-            RAY_BUDGET_MS[1]
-        };
-        let budget_ms = (FRAME_TARGET_MS - rest_ms).clamp(RAY_BUDGET_MS[0], cap);
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {
             let mut renderer = renderer.write();
             more = self.progressive.step(
                 gpu,
                 &mut renderer,
                 &mut self.session,
-                size,
                 key,
                 interacting,
                 budget_ms,
             );
         }
-        let step_ms = step_started.elapsed().as_secs_f64() * 1e3;
-        self.ray_ms = 0.9 * self.ray_ms + 0.1 * step_ms;
+        let took_ms = started.elapsed().as_secs_f64() * 1e3;
+        self.pacing.rays_took(took_ms);
         if std::env::var_os("FOURFOLD_TRACE").is_some() {
             eprintln!(
                 "ui frame {:.1} ms, ray casting {:.1} ms (budget {:.1}), throughput {:.0} rays/ms, \
                  last binning {:.0} ms, stage/square {:?}",
-                self.ui_frame_ms,
-                step_ms,
+                self.pacing.ui_frame_ms,
+                took_ms,
                 budget_ms,
                 self.progressive.throughput(),
                 self.progressive.binning_ms.unwrap_or(0.0),
                 self.progressive.position()
             );
         }
+        more
+    }
+
+    /// Once the first frame of an edit's picture is on screen: the edit's latency.
+    fn note_edit_latency(&mut self) {
         if let Some(g) = self.progressive.first_frame_of
             && g != self.latency_generation
             && g == self.session.picture_generation
@@ -695,37 +658,27 @@ impl FourfoldApp {
                 self.edit_latency_ms = Some(t.elapsed().as_secs_f64() * 1e3);
             }
         }
-        more || interacting
+    }
+
+    /// Turns the chosen angles by the auto-rotation's speed over `dt_ms`.
+    fn auto_rotate(&mut self, dt_ms: f64) {
+        let step = self.ui.rotate_speed * dt_ms.min(100.0) / 1e3;
+        let angles = self.session.scene.view.angles.iter_mut();
+        for (a, on) in angles.zip(self.ui.rotate_angles) {
+            if on {
+                *a = (*a + step + PI).rem_euclid(2.0 * PI) - PI;
+            }
+        }
     }
 }
 
 impl eframe::App for FourfoldApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        let now = Instant::now();
-        if let Some(last) = self.last_ui_frame {
-            let dt = now.duration_since(last).as_secs_f64() * 1e3;
-            self.ui_frame_ms = if self.ui_frame_ms == 0.0 {
-                dt
-            } else {
-                0.9 * self.ui_frame_ms + 0.1 * dt
-            };
-            if self.ui.auto_rotate {
-                let step = self.ui.rotate_speed * dt.min(100.0) / 1e3;
-                for (a, on) in self
-                    .session
-                    .scene
-                    .view
-                    .angles
-                    .iter_mut()
-                    .zip(self.ui.rotate_angles)
-                {
-                    if on {
-                        *a = (*a + step + PI).rem_euclid(2.0 * PI) - PI;
-                    }
-                }
-            }
+        if let Some(dt_ms) = self.pacing.begin_frame()
+            && self.ui.auto_rotate
+        {
+            self.auto_rotate(dt_ms);
         }
-        self.last_ui_frame = Some(now);
         let gpu = self.gpu.clone();
         self.session.poll(gpu.as_ref());
         self.poll_export();
@@ -762,9 +715,11 @@ impl eframe::App for FourfoldApp {
                 });
             });
         if rebuild {
-            match self.session.scene.validate() {
+            match self.session.scene.check() {
                 Ok(()) => self.session.rebuild_tree(gpu.as_ref()),
-                Err((m, _)) => self.message = Some((m, true)),
+                Err(problem) => {
+                    self.message = Some(Notice::error(problem.message(Speaker::File)));
+                }
             }
         }
         let mut more = false;
@@ -776,9 +731,7 @@ impl eframe::App for FourfoldApp {
         if more || self.session.building() || self.export.is_some() || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         } else {
-            // Idle until the next event: that wait is no frame's time (it read "UI 1 fps"
-            // at the first event after a converged picture).
-            self.last_ui_frame = None;
+            self.pacing.idle();
         }
     }
 

@@ -15,13 +15,35 @@ use std::time::Instant;
 use eframe::{egui, egui_wgpu};
 
 use crate::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, TileLists, Uniforms};
-use crate::scene::Scene;
+use crate::scene::{Domain, RenderSettings, Scene, View};
 use crate::tree::Hierarchy;
 
 use super::session::Session;
 
 /// Full-resolution passes averaged into the picture once it is complete.
 pub const ACCUMULATED_PASSES: u32 = 16;
+
+/// Everything the picture on screen depends on besides the session's picture generation: a
+/// different key starts the picture again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewKey {
+    pub view: View,
+    pub render: RenderSettings,
+    pub domain: Domain,
+    /// The picture's size in pixels.
+    pub size: [u32; 2],
+}
+
+impl ViewKey {
+    pub fn new(scene: &Scene, size: [u32; 2]) -> Self {
+        Self {
+            view: scene.view,
+            render: scene.render,
+            domain: scene.domain,
+            size,
+        }
+    }
+}
 
 /// One stage of a picture.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,8 +107,9 @@ pub struct Progressive {
     completed: Option<usize>,
     /// The texture of the last completed stage of any plan: what is on screen.
     shown: Option<usize>,
-    /// What the stages were planned for; a different key restarts. Plans made so far.
-    key: Option<String>,
+    /// What the stages were planned for (the view, the session's picture generation and
+    /// whether the user was interacting); a different one restarts. Plans made so far.
+    key: Option<(ViewKey, u64, bool)>,
     plans: u64,
     /// Measured throughput (rays per millisecond), for sizing previews and tiles.
     rays_per_ms: f64,
@@ -288,27 +311,26 @@ impl Progressive {
     }
 
     /// Draws as many tiles as fit in `budget_ms`; returns true while more work remains.
-    /// `key` names everything the picture depends on besides the session's generation (view,
-    /// settings); `interacting` asks for a quick preview only.
-    #[allow(clippy::too_many_arguments)]
+    /// `key` names everything the picture depends on besides the session's generation;
+    /// `interacting` asks for a quick preview only.
     pub fn step(
         &mut self,
         gpu: &Gpu,
         renderer: &mut egui_wgpu::Renderer,
         session: &mut Session,
-        size: [u32; 2],
-        key: String,
+        key: ViewKey,
         interacting: bool,
         budget_ms: f64,
     ) -> bool {
+        let size = key.size;
         if session.caster.is_none() || session.hierarchy.is_none() {
             return false;
         }
         if let Some(caster) = &session.caster {
             self.ensure_textures(gpu, caster, renderer, size);
         }
-        let full_key = format!("{key}|{}|{}", session.picture_generation, interacting);
-        if self.key.as_deref() != Some(full_key.as_str()) {
+        let full_key = (key, session.picture_generation, interacting);
+        if self.key.as_ref() != Some(&full_key) {
             // Keep what is on screen (completed) until the new preview is done.
             self.key = Some(full_key);
             self.generation = session.picture_generation;

@@ -14,9 +14,9 @@ use std::time::Instant;
 
 use crate::formula::CompiledFormula;
 use crate::render::codegen::{self, Shader};
-use crate::render::{Gpu, RayCaster, Target, TileLists};
+use crate::render::{Gpu, Prepared, RayCaster, Target, TileLists};
 use crate::scene::Scene;
-use crate::tree::{BuildError, Hierarchy, Tree16, TreeStats};
+use crate::tree::{BuildError, Hierarchy, TreeStats};
 
 /// The colour target of the viewer's ray caster. RGBA8, not half floats: egui samples these
 /// textures every UI frame, and on a software GPU sampling RGBA16F cost ~30-50 ms per frame
@@ -267,9 +267,7 @@ impl Session {
         let cancel = Arc::new(AtomicBool::new(false));
         let progress = Arc::new(AtomicU64::new(0));
         let (sender, receiver) = channel();
-        let params = self.scene.param_values(&formula.param_names());
-        let domain = self.scene.domain;
-        let settings = self.scene.tree.into();
+        let scene = self.scene.clone();
         let gpu = gpu.cloned();
         // When the shader is new, the pipeline is made here too, off the UI thread.
         // (Also while a brute-force switch waits for its pipeline: this job replaces the one
@@ -285,18 +283,15 @@ impl Session {
             let spawned = std::thread::Builder::new()
                 .name("fourfold build".into())
                 .spawn(move || {
-                    let t = Instant::now();
                     let report = |_level: u32, nodes: u64| progress.store(nodes, Ordering::Relaxed);
-                    let tree =
-                        Tree16::build(&formula, &params, &domain, settings, &cancel, Some(&report));
-                    let tree = match tree {
-                        Ok(tree) => {
-                            Ok((Hierarchy::for_formula(&tree, &formula, &params), tree.stats))
-                        }
+                    let settings = scene.tree.into();
+                    let prepared =
+                        Prepared::build(&formula, &scene, settings, &cancel, Some(&report));
+                    let (tree, params, tree_ms) = match prepared {
+                        Ok(p) => (Ok((p.hierarchy, p.tree.stats)), p.params, p.build_ms),
                         Err(BuildError::Cancelled) => return,
-                        Err(e) => Err(e.to_string()),
+                        Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
                     };
-                    let tree_ms = ms(t);
                     let t = Instant::now();
                     let caster = match (&gpu, &tree) {
                         (Some(gpu), Ok((hierarchy, _))) if make_pipeline => Some(

@@ -5,6 +5,7 @@ use fourfold::CompiledFormula;
 use fourfold::eval::PointEvaluator;
 use std::sync::atomic::AtomicBool;
 
+use fourfold::render::Prepared;
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold::tree::{BuildSettings, Tree16};
 
@@ -52,20 +53,12 @@ pub fn eval_f(formula: &CompiledFormula, p: [f64; 4], params: &[f64]) -> f64 {
     PointEvaluator::new().eval(&formula.tape_f, p, params)
 }
 
-/// The compiled formula, its parameter values and its tree, for `scene` with `settings`.
+/// The compiled formula, its parameter values and its tree, for `scene` with `settings`
+/// (the preparation the CLI and the viewer make).
 pub fn build(scene: &Scene, settings: BuildSettings) -> (CompiledFormula, Vec<f64>, Tree16) {
     let f = CompiledFormula::compile(&scene.formula).unwrap();
-    let params = scene.param_values(&f.param_names());
-    let tree = Tree16::build(
-        &f,
-        &params,
-        &scene.domain,
-        settings,
-        &AtomicBool::new(false),
-        None,
-    )
-    .unwrap();
-    (f, params, tree)
+    let prepared = Prepared::build(&f, scene, settings, &AtomicBool::new(false), None).unwrap();
+    (f, prepared.params, prepared.tree)
 }
 
 /// The pixels of an RGBA8 texture (made with COPY_SRC), rows top to bottom.

@@ -1,0 +1,113 @@
+//! The viewer's file actions: open and save scene files, export the WGSL, and export a PNG
+//! rendered on a device of its own in the background. Each says what it did in a
+//! [`Notice`] for the status line.
+
+use std::sync::mpsc::{Receiver, channel};
+
+use crate::render::FrameOptions;
+use crate::render::pipeline::{Device, render_scene};
+use crate::scene::Scene;
+
+/// A short message after an action: what was done, or what went wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Notice {
+    pub text: String,
+    pub is_error: bool,
+}
+
+impl Notice {
+    pub fn done(text: impl Into<String>) -> Self {
+        Self {
+            text: text.into(),
+            is_error: false,
+        }
+    }
+
+    pub fn error(text: impl Into<String>) -> Self {
+        Self {
+            text: text.into(),
+            is_error: true,
+        }
+    }
+
+    fn of(result: Result<String, String>) -> Self {
+        match result {
+            Ok(text) => Self::done(text),
+            Err(text) => Self::error(text),
+        }
+    }
+}
+
+/// Writes `scene` as TOML to `path`.
+pub fn save_scene(scene: &Scene, path: &str) -> Notice {
+    match std::fs::write(path, scene.to_toml()) {
+        Ok(()) => Notice::done(format!("saved scene to {path}")),
+        Err(e) => Notice::error(format!("cannot write {path}: {e}")),
+    }
+}
+
+/// Reads the scene file at `path`.
+pub fn open_scene(path: &str) -> Result<Scene, Notice> {
+    Scene::load(std::path::Path::new(path)).map_err(|e| Notice::error(e.to_string()))
+}
+
+/// Writes the shader's source to `path`.
+pub fn export_wgsl(source: &str, path: &str) -> Notice {
+    match std::fs::write(path, source) {
+        Ok(()) => Notice::done(format!("saved the shader to {path}")),
+        Err(e) => Notice::error(format!("cannot write {path}: {e}")),
+    }
+}
+
+/// A PNG export running in the background.
+pub struct PngExport {
+    result: Receiver<Result<String, String>>,
+}
+
+impl PngExport {
+    /// Renders `scene` at `width`×`height` on a new GPU device, off the UI thread, and
+    /// writes it to `path`.
+    pub fn start(scene: Scene, width: u32, height: u32, path: String) -> Self {
+        let (tx, rx) = channel();
+        std::thread::spawn(move || {
+            let picture = render_scene(
+                &scene,
+                width,
+                height,
+                Device::NewGpu,
+                FrameOptions::default(),
+            )
+            .map_err(|e| e.to_string());
+            let result = picture.and_then(|pic| {
+                image::save_buffer(
+                    &path,
+                    &pic.rgba,
+                    width,
+                    height,
+                    image::ExtendedColorType::Rgba8,
+                )
+                .map_err(|e| format!("cannot write {path}: {e}"))
+                .map(|_| {
+                    format!(
+                        "saved {path} ({width}x{height}, frame {:.0} ms on {})",
+                        pic.times.frame_ms, pic.adapter
+                    )
+                })
+            });
+            let _ = tx.send(result);
+        });
+        Self { result: rx }
+    }
+
+    /// The export's outcome once it is done (a thread that died is an error too).
+    pub fn poll(&self) -> Option<Notice> {
+        use std::sync::mpsc::TryRecvError;
+        match self.result.try_recv() {
+            Ok(result) => Some(Notice::of(result)),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Notice::error(
+                "the export stopped before writing its picture",
+            )),
+        }
+    }
+}
