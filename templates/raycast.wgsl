@@ -1,4 +1,4 @@
-// fourfold ray caster: the method of SPEC.md §5 for one formula F(x, y, z, w).
+// fourfold ray caster: the method of docs/method.md §5 for one formula F(x, y, z, w).
 //
 // Bindings, group 0:
 //   binding 0: storage  Uniforms              view, settings, per-level box sizes, parameters
@@ -175,7 +175,7 @@ fn random_rays() -> bool {
     return SAMPLING == 1u;
 }
 
-// Direction k of n in the observer plane, as (n1, n2) coefficients (SPEC.md §5.2).
+// Direction k of n in the observer plane, as (n1, n2) coefficients (docs/method.md §5.2).
 fn ray_dir2(k: u32, n: u32, pixel_seed: u32, offset: f32) -> vec2<f32> {
     if (random_rays()) {
         let a = vec2<f32>(2.0 * rand01(pixel_seed + 2u * k) - 1.0, 2.0 * rand01(pixel_seed + 2u * k + 1u) - 1.0);
@@ -189,7 +189,7 @@ fn ray_dir2(k: u32, n: u32, pixel_seed: u32, offset: f32) -> vec2<f32> {
     return vec2<f32>(cos(phi), sin(phi));
 }
 
-// The K nearest hits (SPEC.md §5.4), sorted, in a fixed array read only at constant indices
+// The K nearest hits (docs/method.md §5.5), sorted, in a fixed array read only at constant indices
 // (so that a compiler can keep it in registers): empty slots hold +inf.
 struct Hits {
     t: array<f32, MAX_HITS>,
@@ -198,7 +198,7 @@ struct Hits {
     far: f32, // the K-th nearest t once K are kept, else +inf: nothing beyond it matters
 }
 
-// Keeps the K smallest t, sorted (SPEC.md §5.4). Written out without loops or varying
+// Keeps the K smallest t, sorted (docs/method.md §5.5). Written out without loops or varying
 // indices: on a SIMD rasterizer every branch runs for every pixel, and an index that varies
 // sends an array to memory. Slot i takes the new hit if it lies between slots i - 1 and i
 // (after hits at the same t, as a stable insertion does), the hit of slot i - 1 if the new
@@ -323,7 +323,7 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
 }
 
 
-// The pixel's work (SPEC.md §5.2-§5.4), as nested loops: candidates (a screen tile's list of
+// The pixel's work (docs/method.md §5.1-§5.5), as nested loops: candidates (a screen tile's list of
 // boxes, a walk of the hierarchy, or for the brute-force baseline the whole domain as one
 // box) → the rays that can meet the box → equal steps along the ray → the bisection of a
 // sign change. A SIMD rasterizer (llvmpipe) or a GPU runs a loop for a group of pixels

@@ -1,5 +1,5 @@
-//! The view: the rotation A of SPEC.md §4 from six angles, the projection and observer
-//! planes it defines, and the pixel → R⁴ map of SPEC.md §5.1.
+//! The view: the rotation A of docs/method.md §4 from six angles, the projection and observer
+//! planes it defines, and the pixel → R⁴ map of docs/method.md §5.1.
 
 use glam::DMat4;
 
@@ -74,7 +74,7 @@ impl Camera {
         }
     }
 
-    /// The ray origin o of pixel (px, py), counted from the top-left (SPEC.md §5.1).
+    /// The ray origin o of pixel (px, py), counted from the top-left (docs/method.md §5.1).
     pub fn origin(&self, px: f64, py: f64) -> [f64; 4] {
         let sx = self.pixel_size * (px + 0.5 - 0.5 * f64::from(self.width));
         let sy = self.pixel_size * (0.5 * f64::from(self.height) - py - 0.5);

@@ -108,7 +108,7 @@ impl Pixel<'_> {
         self.hits.insert(at, (t, ray));
     }
 
-    /// Marches o + t d over [t0, t1] in `steps` equal steps (SPEC.md §5.3), stepping over
+    /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
     /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
     /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
     /// +∞ and (−∞, +∞) take every sample).

@@ -263,7 +263,7 @@ impl Color {
     }
 }
 
-/// Phong lighting (docs/method.md §5.5).
+/// Phong lighting (docs/method.md §5.6).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Lighting {

@@ -1,4 +1,4 @@
-//! The 16-tree of SPEC.md §2, built level by level (breadth first) over the domain box.
+//! The 16-tree of docs/method.md §2, built level by level (breadth first) over the domain box.
 //!
 //! A box at level L is identified by integer coordinates in [0, 2^L)⁴, so boxes are exact
 //! and a node costs a few bytes. Each level's boxes are evaluated in parallel (rayon) with
@@ -263,7 +263,7 @@ fn contains_manifold(f: Interval) -> bool {
 /// The mean-value form of F□ on `bx`, where F is continuous (and piecewise differentiable)
 /// on it: F(B) ⊆ F□(c) + Σ ∂F/∂x_k□(B)·(B_k − c_k), c the box's centre and `gradient`
 /// the enclosures of F's partials over B. False when that proves 0 ∉ F(B). Intersected with
-/// the natural extension it is still an interval extension of F (SPEC.md §1), and far
+/// the natural extension it is still an interval extension of F (docs/method.md §1), and far
 /// tighter on small boxes where terms of F cancel: the chapter's scene keeps 23 912 leaves
 /// at level 4 instead of 30 376, and refined uniformly to level 6, 814 304 instead of
 /// 2 556 768 (the other example scenes' natural extensions are tight already).
@@ -336,7 +336,7 @@ const MEAN_VALUE_SAMPLE: usize = 64;
 
 impl Refinement<'_> {
     /// Evaluates the 16 children of each box in `refine` (indices in `parents`). A child
-    /// is kept if F□ holds 0 (SPEC.md §2): the natural interval extension, and with
+    /// is kept if F□ holds 0 (docs/method.md §2): the natural interval extension, and with
     /// `mean_value` (which needs `gradient`), where F is continuous on the box, the
     /// mean-value form too (see `mean_value_may_vanish`). With `gradient` the topological
     /// criterion is set on the kept ones.
@@ -415,7 +415,7 @@ impl Refinement<'_> {
     }
 }
 
-/// Removes refined boxes whose children were all discarded (SPEC.md §2), bottom-up: such
+/// Removes refined boxes whose children were all discarded (docs/method.md §2), bottom-up: such
 /// a box holds no point of M. Renumbers the parent links and child ranges it touches.
 fn prune_childless(levels: &mut Vec<Vec<TreeBox>>, settings: BuildSettings) {
     for l in (0..levels.len()).rev() {

@@ -1,5 +1,5 @@
-//! Stage 4: the CPU pre-process: the 16-tree over the domain (SPEC.md §2) and its
-//! flattening into the sphere hierarchy the ray caster walks (SPEC.md §3).
+//! Stage 4: the CPU pre-process: the 16-tree over the domain (docs/method.md §2) and its
+//! flattening into the sphere hierarchy the ray caster walks (docs/method.md §3).
 
 pub mod build;
 pub mod hierarchy;
