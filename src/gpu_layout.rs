@@ -253,4 +253,3 @@ pub struct Uniforms {
     /// The formula's parameters, four to a vec4 (at most 64).
     pub params: [[f32; 4]; 16],
 }
-

@@ -113,11 +113,8 @@ struct BoxRecord {
 
 @group(0) @binding(0) var<storage, read> settings: Uniforms;
 // The settings as the pixel's code reads them: a copy of binding 0, made once at the top of
-// fs_main (the most read of them come from vs_main: see Flat). llvmpipe loads a storage
-// buffer in a fragment shader one pixel at a time (a loop over the SIMD group's lanes, in
-// case some are off), even where every pixel reads the same word: read inside the march
-// and the bisection (the bisection's |F| bound, F's parameters) that was a fifth of the
-// chapter's pass. Read once, the copy's words stay in registers.
+// fs_main (the most read of them come from vs_main: see Flat), because llvmpipe loads a
+// storage-buffer word lane by lane wherever it is read (fourfold's docs/architecture.md).
 var<private> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
 // Per screen tile, the boxes whose sphere may meet a pixel of it: offsets (one per tile, and

@@ -15,7 +15,9 @@ macro_rules! members {
 /// The shader as fourfold generates it, parsed by naga (which lays out its structs).
 fn shader_module() -> naga::Module {
     let formula = fourfold::CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 - R").unwrap();
-    fourfold::render::codegen::generate(&formula).unwrap().module
+    fourfold::render::codegen::generate(&formula)
+        .unwrap()
+        .module
 }
 
 /// Checks the WGSL struct `name` against a Rust struct of `size` bytes whose members

@@ -1,10 +1,9 @@
 //! The GPU ray caster on wgpu: a pipeline per shader (per formula), the hierarchy in a
 //! storage buffer (per tree), and the frame's settings (`Uniforms`) in a small read-only
-//! storage buffer rather than a uniform buffer: Mesa's lavapipe (22.3, Debian 12) bakes
-//! the values of a uniform buffer that steer a shader's loops and branches into the shader,
-//! and so rebuilt it at every pass once the buffer was written (4–5 ms a pass, most of a
-//! 64x64 frame; `cargo bench --bench frame` with FOURFOLD_BENCH_RAYS=0). Offscreen rendering
-//! returns an RGBA image; the viewer draws with the same pipeline into its own target.
+//! storage buffer rather than a uniform buffer (lavapipe rebuilds a shader whose loops a
+//! uniform buffer steers at every write: docs/architecture.md, "The GPU"). Offscreen
+//! rendering returns an RGBA image; the viewer draws with the same pipeline into its own
+//! target.
 
 use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;

@@ -58,9 +58,10 @@ impl Invalid {
             Speaker::File => key.rsplit('.').next().unwrap_or(key).to_string(),
             Speaker::Flag => flag_of(key),
         };
-        let (key, sep) = match speaker {
-            Speaker::File => (name(&self.key), " = "),
-            Speaker::Flag => (name(&self.key), " "),
+        let key = name(&self.key);
+        let sep = match speaker {
+            Speaker::File => " = ",
+            Speaker::Flag => " ",
         };
         match &self.problem {
             Problem::Range { value, allowed } => format!("{key}{sep}{value}: {allowed}"),
