@@ -197,3 +197,43 @@ fn the_syntax_tree_keeps_spans() {
     assert_eq!(ast.lhs.span, 0..10);
     assert!(ast.rhs.is_none());
 }
+
+#[test]
+fn the_caret_window_keeps_the_caret_and_its_label_in_view_at_any_width() {
+    // Errors early, in the middle and at the end of a long formula, and in a short one.
+    let long = "sin(3x)cos(3y) + sin(3z)cos(3w) - 0.2 + ".repeat(4);
+    let sources = [
+        format!("{long}sn(x"),
+        format!("{long}x +* y"),
+        format!("sn(x) + {long}"),
+        format!("{}foo(x) + {}", &long[..80], &long[80..]),
+        "x +".to_string(),
+        "x² + y".to_string(),
+    ];
+    for source in &sources {
+        let error = CompiledFormula::compile(source).expect_err(source);
+        let first = source[error.span.start..].chars().next();
+        for columns in [12, 20, 33, 48, 80, 400] {
+            let w = error.caret_window(source, columns);
+            let width = |s: &str| s.chars().count();
+            assert!(width(&w.source) <= columns, "{columns}: {w:?}");
+            assert!(width(&w.carets) <= columns, "{columns}: {w:?}");
+            let caret = w.carets.find('^').expect("a caret");
+            assert!(w.carets[..caret].chars().all(|c| c == ' '));
+            // The caret is under the span's first character (or just past the line's end).
+            let under = w.source.chars().nth(caret);
+            assert!(
+                under == first || (first.is_none() && under.is_none()),
+                "{columns} columns: caret under {under:?}, span starts with {first:?}: {w:?}"
+            );
+            let label = w.label.as_deref().unwrap_or(&w.carets);
+            assert!(label.contains(&error.label), "{w:?}");
+            if let Some(label) = &w.label {
+                assert!(
+                    width(label) <= columns.max(width(&error.label)),
+                    "{columns}: {w:?}"
+                );
+            }
+        }
+    }
+}

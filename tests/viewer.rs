@@ -312,3 +312,130 @@ fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
         "{after:.0} ms per UI frame after a 3 s pause, {drawing:.0} ms before"
     );
 }
+
+/// The bounding box [x0, y0, x1, y1] of the pixels of `rgba` (w×h) that are not `background`.
+fn covered_box(rgba: &[u8], w: u32, background: [u8; 3]) -> Option<[u32; 4]> {
+    let mut bbox: Option<[u32; 4]> = None;
+    for (i, p) in rgba.chunks(4).enumerate() {
+        if p[..3] != background {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            bbox = Some(match bbox {
+                None => [x, y, x, y],
+                Some([x0, y0, x1, y1]) => [x0.min(x), y0.min(y), x1.max(x), y1.max(y)],
+            });
+        }
+    }
+    bbox
+}
+
+#[test]
+fn opening_a_preset_frames_the_manifold() {
+    use fourfold::render::pipeline::{Device, render_scene};
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    for name in ["fig-3-9-left", "glome", "tiger", "duocylinder"] {
+        h.state_mut().load_preset(name);
+        h.state_mut().session.scene.render.rays = 4;
+        settle(&mut h);
+        let app = h.state();
+        assert!(!app.fit_pending, "{name}: not framed");
+        // The picture as it is on screen (the same view, a quarter of the size: the framing
+        // scales with it), drawn independently of the viewer's textures.
+        let [w, ht] = app.picture_size.map(|s| s / 4);
+        let scene = app.session.scene.clone();
+        let picture = render_scene(&scene, w, ht, Device::NewGpu, Default::default()).unwrap();
+        let background = scene.render.background.0;
+        let [x0, y0, x1, y1] = covered_box(&picture.rgba, w, background)
+            .unwrap_or_else(|| panic!("{name}: nothing drawn"));
+        assert!(
+            x0 > 0 && y0 > 0 && x1 < w - 1 && y1 < ht - 1,
+            "{name}: the manifold runs off the picture: {x0},{y0}..{x1},{y1} of {w}x{ht}"
+        );
+        let (cw, ch) = (x1 - x0 + 1, y1 - y0 + 1);
+        assert!(
+            2 * cw >= w || 2 * ch >= ht,
+            "{name}: the manifold fills {cw}x{ch} of {w}x{ht}"
+        );
+    }
+}
+
+#[test]
+fn a_late_error_in_a_long_formula_keeps_its_caret_in_the_panel() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    // 200 characters, the error at the very end, no '^' but the caret's.
+    let mut text = "sin(3x)cos(3y) + sin(3z)cos(3w) - 0.2 + ".repeat(5);
+    text.truncate(194);
+    text.push_str(" + sn(x");
+    assert!(text.len() >= 200 && !text.contains('^'));
+    replace_formula(&mut h, &text);
+    h.run_steps(3);
+    let panel = h.state().controls_rect.expect("the controls panel");
+    assert!(h.state().session.error_at.is_some(), "no error shown");
+    let carets: Vec<_> = h.query_all_by_label_contains("^").collect();
+    assert!(!carets.is_empty(), "no caret line on screen");
+    for caret in carets {
+        let rect = caret.rect();
+        assert!(
+            rect.left() >= panel.left() - 1.0 && rect.right() <= panel.right() + 1.0,
+            "the caret line {rect:?} leaves the panel {panel:?}"
+        );
+    }
+    // The label says where, in view too.
+    let label = h.get_by_label_contains("opened here").rect();
+    assert!(label.right() <= panel.right() + 1.0, "{label:?} {panel:?}");
+}
+
+#[test]
+fn undo_after_a_formula_edit_restores_the_formula_and_its_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.scene.formula.clone();
+    let leaves = h.state().session.stats.as_ref().unwrap().leaves;
+    // Let the opening state settle into the history, then edit.
+    std::thread::sleep(Duration::from_millis(500));
+    h.run_steps(2);
+    replace_formula(&mut h, "x + y + z + w = 0.5");
+    settle(&mut h);
+    std::thread::sleep(Duration::from_millis(500));
+    h.run_steps(2);
+    assert_ne!(h.state().session.stats.as_ref().unwrap().leaves, leaves);
+    // Ctrl+Z acts on the window once the editor has let go of the keyboard.
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.session.text, before);
+    assert_eq!(app.session.scene.formula, before);
+    assert_eq!(app.session.stats.as_ref().unwrap().leaves, leaves);
+    assert!(app.history.can_redo());
+    // And redo brings the edit back.
+    h.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().session.text, "x + y + z + w = 0.5");
+}
+
+#[test]
+fn the_gallery_lists_every_example_scene() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.get_by_label("Gallery").click();
+    h.run_steps(3);
+    for (name, _) in EXAMPLES {
+        h.get_by_label(name);
+    }
+    // Picking one opens and frames it.
+    h.get_by_label("tiger").click();
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.preset, Some("tiger"));
+    assert!(!app.gallery_open);
+    assert!(!app.fit_pending);
+}

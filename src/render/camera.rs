@@ -48,7 +48,8 @@ pub struct Camera {
     pub v2: [f64; 4],
     pub n1: [f64; 4],
     pub n2: [f64; 4],
-    /// c_H, the centre of the domain.
+    /// The picture's centre in R⁴: c_H, the centre of the domain, moved by the view's pan
+    /// along v1 and v2.
     pub center: [f64; 4],
     /// World units per pixel.
     pub pixel_size: f64,
@@ -62,12 +63,15 @@ impl Camera {
     pub fn new(domain: &Domain, view: &View, width: u32, height: u32) -> Self {
         let a = Rotation4::from_angles(view.angles);
         let shorter = f64::from(width.min(height).max(1));
+        let (v1, v2) = (a.row(0), a.row(1));
+        let c = domain.center();
+        let [px, py] = view.pan;
         Self {
-            v1: a.row(0),
-            v2: a.row(1),
+            v1,
+            v2,
             n1: a.row(2),
             n2: a.row(3),
-            center: domain.center(),
+            center: std::array::from_fn(|i| c[i] + px * v1[i] + py * v2[i]),
             pixel_size: 2.0 * domain.half_diagonal() / shorter / view.zoom,
             width,
             height,

@@ -4,6 +4,7 @@
 pub mod camera;
 pub mod codegen;
 pub mod cpu;
+pub mod framing;
 pub mod gpu;
 pub mod march;
 pub mod pipeline;

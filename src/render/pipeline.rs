@@ -112,13 +112,27 @@ pub fn render_compiled(
     device: Device<'_>,
     options: FrameOptions,
 ) -> Result<Picture, RenderError> {
-    let sides = 1..=MAX_PICTURE_SIDE;
-    if !sides.contains(&width) || !sides.contains(&height) {
-        return Err(RenderError::Size(width, height));
-    }
-    let mut times = StageTimes::default();
+    check_size(width, height)?;
     let prepared = Prepared::new(formula, scene)?;
-    times.tree_ms = prepared.build_ms;
+    render_prepared(scene, formula, &prepared, width, height, device, options)
+}
+
+/// As [`render_compiled`], for a tree the caller has already prepared from `scene` and
+/// `formula` (its build time is the picture's tree time).
+pub fn render_prepared(
+    scene: &Scene,
+    formula: &CompiledFormula,
+    prepared: &Prepared,
+    width: u32,
+    height: u32,
+    device: Device<'_>,
+    options: FrameOptions,
+) -> Result<Picture, RenderError> {
+    check_size(width, height)?;
+    let mut times = StageTimes {
+        tree_ms: prepared.build_ms,
+        ..StageTimes::default()
+    };
     let (camera, uniforms) = prepared.frame(scene, width, height, options);
     let Prepared {
         params,
@@ -133,14 +147,14 @@ pub fn render_compiled(
     let (mut rgba, adapter) = match device {
         Device::Cpu => {
             let t = Instant::now();
-            let rgba = super::cpu::render_rgba(formula, &params, &hierarchy, &uniforms);
+            let rgba = super::cpu::render_rgba(formula, params, hierarchy, &uniforms);
             times.frame_ms = ms(t);
             (rgba, "CPU reference renderer".to_string())
         }
-        Device::Gpu(gpu) => gpu_frame(gpu, &shader, &hierarchy, &camera, &uniforms, &mut times)?,
+        Device::Gpu(gpu) => gpu_frame(gpu, &shader, hierarchy, &camera, &uniforms, &mut times)?,
         Device::NewGpu => {
             let gpu = Gpu::new()?;
-            gpu_frame(&gpu, &shader, &hierarchy, &camera, &uniforms, &mut times)?
+            gpu_frame(&gpu, &shader, hierarchy, &camera, &uniforms, &mut times)?
         }
     };
     let cut_pixels = take_cut_pixels(&mut rgba);
@@ -153,9 +167,19 @@ pub fn render_compiled(
         cut_pixels,
         adapter,
         times,
-        tree: tree.stats,
+        tree: tree.stats.clone(),
         marched,
     })
+}
+
+/// A picture side is 1 to MAX_PICTURE_SIDE pixels.
+fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
+    let sides = 1..=MAX_PICTURE_SIDE;
+    if sides.contains(&width) && sides.contains(&height) {
+        Ok(())
+    } else {
+        Err(RenderError::Size(width, height))
+    }
 }
 
 fn gpu_frame(

@@ -117,6 +117,9 @@ impl Scene {
             ));
         }
         positive("view.zoom", self.view.zoom)?;
+        if self.view.pan.iter().any(|p| !p.is_finite()) {
+            return Err(Invalid::other("view.pan", "pan must be two finite numbers"));
+        }
         let t = &self.tree;
         for (key, level) in [
             ("tree.max_level", t.max_level),

@@ -162,7 +162,8 @@ impl Domain {
     }
 }
 
-/// The view: the six rotation angles (radians) and a zoom factor.
+/// The view: the six rotation angles (radians), a zoom factor and where the picture's centre
+/// lies.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct View {
@@ -170,6 +171,8 @@ pub struct View {
     pub angles: [f64; 6],
     /// 1 shows the whole domain; 2 shows half as much, twice as large.
     pub zoom: f64,
+    /// The picture's centre, from the domain's centre, along v1 and v2 (world units).
+    pub pan: [f64; 2],
 }
 
 impl Default for View {
@@ -177,6 +180,7 @@ impl Default for View {
         Self {
             angles: [0.0; 6],
             zoom: 1.0,
+            pan: [0.0; 2],
         }
     }
 }

@@ -6,5 +6,5 @@ pub mod parser;
 pub mod words;
 
 pub use ast::{BinOp, Expr, ExprKind, Formula, Span};
-pub use diagnostic::SourceError;
+pub use diagnostic::{CaretWindow, SourceError};
 pub use parser::parse;

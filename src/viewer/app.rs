@@ -10,14 +10,18 @@ use eframe::{egui, egui_wgpu};
 use egui::{Color32, RichText, TextFormat, text::LayoutJob};
 
 use crate::render::camera::rotate_view;
+use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::{Gpu, MAX_PICTURE_SIDE};
 use crate::scene::{
     AxisRange, Color, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling, Scene,
     Speaker,
 };
+use crate::syntax::SourceError;
 use crate::syntax::parser::{TokenKind, tokens};
 
 use super::files::{self, Notice, PngExport};
+use super::gallery::Gallery;
+use super::history::{History, Snapshot};
 use super::pacing::Pacing;
 use super::progressive::{Progressive, ViewKey};
 use super::session::Session;
@@ -76,6 +80,16 @@ pub struct FourfoldApp {
     latency_generation: u64,
     /// The preset chosen last (for the explanation line).
     pub preset: Option<&'static str>,
+    /// Frame the manifold once the tree of a scene just opened is ready.
+    pub fit_pending: bool,
+    /// The picture's size in pixels at the last frame.
+    pub picture_size: [u32; 2],
+    pub history: History,
+    gallery: Gallery,
+    pub gallery_open: bool,
+    /// Where the controls panel was at the last frame (tests check that the formula's
+    /// error stays inside it).
+    pub controls_rect: Option<egui::Rect>,
 }
 
 impl FourfoldApp {
@@ -119,6 +133,12 @@ impl FourfoldApp {
             edit_latency_ms: None,
             latency_generation: 0,
             preset: None,
+            fit_pending: true,
+            picture_size: [0, 0],
+            history: History::default(),
+            gallery: Gallery::default(),
+            gallery_open: false,
+            controls_rect: None,
         };
         if app.gpu.is_none() {
             app.message = Some(Notice::error(
@@ -141,6 +161,7 @@ impl FourfoldApp {
                 Ok(scene) => {
                     self.session.load_scene(scene, self.gpu.as_ref());
                     self.preset = Some(name);
+                    self.fit_pending = true;
                 }
                 Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
@@ -167,6 +188,7 @@ impl FourfoldApp {
             Ok(scene) => {
                 self.session.load_scene(scene, self.gpu.as_ref());
                 self.preset = None;
+                self.fit_pending = true;
                 self.message = Some(Notice::done(format!("opened {path}")));
             }
             Err(notice) => self.message = Some(notice),
@@ -181,9 +203,150 @@ impl FourfoldApp {
         });
     }
 
+    /// Zooms and pans so that the manifold fills the picture (the tree's boxes, at the
+    /// current angles); false if there is nothing to frame yet.
+    pub fn fit(&mut self) -> bool {
+        let Some(hierarchy) = &self.session.hierarchy else {
+            return false;
+        };
+        let [w, h] = self.picture_size;
+        let scene = &mut self.session.scene;
+        match framing::fit(hierarchy, &scene.domain, &scene.view, w, h) {
+            Some(view) => {
+                scene.view = view;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Frames a scene just opened once its tree is ready, as part of opening it.
+    fn fit_when_ready(&mut self) {
+        if !self.fit_pending || self.session.building() || self.picture_size[0] == 0 {
+            return;
+        }
+        self.fit_pending = false;
+        if self.fit() {
+            self.history.amend(&self.snapshot());
+        }
+    }
+
+    /// Shows this frame's state to the history. Auto-rotation's turning is not a change the
+    /// user made, so while it runs the angles are left out.
+    fn record_history(&mut self, ctx: &egui::Context) {
+        let mut now = self.snapshot();
+        if self.ui.auto_rotate
+            && let Some(settled) = self.history.settled()
+        {
+            now.scene.view.angles = settled.scene.view.angles;
+        }
+        let dragging = ctx.input(|i| i.pointer.any_down());
+        self.history.observe(&now, dragging);
+        if self.history.settling(&now) {
+            // Come back when the change has settled, even if nothing else happens.
+            ctx.request_repaint_after(super::history::SETTLE);
+        }
+    }
+
+    /// What undo and redo restore.
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            scene: self.session.scene.clone(),
+            text: self.session.text.clone(),
+        }
+    }
+
+    /// Goes back to `to`: only what changed is rebuilt (a new formula compiles again; new
+    /// parameters, domain or tree settings rebuild the tree; the rest is the view).
+    fn restore(&mut self, to: Snapshot) {
+        let gpu = self.gpu.clone();
+        let s = &mut self.session;
+        if to.text == s.text && to.scene.formula == s.scene.formula {
+            let rebuild = to.scene.params != s.scene.params
+                || to.scene.domain != s.scene.domain
+                || to.scene.tree != s.scene.tree;
+            let brute_force = to.scene.render.brute_force;
+            let current_brute_force = s.scene.render.brute_force;
+            s.scene = to.scene;
+            // Brute force switches once its pipeline is warm (Session::set_brute_force).
+            s.scene.render.brute_force = current_brute_force;
+            if rebuild {
+                s.rebuild_tree(gpu.as_ref());
+            }
+            s.set_brute_force(brute_force, gpu.as_ref());
+        } else {
+            s.load_scene(to.scene, gpu.as_ref());
+            if to.text != s.text {
+                s.set_text(&to.text, gpu.as_ref());
+            }
+        }
+        self.fit_pending = false;
+    }
+
+    pub fn undo(&mut self) {
+        let now = self.snapshot();
+        if let Some(to) = self.history.undo(&now) {
+            self.restore(to);
+        }
+    }
+
+    pub fn redo(&mut self) {
+        let now = self.snapshot();
+        if let Some(to) = self.history.redo(&now) {
+            self.restore(to);
+        }
+    }
+
+    /// The keys that act on the whole window, when no text field has the keyboard: F fits,
+    /// Ctrl+Z undoes, Ctrl+Shift+Z and Ctrl+Y redo.
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+        let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
+        let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+        let fit = KeyboardShortcut::new(Modifiers::NONE, Key::F);
+        let (redo, undo, fit) = ctx.input_mut(|i| {
+            let redo = i.consume_shortcut(&redo) || i.consume_shortcut(&redo_y);
+            (redo, i.consume_shortcut(&undo), i.consume_shortcut(&fit))
+        });
+        if redo {
+            self.redo();
+        } else if undo {
+            self.undo();
+        }
+        if fit {
+            self.fit();
+        }
+    }
+
     fn top_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("fourfold").strong());
+            if ui
+                .selectable_label(self.gallery_open, "Gallery")
+                .on_hover_text("every example scene, as pictures")
+                .clicked()
+            {
+                self.gallery_open = !self.gallery_open;
+            }
+            let now = self.snapshot();
+            if ui
+                .add_enabled(self.history.can_undo(&now), egui::Button::new("Undo"))
+                .on_hover_text("Ctrl+Z")
+                .clicked()
+            {
+                self.undo();
+            }
+            if ui
+                .add_enabled(self.history.can_redo(), egui::Button::new("Redo"))
+                .on_hover_text("Ctrl+Shift+Z")
+                .clicked()
+            {
+                self.redo();
+            }
             let current = self.preset.unwrap_or("choose…");
             egui::ComboBox::from_label("Preset")
                 .selected_text(current)
@@ -245,8 +408,12 @@ impl FourfoldApp {
         let label = ui.label("Formula  F(x, y, z, w)  or  lhs = rhs");
         let mut text = self.session.text.clone();
         let dark = ui.visuals().dark_mode;
+        // The error's span is underlined while the text is the one it is about.
+        let error_span = self.session.error_at.as_ref().map(|e| e.span.clone());
+        let error_text = self.session.text.clone();
         let mut layouter = |ui: &egui::Ui, buf: &dyn egui::TextBuffer, wrap: f32| {
-            let mut job = highlight(buf.as_str(), dark);
+            let span = error_span.clone().filter(|_| buf.as_str() == error_text);
+            let mut job = highlight(buf.as_str(), dark, span);
             job.wrap.max_width = wrap;
             ui.fonts_mut(|f| f.layout_job(job))
         };
@@ -262,24 +429,24 @@ impl FourfoldApp {
         if response.changed() && text != self.session.text {
             self.session.set_text(&text, self.gpu.as_ref());
         }
-        if let Some(error) = &self.session.error {
-            // Unwrapped (scrolled sideways where wider than the panel), so that the caret
-            // and its label stay under the part of the formula they point at.
-            egui::ScrollArea::horizontal()
-                .id_salt("formula error")
-                .show(ui, |ui| {
-                    ui.add(
-                        egui::Label::new(
-                            RichText::new(error)
-                                .monospace()
-                                .color(Color32::from_rgb(255, 110, 100)),
-                        )
-                        .wrap_mode(egui::TextWrapMode::Extend),
-                    );
-                });
-        } else if let Some(f) = &self.session.formula {
-            ui.label(RichText::new(format!("F = {}", f.f_text())).small().weak());
+        match (&self.session.error_at, &self.session.error) {
+            (Some(at), _) => caret_message(ui, at, &self.session.text),
+            (None, Some(error)) => {
+                ui.label(RichText::new(error).color(ERROR_COLOR));
+            }
+            (None, None) => {
+                if let Some(f) = &self.session.formula {
+                    ui.label(RichText::new(format!("F = {}", f.f_text())).small().weak());
+                }
+            }
         }
+        egui::CollapsingHeader::new("Help: how to write F")
+            .id_salt("fourfold formula help")
+            .show(ui, |ui| {
+                for line in FORMULA_HELP {
+                    ui.label(RichText::new(*line).small());
+                }
+            });
     }
 
     fn parameter_sliders(&mut self, ui: &mut egui::Ui) -> bool {
@@ -320,18 +487,53 @@ impl FourfoldApp {
 
     fn view_controls(&mut self, ui: &mut egui::Ui) {
         ui.heading("View");
-        let names = ["θ1 xy", "θ2 yz", "θ3 zw", "θ4 xy", "θ5 yz", "θ6 xy"];
-        for (a, name) in self.session.scene.view.angles.iter_mut().zip(names) {
-            ui.add(egui::Slider::new(a, -PI..=PI).text(name));
+        let planes = ["xy", "yz", "zw", "xy", "yz", "xy"];
+        for (k, (a, plane)) in self
+            .session
+            .scene
+            .view
+            .angles
+            .iter_mut()
+            .zip(planes)
+            .enumerate()
+        {
+            ui.add(egui::Slider::new(a, -PI..=PI).text(format!("θ{} {plane}", k + 1)))
+                .on_hover_text(format!(
+                    "θ{}: a rotation in the {plane} plane, the {} of the six that turn R⁴ \
+                     (A = Rxy(θ1) Ryz(θ2) Rzw(θ3) Rxy(θ4) Ryz(θ5) Rxy(θ6)). The screen shows \
+                     the first two rows of A; the last two are the hidden directions.",
+                    k + 1,
+                    ["first", "second", "third", "fourth", "fifth", "sixth"][k]
+                ));
         }
-        ui.add(
-            egui::Slider::new(&mut self.session.scene.view.zoom, 0.1..=20.0)
+        let zoomed = ui
+            .add(
+                egui::Slider::new(
+                    &mut self.session.scene.view.zoom,
+                    ZOOM_RANGE.0..=ZOOM_RANGE.1,
+                )
                 .logarithmic(true)
                 .text("zoom"),
-        );
+            )
+            .changed();
+        if zoomed {
+            self.fit_pending = false;
+        }
         ui.horizontal(|ui| {
-            if ui.button("Reset view").clicked() {
+            if ui
+                .button("Fit")
+                .on_hover_text("zoom and centre on the manifold (key F)")
+                .clicked()
+            {
+                self.fit();
+            }
+            if ui
+                .button("Reset view")
+                .on_hover_text("the angles at 0, the whole domain in view")
+                .clicked()
+            {
                 self.session.scene.view = Default::default();
+                self.fit_pending = false;
             }
             ui.checkbox(&mut self.ui.auto_rotate, "auto-rotate");
         });
@@ -344,9 +546,13 @@ impl FourfoldApp {
             ui.add(egui::Slider::new(&mut self.ui.rotate_speed, -2.0..=2.0).text("rad/s"));
         }
         ui.label(
-            RichText::new("drag: v1/v2 against n1 · shift+drag: against n2 · ctrl+drag: spin in the view · scroll: zoom")
-                .small()
-                .weak(),
+            RichText::new(
+                "drag: the screen against the hidden n1 · shift+drag: against n2 · \
+                 ctrl+drag: spin in the screen · alt+drag or middle drag: pan · scroll: zoom · \
+                 F: fit · Ctrl+Z: undo",
+            )
+            .small()
+            .weak(),
         );
     }
 
@@ -515,17 +721,32 @@ impl FourfoldApp {
         let ppp = ui.ctx().pixels_per_point();
         let size = [rect.width(), rect.height()]
             .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE));
+        self.picture_size = size;
         let more = self.cast_rays(size);
         self.note_edit_latency();
         more || self.pacing.interacting()
     }
 
-    /// Drag = rotate in the view's own planes; scroll = zoom. True if the view changed.
+    /// Drag = rotate in the view's own planes; middle or alt drag = pan; scroll = zoom. True
+    /// if the view changed.
     fn turn_and_zoom(&mut self, ui: &egui::Ui, response: &egui::Response) -> bool {
         let mut changed = false;
-        if response.dragged() {
-            let d = response.drag_delta();
-            let mods = ui.input(|i| i.modifiers);
+        let mods = ui.input(|i| i.modifiers);
+        let d = response.drag_delta();
+        let panning = response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Primary) && mods.alt);
+        if panning {
+            // World units per point: the camera's pixel size at this picture's size.
+            let [w, h] = self.picture_size;
+            let view = &mut self.session.scene.view;
+            let shorter = f64::from(w.min(h).max(1));
+            let per_point = 2.0 * self.session.scene.domain.half_diagonal() / shorter / view.zoom
+                * f64::from(ui.ctx().pixels_per_point());
+            view.pan[0] -= f64::from(d.x) * per_point;
+            view.pan[1] += f64::from(d.y) * per_point;
+            self.fit_pending = false;
+            changed = true;
+        } else if response.dragged_by(egui::PointerButton::Primary) {
             let k = 0.01;
             let angles = self.session.scene.view.angles;
             let angles = if mods.ctrl || mods.command {
@@ -543,6 +764,7 @@ impl FourfoldApp {
             if scroll != 0.0 {
                 let z = &mut self.session.scene.view.zoom;
                 *z = (*z * (1.0 + f64::from(scroll) * 0.002)).clamp(0.05, 50.0);
+                self.fit_pending = false;
                 changed = true;
             }
         }
@@ -682,6 +904,8 @@ impl eframe::App for FourfoldApp {
         let gpu = self.gpu.clone();
         self.session.poll(gpu.as_ref());
         self.poll_export();
+        self.fit_when_ready();
+        self.shortcuts(ui.ctx());
 
         // The panels leave their background to the frame's clear colour (clear_color below):
         // egui's shader filling them costs ~25 ms per frame on a software GPU, a clear nothing.
@@ -693,7 +917,7 @@ impl eframe::App for FourfoldApp {
             .frame(bare)
             .show(ui, |ui| self.status_line(ui));
         let mut rebuild = false;
-        egui::Panel::left("fourfold controls")
+        let controls = egui::Panel::left("fourfold controls")
             .default_size(380.0)
             .frame(bare)
             .show(ui, |ui| {
@@ -714,6 +938,7 @@ impl eframe::App for FourfoldApp {
                         .show(ui, |ui| self.render_controls(ui));
                 });
             });
+        self.controls_rect = Some(controls.response.rect);
         if rebuild {
             match self.session.scene.check() {
                 Ok(()) => self.session.rebuild_tree(gpu.as_ref()),
@@ -728,7 +953,13 @@ impl eframe::App for FourfoldApp {
             .show(ui, |ui| {
                 more = self.picture(ui);
             });
-        if more || self.session.building() || self.export.is_some() || self.ui.auto_rotate {
+        if let Some(name) = self.gallery.show(ui.ctx(), &mut self.gallery_open) {
+            self.load_preset(name);
+            self.gallery_open = false;
+        }
+        self.record_history(ui.ctx());
+        let busy = self.session.building() || self.export.is_some() || self.gallery.busy();
+        if more || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         } else {
             self.pacing.idle();
@@ -758,8 +989,8 @@ fn color_edit(ui: &mut egui::Ui, c: &mut Color) {
     }
 }
 
-/// Syntax colouring from the grammar's own tokens.
-pub fn highlight(text: &str, dark: bool) -> LayoutJob {
+/// Syntax colouring from the grammar's own tokens, with the bytes `error` underlined.
+pub fn highlight(text: &str, dark: bool, error: Option<std::ops::Range<usize>>) -> LayoutJob {
     let mut job = LayoutJob::default();
     let font = egui::FontId::monospace(14.0);
     let plain = if dark {
@@ -776,6 +1007,8 @@ pub fn highlight(text: &str, dark: bool) -> LayoutJob {
         TokenKind::Operator => Color32::from_gray(160),
         TokenKind::Bracket => Color32::from_gray(140),
     };
+    // Pieces of the text with their colours, cut where the error's span starts and ends.
+    let mut pieces: Vec<(std::ops::Range<usize>, Color32)> = Vec::new();
     let mut at = 0;
     for t in tokens(text) {
         if t.start < at
@@ -786,21 +1019,76 @@ pub fn highlight(text: &str, dark: bool) -> LayoutJob {
             continue;
         }
         if t.start > at {
-            job.append(
-                &text[at..t.start],
-                0.0,
-                TextFormat::simple(font.clone(), plain),
-            );
+            pieces.push((at..t.start, plain));
         }
-        job.append(
-            &text[t.start..t.end],
-            0.0,
-            TextFormat::simple(font.clone(), color(t.kind)),
-        );
+        pieces.push((t.start..t.end, color(t.kind)));
         at = t.end;
     }
     if at < text.len() {
-        job.append(&text[at..], 0.0, TextFormat::simple(font, plain));
+        pieces.push((at..text.len(), plain));
+    }
+    let error = error.filter(|e| {
+        e.start < e.end && text.is_char_boundary(e.start) && text.is_char_boundary(e.end)
+    });
+    for (range, color) in pieces {
+        let mut cuts = vec![range.start, range.end];
+        if let Some(e) = &error {
+            cuts.extend([e.start, e.end].into_iter().filter(|c| range.contains(c)));
+        }
+        cuts.sort_unstable();
+        cuts.dedup();
+        for pair in cuts.windows(2) {
+            let mut format = TextFormat::simple(font.clone(), color);
+            if error
+                .as_ref()
+                .is_some_and(|e| e.start <= pair[0] && pair[1] <= e.end)
+            {
+                format.underline = egui::Stroke::new(2.0, ERROR_COLOR);
+            }
+            job.append(&text[pair[0]..pair[1]], 0.0, format);
+        }
     }
     job
+}
+
+/// The colour of error messages.
+const ERROR_COLOR: Color32 = Color32::from_rgb(255, 110, 100);
+
+/// The formula reference under the editor.
+const FORMULA_HELP: &[&str] = &[
+    "Variables x y z w; numbers 2, 2.5, 1e-3; constants pi, tau, e.",
+    "Operators + - * / ^ (^ binds tighter than unary minus: -x^2 is -(x^2)); |x| is the absolute value.",
+    "Multiply by writing side by side: 2x, xy, 3 sin(w), (x+1)(x-1), R(x + 1).",
+    "lhs = rhs means F = lhs - rhs.",
+    "Functions: sin cos tan asin acos atan sinh cosh tanh exp ln log sqrt cbrt abs sign step, min(a,b) max(a,b) pow(a,b) atan2(y,x).",
+    "Any other name (R, r, a1) is a parameter with a slider below.",
+];
+
+/// A formula's error under the editor: the message, the part of the formula around the
+/// problem cut to the panel's width with the caret under it, and the hint. Cut, not
+/// scrolled, so the caret and its label are always in view.
+fn caret_message(ui: &mut egui::Ui, error: &SourceError, text: &str) {
+    let font = egui::FontId::monospace(13.0);
+    let char_width = ui.fonts_mut(|f| f.glyph_width(&font, '0')).max(1.0);
+    let columns = (ui.available_width() / char_width).floor() as usize;
+    let window = error.caret_window(text, columns.saturating_sub(1));
+    ui.label(RichText::new(format!("error: {}", error.message)).color(ERROR_COLOR));
+    let line = |ui: &mut egui::Ui, text: &str, color: Option<Color32>| {
+        let mut rich = RichText::new(text).font(font.clone());
+        if let Some(c) = color {
+            rich = rich.color(c);
+        }
+        ui.add(egui::Label::new(rich).wrap_mode(egui::TextWrapMode::Extend));
+    };
+    ui.scope(|ui| {
+        ui.spacing_mut().item_spacing.y = 0.0;
+        line(ui, &window.source, None);
+        line(ui, &window.carets, Some(ERROR_COLOR));
+        if let Some(label) = &window.label {
+            line(ui, label, Some(ERROR_COLOR));
+        }
+    });
+    if let Some(hint) = &error.hint {
+        ui.label(RichText::new(format!("hint: {hint}")).small());
+    }
 }

@@ -1,12 +1,14 @@
 //! The live viewer (eframe + wgpu): type a formula, see the manifold, rotate it in 4D.
 //! `session` holds what is drawn, `progressive` how it reaches the screen without blocking
-//! the window, `pacing` how much of each UI frame it may take, `files` the file actions and
-//! `app` the widgets. The picture is made by the same ray caster as
+//! the window, `pacing` how much of each UI frame it may take, `files` the file actions,
+//! `history` undo and redo, `gallery` the example scenes as pictures, and `app` the widgets. The picture is made by the same ray caster as
 //! `fourfold render`.
 
 pub mod app;
 mod blit;
 pub mod files;
+pub mod gallery;
+pub mod history;
 pub mod pacing;
 pub mod progressive;
 pub mod session;

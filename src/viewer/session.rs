@@ -16,6 +16,7 @@ use crate::formula::CompiledFormula;
 use crate::render::codegen::{self, Shader};
 use crate::render::{Gpu, Prepared, RayCaster, Target, TileLists};
 use crate::scene::Scene;
+use crate::syntax::SourceError;
 use crate::tree::{BuildError, Hierarchy, TreeStats};
 
 /// The colour target of the viewer's ray caster. RGBA8, not half floats: egui samples these
@@ -84,8 +85,10 @@ pub struct Session {
     pub scene: Scene,
     /// The text in the editor (may not compile).
     pub text: String,
-    /// The caret message of the text, if it does not compile.
+    /// The caret message of the text, if it does not compile (or why its picture failed).
     pub error: Option<String>,
+    /// Where in the text the compile error is, for the editor to point at it.
+    pub error_at: Option<SourceError>,
     /// The compiled formula of the picture on screen (or being built).
     pub formula: Option<Arc<CompiledFormula>>,
     pub shader: Option<Arc<Shader>>,
@@ -118,6 +121,7 @@ impl Session {
             scene,
             text,
             error: None,
+            error_at: None,
             formula: None,
             shader: None,
             tree_params: Vec::new(),
@@ -175,9 +179,11 @@ impl Session {
             Ok(f) => f,
             Err(e) => {
                 self.error = Some(e.render("formula", text));
+                self.error_at = Some(e);
                 return;
             }
         };
+        self.error_at = None;
         let t = Instant::now();
         let shader = match codegen::generate(&formula) {
             Ok(s) => s,

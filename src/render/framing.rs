@@ -1,0 +1,66 @@
+//! Framing: the zoom and pan that show the manifold, not the domain, at a view's angles.
+//! The tree's boxes enclose M, so the rectangle their projections cover on the screen
+//! encloses M's picture; fitting it (with a margin) makes M fill the picture.
+
+use crate::scene::{Domain, View};
+use crate::tree::Hierarchy;
+
+use super::camera::Rotation4;
+
+/// The share of the picture's width or height the fitted manifold fills.
+const FILL: f64 = 0.9;
+
+/// Zoom factors a fit may choose (the viewer's slider's range).
+pub const ZOOM_RANGE: (f64, f64) = (0.1, 20.0);
+
+/// The rectangle (along v1, then v2, from the domain's centre, world units) that the
+/// projections of the hierarchy's finest boxes (its cover) fill at `angles`; None for an
+/// empty hierarchy.
+pub fn projected_extent(
+    hierarchy: &Hierarchy,
+    domain: &Domain,
+    angles: [f64; 6],
+) -> Option<[[f64; 2]; 2]> {
+    let boxes = hierarchy.cover.first().filter(|c| !c.is_empty())?;
+    let a = Rotation4::from_angles(angles);
+    let (v1, v2) = (a.row(0), a.row(1));
+    let c = domain.center();
+    let mut extent = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
+    for b in boxes {
+        let half = hierarchy.levels[b.level as usize].half;
+        for (range, v) in extent.iter_mut().zip([v1, v2]) {
+            let mid: f64 = (0..4).map(|k| (f64::from(b.center[k]) - c[k]) * v[k]).sum();
+            let reach: f64 = (0..4).map(|k| f64::from(half[k]) * v[k].abs()).sum();
+            range[0] = range[0].min(mid - reach);
+            range[1] = range[1].max(mid + reach);
+        }
+    }
+    Some(extent)
+}
+
+/// `view` with the zoom and pan that frame the hierarchy's boxes in a `width`×`height`
+/// picture, centred, filling [`FILL`] of the tighter side; the angles are kept. None where
+/// there is nothing to frame.
+pub fn fit(
+    hierarchy: &Hierarchy,
+    domain: &Domain,
+    view: &View,
+    width: u32,
+    height: u32,
+) -> Option<View> {
+    let [[x0, x1], [y0, y1]] = projected_extent(hierarchy, domain, view.angles)?;
+    let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
+    // World units per pixel that fit the rectangle; at zoom 1 a pixel is
+    // 2·half_diagonal / shorter side (see Camera::new).
+    let pixel = ((x1 - x0) / w).max((y1 - y0) / h) / FILL;
+    let zoom = if pixel > 0.0 {
+        2.0 * domain.half_diagonal() / w.min(h) / pixel
+    } else {
+        ZOOM_RANGE.1
+    };
+    Some(View {
+        zoom: zoom.clamp(ZOOM_RANGE.0, ZOOM_RANGE.1),
+        pan: [0.5 * (x0 + x1), 0.5 * (y0 + y1)],
+        ..*view
+    })
+}
