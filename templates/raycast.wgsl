@@ -685,7 +685,11 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     tr.o = u.center + tr.shift.x * u.v1 + tr.shift.y * u.v2;
     let px = vec2<u32>(pos.xy);
     tr.pixel_seed = pcg(px.x + pcg(px.y + pcg(u.control.w + 7919u * u.counts.y)));
-    tr.offset = rand01(tr.pixel_seed ^ 0x9e3779b9u);
+    // Successive frames' stratified pencils interleave: frame f turns the pixel's offset by
+    // the radical inverse of f, so 2^m frames of n rays are 2^m n evenly spaced rays.
+    let base_seed = pcg(px.x + pcg(px.y + pcg(u.control.w)));
+    let turn = ldexp(f32(reverseBits(u.counts.y)), -32);
+    tr.offset = fract(rand01(base_seed ^ 0x9e3779b9u) + turn);
     tr.k_max = max(min(u.size.w, SLOTS), 1u);
     let inf = ff_inf();
     tr.hits.t = array<f32, 16>(inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf);

@@ -14,6 +14,16 @@ use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, 
 
 type V4 = [f32; 4];
 
+/// The pixel's offset of its stratified rays in a frame, as the shader's `fs_main`: the
+/// frame's turn (the radical inverse of the frame) added to the pixel's own offset, so that
+/// successive frames' pencils interleave.
+fn stratified_offset(seed: u32, frame: u32, px: u32, py: u32) -> f32 {
+    let base = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(seed)))));
+    let turn = frame.reverse_bits() as f32 * 2f32.powi(-32);
+    let x = rand01(base ^ 0x9e37_79b9) + turn;
+    x - x.floor()
+}
+
 fn dot(a: V4, b: V4) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
 }
@@ -318,7 +328,7 @@ fn render_pixel(
         params,
         eval: PointEvaluator::new(),
         seed,
-        offset: rand01(seed ^ 0x9e37_79b9),
+        offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
         hits: Vec::with_capacity(16),
         k_max: u.size.hits.clamp(1, 16) as usize,
     };
