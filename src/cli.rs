@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Parser, Subcommand};
 
 use crate::formula::CompiledFormula;
+use crate::render::framing::fit;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
 use crate::scene::{Color, Domain, Sampling, Scene, Speaker};
 use crate::tree::BuildSettings;
@@ -153,6 +154,10 @@ pub struct RenderArgs {
     /// Render on the CPU with the reference ray caster instead of the GPU.
     #[arg(long)]
     pub cpu: bool,
+    /// Zoom and centre on the manifold (the tree's boxes at these angles) instead of the
+    /// scene's zoom and pan, as the viewer does when it opens a scene.
+    #[arg(long)]
+    pub fit: bool,
 }
 
 #[derive(Debug, Clone, Args, Default)]
@@ -520,8 +525,8 @@ fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
 
 /// `fourfold render`.
 pub fn render(args: &RenderArgs) -> Result<String, Failure> {
-    use crate::render::pipeline::{Device, render_compiled};
-    let scene = render_scene_of(args)?;
+    use crate::render::pipeline::{Device, render_prepared};
+    let mut scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
     let t = std::time::Instant::now();
     let formula = compile(&scene)?;
@@ -534,8 +539,22 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     } else {
         Device::NewGpu
     };
-    let mut picture = render_compiled(&scene, &formula, width, height, device, Default::default())
-        .map_err(|e| Failure::runtime(e.to_string()))?;
+    let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
+    if args.fit
+        && let Some(view) = fit(&prepared.hierarchy, &scene.domain, &scene.view, width, height)
+    {
+        scene.view = view;
+    }
+    let picture = render_prepared(
+        &scene,
+        &formula,
+        &prepared,
+        width,
+        height,
+        device,
+        Default::default(),
+    );
+    let mut picture = picture.map_err(|e| Failure::runtime(e.to_string()))?;
     picture.times.parse_ms = parse_ms;
     let cut = picture.cut_pixels.len();
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)

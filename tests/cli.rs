@@ -216,3 +216,60 @@ fn a_scene_file_s_bad_value_is_told_as_the_flag_s_with_the_line_it_is_on() {
         );
     }
 }
+
+#[test]
+fn render_fit_frames_the_manifold_not_the_domain() {
+    // The glome in a domain four times its size: at zoom 1 it is a few pixels wide; --fit
+    // zooms to the tree's boxes around it (level 4 by default: half a unit wide), so that
+    // it fills half the picture or more.
+    let dir = std::env::temp_dir().join(format!("fourfold-fit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let widths: Vec<u32> = [false, true]
+        .into_iter()
+        .map(|fit| {
+            let out = dir.join(format!("glome-{fit}.png"));
+            let mut argv = vec![
+                "fourfold".to_string(),
+                "render".into(),
+                "x^2 + y^2 + z^2 + w^2 = 1".into(),
+                "--domain".into(),
+                "-4,4,-4,4,-4,4,-4,4".into(),
+                "--size".into(),
+                "48x48".into(),
+                "--rays".into(),
+                "4".into(),
+                "--cpu".into(),
+                "-o".into(),
+                out.display().to_string(),
+            ];
+            if fit {
+                argv.push("--fit".into());
+            }
+            let Cli {
+                command: Some(Command::Render(args)),
+            } = Cli::try_parse_from(argv).unwrap()
+            else {
+                panic!("not a render command");
+            };
+            fourfold::cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message));
+            let image = image::open(&out).unwrap().to_rgba8();
+            let background = Scene::from_formula("x").render.background.0;
+            let xs: Vec<u32> = image
+                .enumerate_pixels()
+                .filter(|(_, _, p)| p.0[..3] != background)
+                .map(|(x, _, _)| x)
+                .collect();
+            let (lo, hi) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+            assert!(lo > 0 && hi < 47, "fit {fit}: runs off the picture: {lo}..{hi}");
+            hi - lo + 1
+        })
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(widths[1] >= 24, "fitted: {} of 48 pixels wide", widths[1]);
+    assert!(
+        widths[1] >= 3 * widths[0],
+        "fitted {} against unfitted {} pixels wide",
+        widths[1],
+        widths[0]
+    );
+}
