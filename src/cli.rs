@@ -541,7 +541,13 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     };
     let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
     if args.fit
-        && let Some(view) = fit(&prepared.hierarchy, &scene.domain, &scene.view, width, height)
+        && let Some(view) = fit(
+            &prepared.hierarchy,
+            &scene.domain,
+            &scene.view,
+            width,
+            height,
+        )
     {
         scene.view = view;
     }

@@ -260,7 +260,10 @@ fn render_fit_frames_the_manifold_not_the_domain() {
                 .map(|(x, _, _)| x)
                 .collect();
             let (lo, hi) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
-            assert!(lo > 0 && hi < 47, "fit {fit}: runs off the picture: {lo}..{hi}");
+            assert!(
+                lo > 0 && hi < 47,
+                "fit {fit}: runs off the picture: {lo}..{hi}"
+            );
             hi - lo + 1
         })
         .collect();
