@@ -9,6 +9,7 @@ fn main() {
         Some(Command::Tree(args)) => cli::tree(args),
         Some(Command::Wgsl(args)) => cli::wgsl(args),
         Some(Command::Render(args)) => cli::render(args),
+        Some(Command::Animate(args)) => cli::animate(args),
         Some(Command::View(args)) => cli::view(args),
         None => cli::view(&cli::ViewArgs::default()),
     };

@@ -276,3 +276,137 @@ fn render_fit_frames_the_manifold_not_the_domain() {
         widths[0]
     );
 }
+
+fn animate_args(flags: &[&str]) -> fourfold::cli::AnimateArgs {
+    let argv = ["fourfold", "animate"].iter().chain(flags).copied();
+    match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {
+        Cli {
+            command: Some(Command::Animate(args)),
+        } => args,
+        other => panic!("{flags:?} parsed as {other:?}"),
+    }
+}
+
+/// The frames of an animated GIF, decoded.
+fn gif_frames(path: &std::path::Path) -> Vec<image::RgbaImage> {
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .map(|f| f.unwrap().into_buffer())
+        .collect()
+}
+
+/// The frames of an animated PNG, decoded by the png crate.
+fn apng_frames(path: &std::path::Path) -> Vec<Vec<u8>> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let count = reader
+        .info()
+        .animation_control()
+        .expect("an animated PNG")
+        .num_frames;
+    (0..count)
+        .map(|_| {
+            let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut buf).unwrap();
+            buf.truncate(info.buffer_size());
+            buf
+        })
+        .collect()
+}
+
+#[test]
+fn animate_writes_frames_that_differ_in_every_format() {
+    let dir = std::env::temp_dir().join(format!("fourfold-animate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |out: &std::path::Path, motion: &[&str]| {
+        let out = out.display().to_string();
+        let mut flags = vec![SCENE, "--size", "40x32", "--rays", "4", "--frames", "4"];
+        flags.extend(motion);
+        flags.extend(["-o", &out]);
+        fourfold::cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message))
+    };
+    let distinct = |frames: &[Vec<u8>]| {
+        frames
+            .iter()
+            .enumerate()
+            .all(|(i, a)| frames[..i].iter().all(|b| a != b))
+    };
+
+    let gif = dir.join("turn.gif");
+    let said = run(&gif, &["--turn", "xw", "--fit"]);
+    assert!(said.contains("4 frames"), "{said}");
+    let frames: Vec<Vec<u8>> = gif_frames(&gif).into_iter().map(|f| f.into_raw()).collect();
+    assert_eq!(frames.len(), 4);
+    assert!(distinct(&frames), "the turning frames repeat");
+
+    let apng = dir.join("sweep.png");
+    run(&apng, &["--sweep", "R=1.5..2.5"]);
+    let frames = apng_frames(&apng);
+    assert_eq!(frames.len(), 4);
+    assert!(frames.iter().all(|f| f.len() == 40 * 32 * 4));
+    assert!(distinct(&frames), "the sweeping frames repeat");
+
+    let folder = dir.join("frames");
+    run(&folder, &["--turn", "t3:0.5"]);
+    let frames: Vec<Vec<u8>> = (1..=4)
+        .map(|k| {
+            let path = folder.join(format!("frame-{k:04}.png"));
+            image::open(&path).unwrap().to_rgba8().into_raw()
+        })
+        .collect();
+    assert!(distinct(&frames), "the folder's frames repeat");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
+    let dir = std::env::temp_dir();
+    let gif = dir.join("fourfold-bad-animate.gif").display().to_string();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--turn", "xq"], "--turn: unknown plane 'xq'"),
+        (&["--turn", "xw:0"], "--turn: 0 turns"),
+        (&["--turn", "xw:fast"], "'fast' is not a number of turns"),
+        (&["--sweep", "R=1..1"], "is an empty range"),
+        (&["--sweep", "R=1"], "is not a range"),
+        (
+            &["--sweep", "q=1..2"],
+            "the formula has no parameter q (its parameters: R, r)",
+        ),
+        (
+            &["--turn", "xw", "--frames", "0"],
+            "--frames 0: between 1 and 10000",
+        ),
+        (
+            &["--turn", "xw", "--fps", "0"],
+            "--fps 0: above 0 and at most 100",
+        ),
+        (&[], "nothing moves"),
+    ];
+    for (flags, expected) in cases {
+        let mut argv = vec![SCENE, "-o", &gif];
+        argv.extend(*flags);
+        let failure = fourfold::cli::animate(&animate_args(&argv)).expect_err(expected);
+        assert_eq!(failure.code, 2, "{flags:?}: {}", failure.message);
+        assert!(
+            failure.message.contains(expected),
+            "{flags:?}: {:?} does not say {expected:?}",
+            failure.message
+        );
+    }
+    // An output that cannot be written, or of an unknown kind, is said before any frame.
+    for (out, expected) in [
+        (
+            "/nonexistent-folder/x.gif",
+            "cannot write /nonexistent-folder/x.gif",
+        ),
+        ("x.jpg", "unknown kind of file '.jpg'"),
+    ] {
+        let failure = fourfold::cli::animate(&animate_args(&[SCENE, "--turn", "xw", "-o", out]))
+            .expect_err(out);
+        assert_eq!(failure.code, 2);
+        assert!(failure.message.contains(expected), "{}", failure.message);
+    }
+}

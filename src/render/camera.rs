@@ -38,6 +38,12 @@ impl Rotation4 {
     pub fn row(&self, r: usize) -> [f64; 4] {
         self.0.row(r).to_array()
     }
+
+    /// A turned by `angle` in the plane of the coordinate axes i and j: the manifold turns
+    /// in that plane before it is seen through A.
+    pub fn turned(&self, i: usize, j: usize, angle: f64) -> Self {
+        Self(self.0 * plane_rotation(i, j, angle))
+    }
 }
 
 /// Everything needed to turn a pixel into its observer plane.
@@ -61,7 +67,24 @@ impl Camera {
     /// The camera for `view` of `domain` in a `width`×`height` image. At zoom 1 the disk of
     /// radius |half-diagonal of H| fits the shorter side, so the whole domain is in view.
     pub fn new(domain: &Domain, view: &View, width: u32, height: u32) -> Self {
-        let a = Rotation4::from_angles(view.angles);
+        Self::with_rotation(
+            domain,
+            view,
+            Rotation4::from_angles(view.angles),
+            width,
+            height,
+        )
+    }
+
+    /// As [`Camera::new`] with the rotation `a` instead of the view's angles (zoom and pan
+    /// are the view's).
+    pub fn with_rotation(
+        domain: &Domain,
+        view: &View,
+        a: Rotation4,
+        width: u32,
+        height: u32,
+    ) -> Self {
         let shorter = f64::from(width.min(height).max(1));
         let (v1, v2) = (a.row(0), a.row(1));
         let c = domain.center();

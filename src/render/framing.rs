@@ -14,15 +14,14 @@ const FILL: f64 = 0.9;
 pub const ZOOM_RANGE: (f64, f64) = (0.1, 20.0);
 
 /// The rectangle (along v1, then v2, from the domain's centre, world units) that the
-/// projections of the hierarchy's finest boxes (its cover) fill at `angles`; None for an
-/// empty hierarchy.
+/// projections of the hierarchy's finest boxes (its cover) fill through the rotation `a`;
+/// None for an empty hierarchy.
 pub fn projected_extent(
     hierarchy: &Hierarchy,
     domain: &Domain,
-    angles: [f64; 6],
+    a: &Rotation4,
 ) -> Option<[[f64; 2]; 2]> {
     let boxes = hierarchy.cover.first().filter(|c| !c.is_empty())?;
-    let a = Rotation4::from_angles(angles);
     let (v1, v2) = (a.row(0), a.row(1));
     let c = domain.center();
     let mut extent = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
@@ -48,7 +47,26 @@ pub fn fit(
     width: u32,
     height: u32,
 ) -> Option<View> {
-    let [[x0, x1], [y0, y1]] = projected_extent(hierarchy, domain, view.angles)?;
+    let a = Rotation4::from_angles(view.angles);
+    fit_through(hierarchy, domain, view, &[a], width, height)
+}
+
+/// As [`fit`], for a manifold seen through each of the `rotations` in turn (the frames of
+/// an animation): one zoom and pan that frame it in all of them.
+pub fn fit_through(
+    hierarchy: &Hierarchy,
+    domain: &Domain,
+    view: &View,
+    rotations: &[Rotation4],
+    width: u32,
+    height: u32,
+) -> Option<View> {
+    let [[x0, x1], [y0, y1]] = rotations
+        .iter()
+        .filter_map(|a| projected_extent(hierarchy, domain, a))
+        .reduce(|[[a0, a1], [b0, b1]], [[c0, c1], [d0, d1]]| {
+            [[a0.min(c0), a1.max(c1)], [b0.min(d0), b1.max(d1)]]
+        })?;
     let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
     // World units per pixel that fit the rectangle; at zoom 1 a pixel is
     // 2·half_diagonal / shorter side (see Camera::new).

@@ -1,6 +1,7 @@
 //! Stage 5: drawing. The camera (rotation, planes, pixel → R⁴), WGSL generation and naga
 //! validation, the uniform block, the GPU ray caster and its CPU reference twin.
 
+pub mod animation;
 pub mod camera;
 pub mod codegen;
 pub mod cpu;

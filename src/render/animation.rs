@@ -1,0 +1,481 @@
+//! Animations: a scene turning in one of R⁴'s rotation planes, or sweeping a parameter, drawn
+//! frame after frame on one device, and written as an animated GIF, an animated PNG or a
+//! folder of numbered PNGs. The tree is rebuilt only when a parameter changes.
+
+use std::f64::consts::TAU;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::formula::CompiledFormula;
+use crate::scene::Scene;
+
+use super::camera::{Camera, Rotation4};
+use super::codegen;
+use super::framing;
+use super::gpu::{Gpu, RayCaster};
+use super::pipeline::take_cut_pixels;
+use super::prepare::Prepared;
+use super::tiles::TileLists;
+use super::uniforms::{FrameOptions, Uniforms};
+
+/// The most frames an animation may have.
+pub const MAX_FRAMES: u32 = 10_000;
+
+/// What turns during an animation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Turn {
+    /// One of the view's six angles θ1..θ6 (index 0..5) grows by `turns` full turns.
+    Angle { index: usize, turns: f64 },
+    /// The manifold turns by `turns` full turns in the plane of coordinate axes i < j.
+    Plane { i: usize, j: usize, turns: f64 },
+}
+
+impl Turn {
+    /// Parses `PLANE[:TURNS]`: a coordinate plane (xy, xz, xw, yz, yw, zw, either order) or
+    /// one of the chapter's angles (θ1..θ6, also t1..t6), and how many full turns (1 if
+    /// left out; negative turns the other way).
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (plane, turns) = match text.split_once(':') {
+            Some((p, t)) => {
+                let turns: f64 = t.trim().parse().map_err(|_| {
+                    format!("'{t}' is not a number of turns (write PLANE:TURNS, as in xw:0.5)")
+                })?;
+                if !turns.is_finite() || turns == 0.0 {
+                    return Err(format!("{turns} turns: a number of turns other than 0"));
+                }
+                (p.trim(), turns)
+            }
+            None => (text.trim(), 1.0),
+        };
+        let angle = plane
+            .strip_prefix('θ')
+            .or_else(|| plane.strip_prefix("theta"))
+            .or_else(|| plane.strip_prefix('t'))
+            .and_then(|k| k.parse::<usize>().ok())
+            .filter(|k| (1..=6).contains(k));
+        if let Some(k) = angle {
+            return Ok(Turn::Angle {
+                index: k - 1,
+                turns,
+            });
+        }
+        let axis = |c: char| "xyzw".find(c);
+        let mut chars = plane.chars();
+        match (
+            chars.next().and_then(axis),
+            chars.next().and_then(axis),
+            chars.next(),
+        ) {
+            (Some(a), Some(b), None) if a != b => Ok(Turn::Plane {
+                i: a.min(b),
+                j: a.max(b),
+                turns,
+            }),
+            _ => Err(format!(
+                "unknown plane '{plane}': use xy, yz, zw, xz, xw or yw (the manifold turns in \
+                 that plane), or θ1..θ6 (t1..t6: one of the view's angles)"
+            )),
+        }
+    }
+}
+
+/// A parameter moving from one value to another over the animation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sweep {
+    pub name: String,
+    pub from: f64,
+    pub to: f64,
+}
+
+impl Sweep {
+    /// Parses `NAME=A..B`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let usage = "write NAME=A..B, as in R=1..2";
+        let (name, range) = text
+            .split_once('=')
+            .ok_or_else(|| format!("'{text}': {usage}"))?;
+        let (a, b) = range
+            .split_once("..")
+            .ok_or_else(|| format!("'{range}' is not a range: {usage}"))?;
+        let number = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("'{}' is not a finite number: {usage}", v.trim()))
+        };
+        let (from, to) = (number(a)?, number(b)?);
+        if from == to {
+            return Err(format!(
+                "{name}={from}..{to} is an empty range: give two different values"
+            ));
+        }
+        let name = name.trim();
+        if name.is_empty() {
+            return Err(format!("'{text}' names no parameter: {usage}"));
+        }
+        Ok(Self {
+            name: name.to_string(),
+            from,
+            to,
+        })
+    }
+}
+
+/// The frames to draw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Animation {
+    pub turn: Option<Turn>,
+    pub sweep: Option<Sweep>,
+    pub frames: u32,
+    /// Frames per second of the file written.
+    pub fps: f64,
+}
+
+impl Animation {
+    /// The view's rotation at frame k: a turn goes round without repeating its first frame
+    /// at the end, so the animation loops smoothly.
+    fn rotation(&self, scene: &Scene, k: u32) -> Rotation4 {
+        let share = f64::from(k) / f64::from(self.frames.max(1));
+        let mut angles = scene.view.angles;
+        match self.turn {
+            Some(Turn::Angle { index, turns }) => {
+                angles[index] += TAU * turns * share;
+                Rotation4::from_angles(angles)
+            }
+            Some(Turn::Plane { i, j, turns }) => {
+                Rotation4::from_angles(angles).turned(i, j, TAU * turns * share)
+            }
+            None => Rotation4::from_angles(angles),
+        }
+    }
+
+    /// The scene at frame k: a sweep's parameter runs from its first value at the first
+    /// frame to its last at the last.
+    fn scene_at(&self, scene: &Scene, k: u32) -> Scene {
+        let mut scene = scene.clone();
+        if let Some(s) = &self.sweep {
+            let share = if self.frames > 1 {
+                f64::from(k) / f64::from(self.frames - 1)
+            } else {
+                0.0
+            };
+            scene
+                .params
+                .insert(s.name.clone(), s.from + (s.to - s.from) * share);
+        }
+        scene
+    }
+}
+
+/// Where the frames go, by the output's name: `.gif`, `.png` or `.apng` (an animated PNG),
+/// or a folder (a name without an extension, or ending in '/') of `frame-0001.png`, ….
+#[derive(Debug, Clone, PartialEq)]
+pub enum Output {
+    Gif(PathBuf),
+    Apng(PathBuf),
+    Folder(PathBuf),
+}
+
+impl Output {
+    pub fn from_path(path: &Path) -> Result<Self, String> {
+        let text = path.to_string_lossy();
+        if text.ends_with('/') || path.is_dir() {
+            return Ok(Output::Folder(path.to_path_buf()));
+        }
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("gif") => Ok(Output::Gif(path.to_path_buf())),
+            Some(e) if e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("apng") => {
+                Ok(Output::Apng(path.to_path_buf()))
+            }
+            None => Ok(Output::Folder(path.to_path_buf())),
+            Some(e) => Err(format!(
+                "{}: unknown kind of file '.{e}': name a .gif, a .png (animated) or a folder",
+                path.display()
+            )),
+        }
+    }
+
+    /// Opens the output for writing (before any frame is drawn, so that an unwritable
+    /// place is said at once).
+    pub fn open(&self, width: u32, height: u32, fps: f64) -> Result<FrameWriter, String> {
+        let delay_ms = (1000.0 / fps).round().clamp(1.0, 65_535.0) as u16;
+        match self {
+            Output::Gif(path) => {
+                let file = create(path)?;
+                let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
+                encoder
+                    .set_repeat(image::codecs::gif::Repeat::Infinite)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                Ok(FrameWriter::Gif {
+                    encoder,
+                    path: path.clone(),
+                    width,
+                    height,
+                    delay_ms,
+                    count: 0,
+                })
+            }
+            Output::Apng(path) => {
+                // Checked now; written at the end, when the number of frames is known.
+                create(path)?;
+                Ok(FrameWriter::Apng {
+                    path: path.clone(),
+                    width,
+                    height,
+                    delay_ms,
+                    frames: Vec::new(),
+                })
+            }
+            Output::Folder(path) => {
+                std::fs::create_dir_all(path)
+                    .map_err(|e| format!("cannot make the folder {}: {e}", path.display()))?;
+                Ok(FrameWriter::Folder {
+                    path: path.clone(),
+                    width,
+                    height,
+                    count: 0,
+                })
+            }
+        }
+    }
+}
+
+fn create(path: &Path) -> Result<BufWriter<File>, String> {
+    File::create(path)
+        .map(BufWriter::new)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// An output being written, a frame at a time.
+pub enum FrameWriter {
+    Gif {
+        encoder: image::codecs::gif::GifEncoder<BufWriter<File>>,
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        delay_ms: u16,
+        count: u32,
+    },
+    Apng {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        delay_ms: u16,
+        frames: Vec<Vec<u8>>,
+    },
+    Folder {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        count: u32,
+    },
+}
+
+impl FrameWriter {
+    /// Adds a frame (RGBA8 rows).
+    pub fn add(&mut self, rgba: Vec<u8>) -> Result<(), String> {
+        match self {
+            FrameWriter::Gif {
+                encoder,
+                path,
+                width,
+                height,
+                delay_ms,
+                count,
+            } => {
+                let image = image::RgbaImage::from_raw(*width, *height, rgba)
+                    .ok_or("internal error: a frame of the wrong size")?;
+                let delay = image::Delay::from_numer_denom_ms(u32::from(*delay_ms), 1);
+                encoder
+                    .encode_frame(image::Frame::from_parts(image, 0, 0, delay))
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                *count += 1;
+            }
+            FrameWriter::Apng { frames, .. } => frames.push(rgba),
+            FrameWriter::Folder {
+                path,
+                width,
+                height,
+                count,
+            } => {
+                *count += 1;
+                let file = path.join(format!("frame-{count:04}.png"));
+                image::save_buffer(
+                    &file,
+                    &rgba,
+                    *width,
+                    *height,
+                    image::ExtendedColorType::Rgba8,
+                )
+                .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Finishes the file with the frames added so far; says what was written.
+    pub fn finish(self) -> Result<String, String> {
+        match self {
+            FrameWriter::Gif {
+                encoder,
+                path,
+                count,
+                ..
+            } => {
+                // Dropping the encoder writes the GIF's trailer.
+                drop(encoder);
+                Ok(format!("{} ({count} frames, animated GIF)", path.display()))
+            }
+            FrameWriter::Apng {
+                path,
+                width,
+                height,
+                delay_ms,
+                frames,
+            } => {
+                write_apng(&path, width, height, delay_ms, &frames)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                Ok(format!(
+                    "{} ({} frames, animated PNG)",
+                    path.display(),
+                    frames.len()
+                ))
+            }
+            FrameWriter::Folder { path, count, .. } => Ok(format!(
+                "{} ({count} frames, frame-0001.png …)",
+                path.display()
+            )),
+        }
+    }
+}
+
+fn write_apng(
+    path: &Path,
+    width: u32,
+    height: u32,
+    delay_ms: u16,
+    frames: &[Vec<u8>],
+) -> Result<(), png::EncodingError> {
+    if frames.is_empty() {
+        std::fs::remove_file(path).ok();
+        return Ok(());
+    }
+    let mut encoder =
+        png::Encoder::new(create(path).map_err(std::io::Error::other)?, width, height);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_animated(frames.len() as u32, 0)?;
+    encoder.set_frame_delay(delay_ms, 1000)?;
+    let mut writer = encoder.write_header()?;
+    for frame in frames {
+        writer.write_image_data(frame)?;
+    }
+    writer.finish()
+}
+
+/// Where frames are drawn.
+pub enum FrameDevice<'a> {
+    Gpu(&'a Gpu),
+    /// The CPU reference renderer.
+    Cpu,
+}
+
+/// Draws the animation's frames of `scene` at `width`×`height` one after the other, handing
+/// each to `frame` (its index and RGBA8 rows); stops early, with the frames drawn so far,
+/// once `stop` is set. With `fit`, one zoom and pan frames the manifold in every frame (of
+/// the first frame's tree). Returns how many frames were drawn.
+#[allow(clippy::too_many_arguments)]
+pub fn draw(
+    scene: &Scene,
+    formula: &CompiledFormula,
+    animation: &Animation,
+    width: u32,
+    height: u32,
+    fit: bool,
+    device: FrameDevice<'_>,
+    stop: &AtomicBool,
+    mut frame: impl FnMut(u32, Vec<u8>) -> Result<(), String>,
+) -> Result<u32, String> {
+    let mut scene = scene.clone();
+    let mut prepared =
+        Prepared::new(formula, &animation.scene_at(&scene, 0)).map_err(|e| e.to_string())?;
+    if fit {
+        let rotations: Vec<Rotation4> = (0..animation.frames)
+            .map(|k| animation.rotation(&scene, k))
+            .collect();
+        if let Some(view) = framing::fit_through(
+            &prepared.hierarchy,
+            &scene.domain,
+            &scene.view,
+            &rotations,
+            width,
+            height,
+        ) {
+            scene.view.zoom = view.zoom;
+            scene.view.pan = view.pan;
+        }
+    }
+    let mut caster = match device {
+        FrameDevice::Gpu(gpu) => {
+            let shader = codegen::generate(formula).map_err(|e| e.to_string())?;
+            Some((
+                gpu,
+                RayCaster::new(gpu, &shader, &prepared.hierarchy).map_err(|e| e.to_string())?,
+            ))
+        }
+        FrameDevice::Cpu => None,
+    };
+    for k in 0..animation.frames {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(k);
+        }
+        let at = animation.scene_at(&scene, k);
+        if k > 0 && at.params != animation.scene_at(&scene, k - 1).params {
+            prepared = Prepared::new(formula, &at).map_err(|e| e.to_string())?;
+            if let Some((gpu, caster)) = &mut caster {
+                caster
+                    .set_hierarchy(gpu, &prepared.hierarchy)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        let camera = Camera::with_rotation(
+            &at.domain,
+            &at.view,
+            animation.rotation(&at, k),
+            width,
+            height,
+        );
+        let uniforms = Uniforms::new(
+            &camera,
+            &at.render,
+            &at.domain,
+            &prepared.hierarchy,
+            &prepared.params,
+            FrameOptions::default(),
+        );
+        let mut rgba = match &mut caster {
+            Some((gpu, caster)) => {
+                if !uniforms.brute_force() {
+                    let lists = TileLists::build_within(
+                        &prepared.hierarchy,
+                        &camera,
+                        gpu.tile_entry_budget(),
+                    );
+                    caster.set_tiles(gpu, Some(&lists));
+                }
+                caster
+                    .render_rgba(gpu, &uniforms)
+                    .map_err(|e| e.to_string())?
+            }
+            None => {
+                super::cpu::render_rgba(formula, &prepared.params, &prepared.hierarchy, &uniforms)
+            }
+        };
+        take_cut_pixels(&mut rgba);
+        frame(k, rgba)?;
+    }
+    Ok(animation.frames)
+}
