@@ -439,3 +439,41 @@ fn the_gallery_lists_every_example_scene() {
     assert!(!app.gallery_open);
     assert!(!app.fit_pending);
 }
+
+#[test]
+fn an_animation_exports_in_the_background_with_its_progress() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let path = std::env::temp_dir().join(format!("fourfold-viewer-{}.gif", std::process::id()));
+    {
+        let app = h.state_mut();
+        app.ui.export_size = [40, 30];
+        app.ui.animation.path = path.display().to_string();
+        app.ui.animation.plane = "xw".into();
+        app.ui.animation.frames = 3;
+    }
+    h.get_by_label_contains("Export animation").click();
+    h.step();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "Export animation")
+        .click();
+    h.step();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        h.step();
+        let message = h.state().message.clone();
+        if let Some(m) = message.filter(|m| m.text.starts_with("wrote")) {
+            assert!(!m.is_error, "{}", m.text);
+            break;
+        }
+        assert!(Instant::now() < deadline, "the export did not end");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .count();
+    assert_eq!(frames, 3);
+    std::fs::remove_file(&path).ok();
+}

@@ -9,6 +9,7 @@ use std::time::Instant;
 use eframe::{egui, egui_wgpu};
 use egui::{Color32, RichText, TextFormat, text::LayoutJob};
 
+use crate::render::animation::{Animation, MAX_FRAMES, Sweep, Turn};
 use crate::render::camera::rotate_view;
 use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::{Gpu, MAX_PICTURE_SIDE};
@@ -19,7 +20,7 @@ use crate::scene::{
 use crate::syntax::SourceError;
 use crate::syntax::parser::{TokenKind, tokens};
 
-use super::files::{self, Notice, PngExport};
+use super::files::{self, AnimationExport, Notice, PngExport};
 use super::gallery::Gallery;
 use super::history::{History, Snapshot};
 use super::pacing::Pacing;
@@ -35,6 +36,7 @@ const MAX_WINDOW_PICTURE: u32 = 4096;
 
 /// UI settings that survive a restart besides the scene.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct UiSettings {
     /// Slider range of each parameter.
     pub ranges: BTreeMap<String, (f64, f64)>,
@@ -47,7 +49,47 @@ pub struct UiSettings {
     pub png_path: String,
     pub wgsl_path: String,
     pub export_size: [u32; 2],
+    pub animation: AnimationChoice,
 }
+
+/// What "Export animation" makes, as the user last set it.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct AnimationChoice {
+    pub path: String,
+    /// Sweep a parameter instead of turning.
+    pub sweep: bool,
+    /// The plane or angle that turns (as `animate --turn` takes it), and how many turns.
+    pub plane: String,
+    pub turns: f64,
+    /// The parameter swept, from and to.
+    pub param: String,
+    pub range: (f64, f64),
+    pub frames: u32,
+    pub fps: f64,
+    pub fit: bool,
+}
+
+impl Default for AnimationChoice {
+    fn default() -> Self {
+        Self {
+            path: "fourfold.gif".into(),
+            sweep: false,
+            plane: "xw".into(),
+            turns: 1.0,
+            param: String::new(),
+            range: (0.5, 1.5),
+            frames: 60,
+            fps: 24.0,
+            fit: true,
+        }
+    }
+}
+
+/// The planes and angles "Export animation" offers.
+const TURN_PLANES: [&str; 12] = [
+    "xy", "yz", "zw", "xz", "xw", "yw", "θ1", "θ2", "θ3", "θ4", "θ5", "θ6",
+];
 
 impl Default for UiSettings {
     fn default() -> Self {
@@ -60,6 +102,7 @@ impl Default for UiSettings {
             png_path: "fourfold.png".into(),
             wgsl_path: "fourfold.wgsl".into(),
             export_size: [1024, 1024],
+            animation: AnimationChoice::default(),
         }
     }
 }
@@ -74,6 +117,7 @@ pub struct FourfoldApp {
     /// A short message after an action ("saved …", or what went wrong).
     pub message: Option<Notice>,
     export: Option<PngExport>,
+    animation_export: Option<AnimationExport>,
     pub pacing: Pacing,
     /// Edit latency of the last edit: text change to the first frame of its picture, ms.
     pub edit_latency_ms: Option<f64>,
@@ -129,6 +173,7 @@ impl FourfoldApp {
             renderer,
             message: None,
             export: None,
+            animation_export: None,
             pacing: Pacing::default(),
             edit_latency_ms: None,
             latency_generation: 0,
@@ -173,6 +218,146 @@ impl FourfoldApp {
             self.message = Some(notice);
             self.export = None;
         }
+        if let Some(notice) = self
+            .animation_export
+            .as_ref()
+            .and_then(AnimationExport::poll)
+        {
+            self.message = Some(notice);
+            self.animation_export = None;
+        }
+    }
+
+    /// The animation "Export animation" is set to make, or why it cannot be made.
+    fn chosen_animation(&self) -> Result<Animation, String> {
+        let c = &self.ui.animation;
+        let (turn, sweep) = if c.sweep {
+            let text = format!("{}={}..{}", c.param, c.range.0, c.range.1);
+            (None, Some(Sweep::parse(&text)?))
+        } else {
+            (
+                Some(Turn::parse(&format!("{}:{}", c.plane, c.turns))?),
+                None,
+            )
+        };
+        Ok(Animation {
+            turn,
+            sweep,
+            frames: c.frames.clamp(1, MAX_FRAMES),
+            fps: c.fps.clamp(1.0, 100.0),
+        })
+    }
+
+    fn export_animation(&mut self) {
+        match self.chosen_animation() {
+            Ok(animation) => {
+                let [w, h] = self.ui.export_size;
+                let path = self.ui.animation.path.clone();
+                self.message = Some(Notice::done(format!(
+                    "drawing {} frames of {w}x{h} into {path}…",
+                    animation.frames
+                )));
+                self.animation_export = Some(AnimationExport::start(
+                    self.session.scene.clone(),
+                    animation,
+                    w,
+                    h,
+                    self.ui.animation.fit,
+                    path,
+                ));
+            }
+            Err(e) => self.message = Some(Notice::error(e)),
+        }
+    }
+
+    /// The "Export animation" section: what moves, how many frames, where to.
+    fn animation_controls(&mut self, ui: &mut egui::Ui) {
+        let params = self.session.param_names();
+        let c = &mut self.ui.animation;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut c.sweep, false, "turn");
+            ui.radio_value(&mut c.sweep, true, "sweep a parameter")
+                .on_hover_text("the tree is rebuilt for every frame");
+        });
+        if c.sweep {
+            if !params.contains(&c.param) {
+                c.param = params.first().cloned().unwrap_or_default();
+            }
+            ui.horizontal(|ui| {
+                egui::ComboBox::from_id_salt("fourfold sweep parameter")
+                    .selected_text(if c.param.is_empty() {
+                        "no parameter"
+                    } else {
+                        &c.param
+                    })
+                    .show_ui(ui, |ui| {
+                        for p in &params {
+                            ui.selectable_value(&mut c.param, p.clone(), p);
+                        }
+                    });
+                ui.label("from");
+                ui.add(egui::DragValue::new(&mut c.range.0).speed(0.05));
+                ui.label("to");
+                ui.add(egui::DragValue::new(&mut c.range.1).speed(0.05));
+            });
+        } else {
+            ui.horizontal(|ui| {
+                egui::ComboBox::from_id_salt("fourfold turn plane")
+                    .selected_text(&c.plane)
+                    .show_ui(ui, |ui| {
+                        for p in TURN_PLANES {
+                            ui.selectable_value(&mut c.plane, p.to_string(), p);
+                        }
+                    })
+                    .response
+                    .on_hover_text(
+                        "xy … yw: the manifold turns in that plane of R⁴; θ1..θ6: one of the \
+                         view's angles turns",
+                    );
+                ui.add(
+                    egui::DragValue::new(&mut c.turns)
+                        .speed(0.05)
+                        .range(-10.0..=10.0)
+                        .suffix(" turns"),
+                );
+            });
+        }
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::DragValue::new(&mut c.frames)
+                    .range(1..=MAX_FRAMES)
+                    .suffix(" frames"),
+            );
+            ui.add(
+                egui::DragValue::new(&mut c.fps)
+                    .range(1.0..=100.0)
+                    .suffix(" fps"),
+            );
+            ui.checkbox(&mut c.fit, "fit")
+                .on_hover_text("frame the manifold in every frame");
+        });
+        ui.horizontal(|ui| {
+            ui.add(egui::TextEdit::singleline(&mut self.ui.animation.path).desired_width(150.0))
+                .on_hover_text("a .gif, an animated .png, or a folder for numbered PNGs; the size is the PNG export's");
+            match &self.animation_export {
+                Some(export) => {
+                    let (done, all) = (export.drawn(), export.frames);
+                    ui.add(
+                        egui::ProgressBar::new(done as f32 / all.max(1) as f32)
+                            .desired_width(90.0)
+                            .text(format!("{done}/{all}")),
+                    );
+                    if ui.button("Cancel").clicked() {
+                        export.cancel();
+                    }
+                }
+                None => {
+                    if ui.button("Export animation").clicked() {
+                        self.export_animation();
+                    }
+                }
+            }
+        });
     }
 
     fn export_png(&mut self) {
@@ -936,6 +1121,9 @@ impl eframe::App for FourfoldApp {
                     egui::CollapsingHeader::new(RichText::new("Rendering").heading())
                         .id_salt("fourfold rendering")
                         .show(ui, |ui| self.render_controls(ui));
+                    egui::CollapsingHeader::new(RichText::new("Export animation").heading())
+                        .id_salt("fourfold animation")
+                        .show(ui, |ui| self.animation_controls(ui));
                 });
             });
         self.controls_rect = Some(controls.response.rect);
@@ -958,7 +1146,10 @@ impl eframe::App for FourfoldApp {
             self.gallery_open = false;
         }
         self.record_history(ui.ctx());
-        let busy = self.session.building() || self.export.is_some() || self.gallery.busy();
+        let busy = self.session.building()
+            || self.export.is_some()
+            || self.animation_export.is_some()
+            || self.gallery.busy();
         if more || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         } else {
