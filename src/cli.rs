@@ -163,6 +163,11 @@ pub struct RenderArgs {
     /// scene's zoom and pan, as the viewer does when it opens a scene.
     #[arg(long)]
     pub fit: bool,
+    /// Only the slab of the observer planes whose coordinate along n2, from the domain's
+    /// centre, is within H of C, as C,H (H ≥ 0; a slab wider than the domain is the whole
+    /// projection, one outside it draws nothing).
+    #[arg(long, value_name = "C,H", allow_hyphen_values = true)]
+    pub slab: Option<String>,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -488,6 +493,20 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
     }
     if let Some(z) = args.zoom {
         scene.view.zoom = z;
+    }
+    if let Some(text) = &args.slab {
+        let values: Vec<f64> = text
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| Failure::usage(format!("--slab {text}: expected two numbers C,H")))?;
+        let [c, h] = values[..] else {
+            return Err(Failure::usage(format!(
+                "--slab {text}: expected two numbers C,H, got {}",
+                values.len()
+            )));
+        };
+        scene.view.slab = Some([c, h]);
     }
     let r = &mut scene.render;
     if let Some(bg) = &args.background {

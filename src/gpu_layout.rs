@@ -124,6 +124,9 @@ pub const FLAG_BORDER: u32 = 4;
 pub const FLAG_RANDOM: u32 = 8;
 /// Brute force: the ray caster picks its brute-force pipeline (see `gpu::Mode`).
 pub const FLAG_BRUTE_FORCE: u32 = 16;
+/// A slab: rays only where the n2 coordinate is within `Root::slab_half` of
+/// `Root::slab_center`.
+pub const FLAG_SLAB: u32 = 32;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;
@@ -158,7 +161,10 @@ pub struct Root {
     pub approximation: f32,
     /// Padding of every box (a level-l box's half extents are `half0 · 2^-l + pad`).
     pub pad: f32,
-    pub unused: [f32; 2],
+    /// With `FLAG_SLAB`: the slab's middle and half width along n2, from the domain's
+    /// centre.
+    pub slab_center: f32,
+    pub slab_half: f32,
 }
 
 /// The picture's size, and the rays and hits per pixel (WGSL `size`).

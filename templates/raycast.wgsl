@@ -128,6 +128,8 @@ override MODE: u32 = 1u;
 // fourfold picks the smallest). Fewer slots: less work per hit, fewer registers.
 override SLOTS: u32 = 16u;
 override SAMPLING: u32 = 2u;
+// SECTION: 0 the whole observer plane, 1 a slab of it (as flag 32 says at 2, the default).
+override SECTION: u32 = 2u;
 
 const MAX_HITS: u32 = 16u;
 const LEAF: u32 = 256u;
@@ -170,6 +172,27 @@ fn random_rays() -> bool {
         return (u.control.z & 8u) != 0u;
     }
     return SAMPLING == 1u;
+}
+
+// Whether rays keep to a slab (root.z, root.w: its middle and half width along n2).
+fn slab_on() -> bool {
+    if (SECTION == 2u) {
+        return (u.control.z & 32u) != 0u;
+    }
+    return SECTION == 1u;
+}
+
+// The part of a ray's span [t0, t1] within the slab: the ray o + t d, d = a n1 + b n2, is at
+// t b along n2 from the domain's centre (o lies in the plane through it spanned by v1, v2).
+fn clip_to_slab(span: vec2<f32>, b: f32) -> vec2<f32> {
+    let lo = u.root.z - u.root.w;
+    let hi = u.root.z + u.root.w;
+    if (abs(b) < 1e-30) {
+        return select(vec2<f32>(1.0, 0.0), span, lo <= 0.0 && 0.0 <= hi);
+    }
+    let ta = lo / b;
+    let tb = hi / b;
+    return vec2<f32>(max(span.x, min(ta, tb)), min(span.y, max(ta, tb)));
 }
 
 // Direction k of n in the observer plane, as (n1, n2) coefficients (docs/method.md §5.2).
@@ -540,7 +563,10 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
             let k = select(j, u32(kw), stratified);
             let dir = ray_dir2(k, n, (*tr).pixel_seed, (*tr).offset);
             let d = dir.x * u.n1 + dir.y * u.n2;
-            let span = clip_to_box((*tr).o, d, lo, hi);
+            var span = clip_to_box((*tr).o, d, lo, hi);
+            if (slab_on()) {
+                span = clip_to_slab(span, dir.y);
+            }
             if (span.x < span.y && span.x < (*tr).hits.far) {
                 (*tr).k = k;
                 march_ray(tr, d, span.x, span.y, nsteps, dot(abs(d), slope), bend_in_plane(form, dir));

@@ -1009,3 +1009,97 @@ fn check_tile_lists(
         }
     }
 }
+
+#[test]
+fn a_slab_of_the_glome_covers_the_disk_its_band_allows() {
+    // The glome seen at s from its centre has, in each observer plane, a circle of radius
+    // r = √(1 − s²) around the pixel's origin, which reaches n2 in [−r, r]: a slab whose band
+    // along n2 is [lo, hi], 0 < lo, keeps the pixels with r ≥ lo, a disk of radius √(1 − lo²).
+    let gpu = gpu();
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
+    scene.tree.max_level = 5;
+    scene.tree.min_level = 5;
+    scene.render.rays = 16;
+    let size = 64;
+    let (c, h) = (0.5, 0.2);
+    scene.view.slab = Some([c, h]);
+    for angles in [[0.0; 6], [0.4, 1.2, -0.8, 0.3, 2.0, -1.1]] {
+        scene.view.angles = angles;
+        let picture =
+            render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+        let covered = coverage(&picture.rgba, scene.render.background.0);
+        let camera = Camera::new(&scene.domain, &scene.view, size, size);
+        let unit = 1.0 / camera.pixel_size;
+        let edge = (1.0f64 - (c - h) * (c - h)).sqrt() * unit;
+        // Inside 0.9 the band's arcs of the circle are wider than the angle between two of
+        // the 16 rays, so a ray meets them; between 0.9 and the edge they may be missed.
+        let sure = 0.9 * unit;
+        let mut wrong = 0;
+        for py in 0..size {
+            for px in 0..size {
+                let (dx, dy) = (f64::from(px) + 0.5 - 32.0, f64::from(py) + 0.5 - 32.0);
+                let s = (dx * dx + dy * dy).sqrt();
+                let cov = covered[(py * size + px) as usize];
+                if (s < sure - 1.0 && !cov) || (s > edge + 1.0 && cov) {
+                    wrong += 1;
+                }
+            }
+        }
+        assert_eq!(wrong, 0, "{wrong} pixels off at angles {angles:?}");
+        // Narrower than the projection, which covers the unit disk.
+        let projected = {
+            let mut whole = scene.clone();
+            whole.view.slab = None;
+            let p =
+                render_scene(&whole, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+            coverage(&p.rgba, scene.render.background.0)
+        };
+        let count = |v: &[bool]| v.iter().filter(|c| **c).count();
+        assert!(
+            count(&covered) < count(&projected),
+            "the slab cut nothing away"
+        );
+    }
+}
+
+#[test]
+fn a_wide_slab_is_the_projection_and_one_outside_draws_nothing() {
+    let gpu = gpu();
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "glome", "tiger"]) {
+        let scene = small(&scene);
+        let draw = |slab: Option<[f64; 2]>, device: Device<'_>| {
+            let mut s = scene.clone();
+            s.view.slab = slab;
+            render_scene(&s, 48, 40, device, Default::default())
+                .unwrap()
+                .rgba
+        };
+        let whole = draw(None, Device::Gpu(&gpu));
+        let reach = 2.0 * scene.domain.half_diagonal();
+        assert_eq!(
+            differing(&whole, &draw(Some([0.0, reach]), Device::Gpu(&gpu))),
+            0,
+            "{name}: a slab holding the domain changed the picture"
+        );
+        let outside = draw(Some([reach + 1.0, 0.5]), Device::Gpu(&gpu));
+        assert!(
+            !coverage(&outside, scene.render.background.0)
+                .into_iter()
+                .any(|c| c),
+            "{name}: a slab outside the domain drew something"
+        );
+        // The GPU's slab is the CPU twin's.
+        let band = Some([0.3, 0.4]);
+        let (g, c) = (draw(band, Device::Gpu(&gpu)), draw(band, Device::Cpu));
+        let (close, cover) = agreement(&g, &c, scene.render.background.0, 12);
+        assert!(
+            cover >= 0.99 && close >= 0.90,
+            "{name}: colour {close}, coverage {cover}"
+        );
+        assert!(
+            differing(&whole, &g) > 0,
+            "{name}: the band changed nothing"
+        );
+    }
+}

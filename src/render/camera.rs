@@ -59,6 +59,8 @@ pub struct Camera {
     pub center: [f64; 4],
     /// World units per pixel.
     pub pixel_size: f64,
+    /// The view's slab (middle and half width along n2 from the domain's centre), if any.
+    pub slab: Option<[f64; 2]>,
     pub width: u32,
     pub height: u32,
 }
@@ -96,6 +98,7 @@ impl Camera {
             n2: a.row(3),
             center: std::array::from_fn(|i| c[i] + px * v1[i] + py * v2[i]),
             pixel_size: 2.0 * domain.half_diagonal() / shorter / view.zoom,
+            slab: view.slab,
             width,
             height,
         }

@@ -10,9 +10,26 @@ use crate::tree::{Curvature, Hierarchy};
 
 use super::march::{march_steps, slope_along};
 
-use super::uniforms::{FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, Uniforms};
+use super::uniforms::{
+    FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, Uniforms,
+};
 
 type V4 = [f32; 4];
+
+/// The part of a ray's span within the slab, as the shader's `clip_to_slab`.
+fn clip_to_slab(u: &Uniforms, (t0, t1): (f32, f32), b: f32) -> (f32, f32) {
+    let lo = u.root.slab_center - u.root.slab_half;
+    let hi = u.root.slab_center + u.root.slab_half;
+    if b.abs() < 1e-30 {
+        return if lo <= 0.0 && 0.0 <= hi {
+            (t0, t1)
+        } else {
+            (1.0, 0.0)
+        };
+    }
+    let (ta, tb) = (lo / b, hi / b);
+    (t0.max(ta.min(tb)), t1.min(ta.max(tb)))
+}
 
 /// The pixel's offset of its stratified rays in a frame, as the shader's `fs_main`: the
 /// frame's turn (the radical inverse of the frame) added to the pixel's own offset, so that
@@ -198,6 +215,9 @@ impl Pixel<'_> {
                 let (ta, tb) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
                 t0 = t0.max(ta.min(tb));
                 t1 = t1.min(ta.max(tb));
+            }
+            if self.u.control.flags & FLAG_SLAB != 0 {
+                (t0, t1) = clip_to_slab(self.u, (t0, t1), self.dir2(k)[1]);
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
                 let along = slope_along(slope, d.map(f64::from));

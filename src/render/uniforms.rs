@@ -5,7 +5,7 @@ use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
     Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE,
-    LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
+    FLAG_SLAB, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
 };
 use crate::scene::{RenderSettings, Sampling};
 use crate::tree::{Hierarchy, LevelInfo};
@@ -65,6 +65,10 @@ impl Uniforms {
         if render.sampling == Sampling::Random {
             flags |= FLAG_RANDOM;
         }
+        if camera.slab.is_some() {
+            flags |= FLAG_SLAB;
+        }
+        let [slab_center, slab_half] = camera.slab.unwrap_or([0.0; 2]).map(|v| v as f32);
         let mut brute_steps = 0;
         let finest = hierarchy.finest_level();
         let brute_level = options
@@ -113,7 +117,8 @@ impl Uniforms {
             root: Root {
                 approximation: render.approximation as f32,
                 pad: hierarchy.pad,
-                unused: [0.0; 2],
+                slab_center,
+                slab_half,
             },
             size: Size {
                 width: camera.width,

@@ -120,6 +120,15 @@ impl Scene {
         if self.view.pan.iter().any(|p| !p.is_finite()) {
             return Err(Invalid::other("view.pan", "pan must be two finite numbers"));
         }
+        if let Some([c, h]) = self.view.slab
+            && !(c.is_finite() && h.is_finite() && h >= 0.0)
+        {
+            return Err(Invalid::range(
+                "view.slab",
+                format!("[{c}, {h}]"),
+                "[c, h]: a finite middle c and a half width h ≥ 0",
+            ));
+        }
         let t = &self.tree;
         for (key, level) in [
             ("tree.max_level", t.max_level),

@@ -173,6 +173,10 @@ pub struct View {
     pub zoom: f64,
     /// The picture's centre, from the domain's centre, along v1 and v2 (world units).
     pub pan: [f64; 2],
+    /// A slab [c, h]: only the part of M whose coordinate along n2, from the domain's
+    /// centre, is within h of c (docs/method.md §5.8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slab: Option<[f64; 2]>,
 }
 
 impl Default for View {
@@ -181,6 +185,7 @@ impl Default for View {
             angles: [0.0; 6],
             zoom: 1.0,
             pan: [0.0; 2],
+            slab: None,
         }
     }
 }

@@ -704,6 +704,7 @@ impl FourfoldApp {
         if zoomed {
             self.fit_pending = false;
         }
+        self.slab_controls(ui);
         ui.horizontal(|ui| {
             if ui
                 .button("Fit")
@@ -739,6 +740,32 @@ impl FourfoldApp {
             .small()
             .weak(),
         );
+    }
+
+    /// The slab: a switch between the whole observer planes and a band of them along n2,
+    /// with the band's middle and half width.
+    fn slab_controls(&mut self, ui: &mut egui::Ui) {
+        let reach = self.session.scene.domain.half_diagonal();
+        let view = &mut self.session.scene.view;
+        let mut on = view.slab.is_some();
+        let toggled = ui
+            .checkbox(&mut on, "slab: only a band along the hidden n2")
+            .on_hover_text(
+                "Keep the part of M whose coordinate along n2 (the second hidden direction, \
+                 from the domain's centre) lies within the half width of the middle",
+            )
+            .changed();
+        if toggled {
+            view.slab = on.then_some([0.0, 0.25 * reach]);
+        }
+        if let Some([c, h]) = &mut view.slab {
+            ui.add(egui::Slider::new(c, -reach..=reach).text("slab middle"));
+            ui.add(
+                egui::Slider::new(h, 0.0..=reach)
+                    .logarithmic(true)
+                    .text("slab half width"),
+            );
+        }
     }
 
     /// Domain and tree settings; true when the tree must be rebuilt.
