@@ -168,6 +168,15 @@ pub struct RenderArgs {
     /// projection, one outside it draws nothing).
     #[arg(long, value_name = "C,H", allow_hyphen_values = true)]
     pub slab: Option<String>,
+    /// The cut of M by the hyperplane at C along n2 (from the domain's centre), a surface
+    /// seen along n1 (one ray per pixel); one outside the domain draws nothing.
+    #[arg(
+        long,
+        value_name = "C",
+        allow_hyphen_values = true,
+        conflicts_with = "slab"
+    )]
+    pub slice: Option<f64>,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -507,6 +516,11 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
             )));
         };
         scene.view.slab = Some([c, h]);
+        scene.view.slice = None;
+    }
+    if let Some(c) = args.slice {
+        scene.view.slice = Some(c);
+        scene.view.slab = None;
     }
     let r = &mut scene.render;
     if let Some(bg) = &args.background {

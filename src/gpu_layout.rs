@@ -124,9 +124,11 @@ pub const FLAG_BORDER: u32 = 4;
 pub const FLAG_RANDOM: u32 = 8;
 /// Brute force: the ray caster picks its brute-force pipeline (see `gpu::Mode`).
 pub const FLAG_BRUTE_FORCE: u32 = 16;
-/// A slab: rays only where the n2 coordinate is within `Root::slab_half` of
-/// `Root::slab_center`.
+/// A slab: rays only where the n2 coordinate is within `Root::section_half` of
+/// `Root::section_offset`.
 pub const FLAG_SLAB: u32 = 32;
+/// A slice: one ray per pixel along n1, at `Root::section_offset` along n2.
+pub const FLAG_SLICE: u32 = 64;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;
@@ -161,10 +163,10 @@ pub struct Root {
     pub approximation: f32,
     /// Padding of every box (a level-l box's half extents are `half0 · 2^-l + pad`).
     pub pad: f32,
-    /// With `FLAG_SLAB`: the slab's middle and half width along n2, from the domain's
-    /// centre.
-    pub slab_center: f32,
-    pub slab_half: f32,
+    /// With `FLAG_SLAB` or `FLAG_SLICE`: the slab's middle or the slice's place along n2,
+    /// from the domain's centre, and the slab's half width.
+    pub section_offset: f32,
+    pub section_half: f32,
 }
 
 /// The picture's size, and the rays and hits per pixel (WGSL `size`).

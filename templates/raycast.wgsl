@@ -128,8 +128,9 @@ override MODE: u32 = 1u;
 // fourfold picks the smallest). Fewer slots: less work per hit, fewer registers.
 override SLOTS: u32 = 16u;
 override SAMPLING: u32 = 2u;
-// SECTION: 0 the whole observer plane, 1 a slab of it (as flag 32 says at 2, the default).
-override SECTION: u32 = 2u;
+// SECTION: 0 the whole observer plane, 1 a slab of it, 2 a slice (at 3, the default, as
+// flags 32 and 64 say).
+override SECTION: u32 = 3u;
 
 const MAX_HITS: u32 = 16u;
 const LEAF: u32 = 256u;
@@ -176,10 +177,18 @@ fn random_rays() -> bool {
 
 // Whether rays keep to a slab (root.z, root.w: its middle and half width along n2).
 fn slab_on() -> bool {
-    if (SECTION == 2u) {
+    if (SECTION == 3u) {
         return (u.control.z & 32u) != 0u;
     }
     return SECTION == 1u;
+}
+
+// Whether each pixel casts one ray along n1, at root.z along n2: a slice (docs/method.md §5.8).
+fn slice_on() -> bool {
+    if (SECTION == 3u) {
+        return (u.control.z & 64u) != 0u;
+    }
+    return SECTION == 2u;
 }
 
 // The part of a ray's span [t0, t1] within the slab: the ray o + t d, d = a n1 + b n2, is at
@@ -310,7 +319,11 @@ fn clip_to_box(o: vec4<f32>, d: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2
 }
 
 fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
-    let g = ff_grad(p);
+    var g = ff_grad(p);
+    if (slice_on()) {
+        // The slice is a surface in the hyperplane: its normal is ∇F within it.
+        g = g - dot(g, u.n2) * u.n2;
+    }
     let glen = length(g);
     let flags = u.control.z;
     if ((flags & 2u) != 0u && glen > 0.0) {
@@ -541,6 +554,15 @@ fn bend_in_plane(f: PlaneCurvature, dir: vec2<f32>) -> vec2<f32> {
 // box, so |grad F . d| <= slope . |d| along a ray d; `form` bounds F's second derivatives
 // along the rays of the observer plane (see bend_in_plane).
 fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
+    if (slice_on()) {
+        // One ray, along n1 from behind the domain (see fs_main).
+        let span = clip_to_box((*tr).o, u.n1, lo, hi);
+        if (span.x < span.y && span.x < (*tr).hits.far) {
+            (*tr).k = 0u;
+            march_ray(tr, u.n1, span.x, span.y, max(steps, 1u), dot(abs(u.n1), slope), bend_in_plane(form, vec2<f32>(1.0, 0.0)));
+        }
+        return;
+    }
     let n = u.size.z;
     let ni = i32(n);
     // Stratified rays are at angles TAU (k + offset) / n: only the k within the sphere's
@@ -636,7 +658,8 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let level = boxes[i].level;
     let half = level_half(level);
     let meets = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
-    let near = view.z < (*tr).hits.far;
+    // (|q| - r is measured from the plane's origin; a slice's ray starts elsewhere.)
+    let near = view.z < (*tr).hits.far || slice_on();
     if (meets && near) {
         let c = boxes[i].center;
         trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope, boxes[i].form);
@@ -709,6 +732,11 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     var tr: Tracer;
     tr.shift = vec2<f32>(s * (pos.x - 0.5 * w), s * (0.5 * h - pos.y));
     tr.o = u.center + tr.shift.x * u.v1 + tr.shift.y * u.v2;
+    if (slice_on()) {
+        // The slice's line, from where it enters the sphere around the domain.
+        let reach = 0.5 * length(u.domain_hi - u.domain_lo);
+        tr.o = tr.o + u.root.z * u.n2 - reach * u.n1;
+    }
     let px = vec2<u32>(pos.xy);
     tr.pixel_seed = pcg(px.x + pcg(px.y + pcg(u.control.w + 7919u * u.counts.y)));
     // Successive frames' stratified pencils interleave: frame f turns the pixel's offset by
@@ -788,7 +816,7 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     loop {
         let idx = count - 1u - j;
         let hit = hit_at(tr.hits, idx);
-        let dir = ray_dir2(hit.y, n, tr.pixel_seed, tr.offset);
+        let dir = select(ray_dir2(hit.y, n, tr.pixel_seed, tr.offset), vec2<f32>(1.0, 0.0), slice_on());
         let d = dir.x * u.n1 + dir.y * u.n2;
         let c = shade(tr.o + bitcast<f32>(hit.x) * d, d);
         if (j == 0u) {

@@ -1103,3 +1103,70 @@ fn a_wide_slab_is_the_projection_and_one_outside_draws_nothing() {
         );
     }
 }
+
+#[test]
+fn the_glome_sliced_at_c_is_a_disk_of_radius_root_of_one_minus_c_squared() {
+    // Cut by the hyperplane at c along n2, the unit glome is a sphere of radius √(1 − c²)
+    // about the domain's centre, whatever the angles: seen along n1, a disk of that radius.
+    let gpu = gpu();
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
+    scene.tree.max_level = 5;
+    scene.tree.min_level = 5;
+    let size = 64;
+    for angles in [[0.0; 6], [0.4, 1.2, -0.8, 0.3, 2.0, -1.1], [1.1; 6]] {
+        for c in [0.0, 0.45, -0.8, 0.95] {
+            scene.view.angles = angles;
+            scene.view.slice = Some(c);
+            let picture =
+                render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+            let covered = coverage(&picture.rgba, scene.render.background.0);
+            let camera = Camera::new(&scene.domain, &scene.view, size, size);
+            let radius = (1.0f64 - c * c).sqrt() / camera.pixel_size;
+            let mut wrong = 0;
+            for py in 0..size {
+                for px in 0..size {
+                    let (dx, dy) = (f64::from(px) + 0.5 - 32.0, f64::from(py) + 0.5 - 32.0);
+                    let r = (dx * dx + dy * dy).sqrt();
+                    let cov = covered[(py * size + px) as usize];
+                    if (r < radius - 1.0 && !cov) || (r > radius + 1.0 && cov) {
+                        wrong += 1;
+                    }
+                }
+            }
+            assert_eq!(
+                wrong, 0,
+                "c = {c}, angles {angles:?}: {wrong} pixels off the disk"
+            );
+        }
+    }
+    for c in [1.05, -1.3] {
+        scene.view.slice = Some(c);
+        let picture =
+            render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+        let covered = coverage(&picture.rgba, scene.render.background.0);
+        assert!(
+            !covered.iter().any(|c| *c),
+            "the slice at {c} misses the glome"
+        );
+    }
+}
+
+#[test]
+fn slices_on_the_gpu_are_the_cpu_twin_s() {
+    let gpu = gpu();
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "tiger", "spheritorus"]) {
+        let mut scene = small(&scene);
+        scene.view.slice = Some(0.2);
+        let g = render_scene(&scene, 48, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+        let c = render_scene(&scene, 48, 40, Device::Cpu, Default::default()).unwrap();
+        let (close, cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
+        eprintln!("{name}: colour {close:.3}, coverage {cover:.3}");
+        assert!(
+            cover >= 0.99 && close >= 0.95,
+            "{name}: colour {close}, coverage {cover}"
+        );
+        let drawn = coverage(&g.rgba, scene.render.background.0);
+        assert!(drawn.iter().any(|c| *c), "{name}: the slice drew nothing");
+    }
+}

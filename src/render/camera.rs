@@ -46,6 +46,27 @@ impl Rotation4 {
     }
 }
 
+/// What part of a pixel's observer plane the ray caster searches (docs/method.md §5.8).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Section {
+    /// The whole plane: the projection.
+    Plane,
+    /// The band within `half` of `center` along n2, from the domain's centre.
+    Slab { center: f64, half: f64 },
+    /// The line at `offset` along n2, seen along n1: the cut of M by a hyperplane.
+    Slice { offset: f64 },
+}
+
+impl Section {
+    pub fn of(view: &View) -> Self {
+        match (view.slice, view.slab) {
+            (Some(offset), _) => Section::Slice { offset },
+            (None, Some([center, half])) => Section::Slab { center, half },
+            (None, None) => Section::Plane,
+        }
+    }
+}
+
 /// Everything needed to turn a pixel into its observer plane.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
@@ -59,8 +80,8 @@ pub struct Camera {
     pub center: [f64; 4],
     /// World units per pixel.
     pub pixel_size: f64,
-    /// The view's slab (middle and half width along n2 from the domain's centre), if any.
-    pub slab: Option<[f64; 2]>,
+    /// What part of each pixel's observer plane is searched.
+    pub section: Section,
     pub width: u32,
     pub height: u32,
 }
@@ -98,7 +119,7 @@ impl Camera {
             n2: a.row(3),
             center: std::array::from_fn(|i| c[i] + px * v1[i] + py * v2[i]),
             pixel_size: 2.0 * domain.half_diagonal() / shorter / view.zoom,
-            slab: view.slab,
+            section: Section::of(view),
             width,
             height,
         }

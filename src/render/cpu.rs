@@ -11,15 +11,15 @@ use crate::tree::{Curvature, Hierarchy};
 use super::march::{march_steps, slope_along};
 
 use super::uniforms::{
-    FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, Uniforms,
+    FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Uniforms,
 };
 
 type V4 = [f32; 4];
 
 /// The part of a ray's span within the slab, as the shader's `clip_to_slab`.
 fn clip_to_slab(u: &Uniforms, (t0, t1): (f32, f32), b: f32) -> (f32, f32) {
-    let lo = u.root.slab_center - u.root.slab_half;
-    let hi = u.root.slab_center + u.root.slab_half;
+    let lo = u.root.section_offset - u.root.section_half;
+    let hi = u.root.section_offset + u.root.section_half;
     if b.abs() < 1e-30 {
         return if lo <= 0.0 && 0.0 <= hi {
             (t0, t1)
@@ -112,8 +112,15 @@ impl Pixel<'_> {
     }
 
     fn direction(&self, k: u32) -> V4 {
+        if self.slice() {
+            return self.u.n1;
+        }
         let d = self.dir2(k);
         add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
+    }
+
+    fn slice(&self) -> bool {
+        self.u.control.flags & FLAG_SLICE != 0
     }
 
     fn full(&self) -> bool {
@@ -206,7 +213,8 @@ impl Pixel<'_> {
     /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
     /// bound) and `curvature` F's second derivatives.
     fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4, curvature: Curvature) {
-        for k in 0..self.u.size.rays {
+        let rays = if self.slice() { 1 } else { self.u.size.rays };
+        for k in 0..rays {
             let d = self.direction(k);
             let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
             for i in 0..4 {
@@ -236,7 +244,11 @@ impl Pixel<'_> {
             self.params,
             &mut all,
         );
-        let g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
+        let mut g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
+        if self.slice() {
+            // The slice is a surface in the hyperplane: its normal is ∇F within it.
+            g = sub(g, scale(u.n2, dot(g, u.n2)));
+        }
         let glen = dot(g, g).sqrt();
         let flags = u.control.flags;
         let rgb = |c: V4| [c[0], c[1], c[2]];
@@ -331,13 +343,22 @@ fn render_pixel(
     let (w, hgt) = (u.size.width as f32, u.size.height as f32);
     let s = u.misc.pixel_size;
     let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
-    let o = add(
+    let mut o = add(
         u.center,
         add(
             scale(u.v1, s * (fx - 0.5 * w)),
             scale(u.v2, s * (0.5 * hgt - fy)),
         ),
     );
+    if u.control.flags & FLAG_SLICE != 0 {
+        // As the shader: the slice's line, from where it enters the sphere around the domain.
+        let extent = sub(u.domain_hi, u.domain_lo);
+        let reach = 0.5 * dot(extent, extent).sqrt();
+        o = sub(
+            add(o, scale(u.n2, u.root.section_offset)),
+            scale(u.n1, reach),
+        );
+    }
     let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
         .control
         .seed

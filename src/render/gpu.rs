@@ -13,7 +13,7 @@ use crate::tree::Hierarchy;
 
 use super::codegen::Shader;
 use super::tiles::TileLists;
-use super::uniforms::{FLAG_RANDOM, FLAG_SLAB, Tiling, Uniforms};
+use super::uniforms::{FLAG_RANDOM, FLAG_SLAB, FLAG_SLICE, Tiling, Uniforms};
 
 /// Storage buffers the ray caster's shader reads (bindings 0-4).
 pub const STORAGE_BUFFERS: u32 = 5;
@@ -270,7 +270,7 @@ impl RayCaster {
             mode: Mode::Tiles,
             slots: slot_tier(settings.hits),
             random: settings.sampling == crate::scene::Sampling::Random,
-            slab: false,
+            section: 0,
         };
         let pipeline = build_pipeline(device, &module, &pipeline_layout, target, variant);
         if let Some(error) = pollster::block_on(scope.pop()) {
@@ -777,13 +777,13 @@ struct Variant {
     /// SAMPLING: the chapter's random rays (1) or stratified ones (0). Chosen at run time
     /// by the shader's flag, the random rays' code cost a stratified frame 4-5% on llvmpipe.
     random: bool,
-    /// SECTION: rays kept to a slab (1) or not (0), so that a whole plane's frame runs no
-    /// slab code.
-    slab: bool,
+    /// SECTION: the whole observer plane (0), a slab of it (1) or a slice (2), so that a
+    /// whole plane's frame runs no slab or slice code.
+    section: u8,
 }
 
 impl Variant {
-    const COUNT: usize = 3 * SLOT_TIERS.len() * 2 * 2;
+    const COUNT: usize = 3 * SLOT_TIERS.len() * 2 * 3;
 
     /// The variant that draws with `uniforms` in `mode`.
     fn of(mode: Mode, uniforms: &Uniforms) -> Self {
@@ -791,13 +791,17 @@ impl Variant {
             mode,
             slots: slot_tier(uniforms.size.hits),
             random: uniforms.control.flags & FLAG_RANDOM != 0,
-            slab: uniforms.control.flags & FLAG_SLAB != 0,
+            section: if uniforms.control.flags & FLAG_SLICE != 0 {
+                2
+            } else {
+                u8::from(uniforms.control.flags & FLAG_SLAB != 0)
+            },
         }
     }
 
     fn index(self) -> usize {
         let sampled = (self.mode as usize * SLOT_TIERS.len() + self.slots) * 2;
-        (sampled + usize::from(self.random)) * 2 + usize::from(self.slab)
+        (sampled + usize::from(self.random)) * 3 + usize::from(self.section)
     }
 }
 
@@ -819,7 +823,7 @@ fn build_pipeline(
             ("MODE", f64::from(variant.mode as u32)),
             ("SLOTS", f64::from(SLOT_TIERS[variant.slots])),
             ("SAMPLING", f64::from(u32::from(variant.random))),
-            ("SECTION", f64::from(u32::from(variant.slab))),
+            ("SECTION", f64::from(variant.section)),
         ],
     )
 }

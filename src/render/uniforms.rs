@@ -5,12 +5,12 @@ use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
     Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE,
-    FLAG_SLAB, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
+    FLAG_SLAB, FLAG_SLICE, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
 };
 use crate::scene::{RenderSettings, Sampling};
 use crate::tree::{Hierarchy, LevelInfo};
 
-use super::camera::Camera;
+use super::camera::{Camera, Section};
 use super::march::march_steps;
 
 fn v4(a: [f64; 4]) -> [f32; 4] {
@@ -65,10 +65,17 @@ impl Uniforms {
         if render.sampling == Sampling::Random {
             flags |= FLAG_RANDOM;
         }
-        if camera.slab.is_some() {
-            flags |= FLAG_SLAB;
-        }
-        let [slab_center, slab_half] = camera.slab.unwrap_or([0.0; 2]).map(|v| v as f32);
+        let [section_offset, section_half] = match camera.section {
+            Section::Plane => [0.0; 2],
+            Section::Slab { center, half } => {
+                flags |= FLAG_SLAB;
+                [center as f32, half as f32]
+            }
+            Section::Slice { offset } => {
+                flags |= FLAG_SLICE;
+                [offset as f32, 0.0]
+            }
+        };
         let mut brute_steps = 0;
         let finest = hierarchy.finest_level();
         let brute_level = options
@@ -117,8 +124,8 @@ impl Uniforms {
             root: Root {
                 approximation: render.approximation as f32,
                 pad: hierarchy.pad,
-                slab_center,
-                slab_half,
+                section_offset,
+                section_half,
             },
             size: Size {
                 width: camera.width,

@@ -120,6 +120,17 @@ impl Scene {
         if self.view.pan.iter().any(|p| !p.is_finite()) {
             return Err(Invalid::other("view.pan", "pan must be two finite numbers"));
         }
+        if let Some(c) = self.view.slice {
+            if !c.is_finite() {
+                return Err(Invalid::range("view.slice", c, "a finite number"));
+            }
+            if self.view.slab.is_some() {
+                return Err(Invalid::other(
+                    "view.slice",
+                    "a view is a slice or a slab, not both: remove one of slice and slab",
+                ));
+            }
+        }
         if let Some([c, h]) = self.view.slab
             && !(c.is_finite() && h.is_finite() && h >= 0.0)
         {

@@ -177,6 +177,10 @@ pub struct View {
     /// centre, is within h of c (docs/method.md §5.8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub slab: Option<[f64; 2]>,
+    /// A slice at c: the cut of M by the hyperplane at c along n2 from the domain's centre,
+    /// seen along n1 (docs/method.md §5.8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slice: Option<f64>,
 }
 
 impl Default for View {
@@ -186,6 +190,7 @@ impl Default for View {
             zoom: 1.0,
             pan: [0.0; 2],
             slab: None,
+            slice: None,
         }
     }
 }

@@ -704,7 +704,7 @@ impl FourfoldApp {
         if zoomed {
             self.fit_pending = false;
         }
-        self.slab_controls(ui);
+        self.section_controls(ui);
         ui.horizontal(|ui| {
             if ui
                 .button("Fit")
@@ -742,21 +742,31 @@ impl FourfoldApp {
         );
     }
 
-    /// The slab: a switch between the whole observer planes and a band of them along n2,
-    /// with the band's middle and half width.
-    fn slab_controls(&mut self, ui: &mut egui::Ui) {
+    /// What each pixel searches: its whole observer plane (the projection), a band of it
+    /// along n2 (a slab), or one line along n1 (a slice, the cut by a hyperplane), with
+    /// the band's middle and half width or the slice's place.
+    fn section_controls(&mut self, ui: &mut egui::Ui) {
         let reach = self.session.scene.domain.half_diagonal();
         let view = &mut self.session.scene.view;
-        let mut on = view.slab.is_some();
-        let toggled = ui
-            .checkbox(&mut on, "slab: only a band along the hidden n2")
-            .on_hover_text(
-                "Keep the part of M whose coordinate along n2 (the second hidden direction, \
-                 from the domain's centre) lies within the half width of the middle",
-            )
-            .changed();
-        if toggled {
-            view.slab = on.then_some([0.0, 0.25 * reach]);
+        let current = match (view.slice, view.slab) {
+            (Some(_), _) => 2,
+            (None, Some(_)) => 1,
+            (None, None) => 0,
+        };
+        let mut chosen = current;
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut chosen, 0, "projection")
+                .on_hover_text("every point of M that projects onto the pixel");
+            ui.radio_value(&mut chosen, 1, "slab").on_hover_text(
+                "only the part of M whose coordinate along the hidden n2 lies in a band",
+            );
+            ui.radio_value(&mut chosen, 2, "slice").on_hover_text(
+                "the cut of M by the hyperplane at a place along n2: a surface, seen along n1",
+            );
+        });
+        if chosen != current {
+            view.slab = (chosen == 1).then_some([0.0, 0.25 * reach]);
+            view.slice = (chosen == 2).then_some(0.0);
         }
         if let Some([c, h]) = &mut view.slab {
             ui.add(egui::Slider::new(c, -reach..=reach).text("slab middle"));
@@ -765,6 +775,10 @@ impl FourfoldApp {
                     .logarithmic(true)
                     .text("slab half width"),
             );
+        }
+        if let Some(c) = &mut view.slice {
+            ui.add(egui::Slider::new(c, -reach..=reach).text("slice at"))
+                .on_hover_text("where the hyperplane cuts, along n2 from the domain's centre");
         }
     }
 
