@@ -6,7 +6,9 @@ use clap::{Args, Parser, Subcommand};
 
 use crate::formula::CompiledFormula;
 use crate::render::Gpu;
-use crate::render::animation::{Animation, FrameDevice, MAX_FRAMES, Output, Sweep, Turn, draw};
+use crate::render::animation::{
+    Animation, FrameDevice, MAX_FRAMES, Output, Sweep, Turn, draw, parse_range,
+};
 use crate::render::framing::fit;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
 use crate::scene::{Color, Domain, Sampling, Scene, Speaker};
@@ -192,6 +194,9 @@ pub struct AnimateArgs {
     /// Move a parameter from A to B, as NAME=A..B (the tree is rebuilt for each frame).
     #[arg(long, allow_hyphen_values = true)]
     pub sweep: Option<String>,
+    /// Move a slice (the cut by the hyperplane at C along n2) from A to B, as A..B.
+    #[arg(long, value_name = "A..B", allow_hyphen_values = true)]
+    pub slice_sweep: Option<String>,
     /// Frames, 1 to 10000.
     #[arg(long, default_value_t = 60, allow_hyphen_values = true)]
     pub frames: u32,
@@ -710,14 +715,22 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
             args.fps
         )));
     }
-    if turn.is_none() && sweep.is_none() {
+    let slice_sweep = args
+        .slice_sweep
+        .as_deref()
+        .map(parse_range)
+        .transpose()
+        .map_err(|e| Failure::usage(format!("--slice-sweep: {e}")))?;
+    if turn.is_none() && sweep.is_none() && slice_sweep.is_none() {
         return Err(Failure::usage(
-            "nothing moves: give --turn PLANE (as in --turn xw) or --sweep NAME=A..B",
+            "nothing moves: give --turn PLANE (as in --turn xw), --sweep NAME=A..B or \
+             --slice-sweep A..B",
         ));
     }
     Ok(Animation {
         turn,
         sweep,
+        slice_sweep,
         frames: args.frames,
         fps: args.fps,
     })

@@ -349,6 +349,15 @@ fn animate_writes_frames_that_differ_in_every_format() {
     assert!(frames.iter().all(|f| f.len() == 40 * 32 * 4));
     assert!(distinct(&frames), "the sweeping frames repeat");
 
+    let slices = dir.join("slices.gif");
+    run(&slices, &["--slice-sweep", "-0.5..0.5"]);
+    let frames: Vec<Vec<u8>> = gif_frames(&slices)
+        .into_iter()
+        .map(|f| f.into_raw())
+        .collect();
+    assert_eq!(frames.len(), 4);
+    assert!(distinct(&frames), "the moving slice's frames repeat");
+
     let folder = dir.join("frames");
     run(&folder, &["--turn", "t3:0.5"]);
     let frames: Vec<Vec<u8>> = (1..=4)
@@ -382,6 +391,14 @@ fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
         (
             &["--turn", "xw", "--fps", "0"],
             "--fps 0: above 0 and at most 100",
+        ),
+        (
+            &["--slice-sweep", "0.5..0.5"],
+            "--slice-sweep: 0.5..0.5 is an empty range",
+        ),
+        (
+            &["--slice-sweep", "up"],
+            "--slice-sweep: 'up' is not a range",
         ),
         (&[], "nothing moves"),
     ];

@@ -81,6 +81,27 @@ impl Turn {
     }
 }
 
+/// `A..B`: two different finite numbers.
+pub fn parse_range(text: &str) -> Result<(f64, f64), String> {
+    let (a, b) = text
+        .split_once("..")
+        .ok_or_else(|| format!("'{text}' is not a range: write A..B, as in -0.9..0.9"))?;
+    let number = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("'{}' is not a finite number: write A..B", v.trim()))
+    };
+    let (from, to) = (number(a)?, number(b)?);
+    if from == to {
+        return Err(format!(
+            "{from}..{to} is an empty range: give two different values"
+        ));
+    }
+    Ok((from, to))
+}
+
 /// A parameter moving from one value to another over the animation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sweep {
@@ -96,22 +117,7 @@ impl Sweep {
         let (name, range) = text
             .split_once('=')
             .ok_or_else(|| format!("'{text}': {usage}"))?;
-        let (a, b) = range
-            .split_once("..")
-            .ok_or_else(|| format!("'{range}' is not a range: {usage}"))?;
-        let number = |v: &str| {
-            v.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("'{}' is not a finite number: {usage}", v.trim()))
-        };
-        let (from, to) = (number(a)?, number(b)?);
-        if from == to {
-            return Err(format!(
-                "{name}={from}..{to} is an empty range: give two different values"
-            ));
-        }
+        let (from, to) = parse_range(range).map_err(|e| format!("{name}={e}"))?;
         let name = name.trim();
         if name.is_empty() {
             return Err(format!("'{text}' names no parameter: {usage}"));
@@ -129,6 +135,8 @@ impl Sweep {
 pub struct Animation {
     pub turn: Option<Turn>,
     pub sweep: Option<Sweep>,
+    /// A slice moving from one place along n2 to another.
+    pub slice_sweep: Option<(f64, f64)>,
     pub frames: u32,
     /// Frames per second of the file written.
     pub fps: f64,
@@ -152,19 +160,23 @@ impl Animation {
         }
     }
 
-    /// The scene at frame k: a sweep's parameter runs from its first value at the first
-    /// frame to its last at the last.
+    /// The scene at frame k: a sweep's parameter, or the slice's place, runs from its
+    /// first value at the first frame to its last at the last.
     fn scene_at(&self, scene: &Scene, k: u32) -> Scene {
         let mut scene = scene.clone();
+        let share = if self.frames > 1 {
+            f64::from(k) / f64::from(self.frames - 1)
+        } else {
+            0.0
+        };
         if let Some(s) = &self.sweep {
-            let share = if self.frames > 1 {
-                f64::from(k) / f64::from(self.frames - 1)
-            } else {
-                0.0
-            };
             scene
                 .params
                 .insert(s.name.clone(), s.from + (s.to - s.from) * share);
+        }
+        if let Some((from, to)) = self.slice_sweep {
+            scene.view.slice = Some(from + (to - from) * share);
+            scene.view.slab = None;
         }
         scene
     }

@@ -9,7 +9,7 @@ use std::time::Instant;
 use eframe::{egui, egui_wgpu};
 use egui::{Color32, RichText, TextFormat, text::LayoutJob};
 
-use crate::render::animation::{Animation, MAX_FRAMES, Sweep, Turn};
+use crate::render::animation::{Animation, MAX_FRAMES, Sweep, Turn, parse_range};
 use crate::render::camera::rotate_view;
 use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::{Gpu, MAX_PICTURE_SIDE};
@@ -57,14 +57,15 @@ pub struct UiSettings {
 #[serde(default)]
 pub struct AnimationChoice {
     pub path: String,
-    /// Sweep a parameter instead of turning.
-    pub sweep: bool,
+    pub motion: Motion,
     /// The plane or angle that turns (as `animate --turn` takes it), and how many turns.
     pub plane: String,
     pub turns: f64,
     /// The parameter swept, from and to.
     pub param: String,
     pub range: (f64, f64),
+    /// Where the moving slice starts and ends along n2.
+    pub slice_range: (f64, f64),
     pub frames: u32,
     pub fps: f64,
     pub fit: bool,
@@ -74,16 +75,28 @@ impl Default for AnimationChoice {
     fn default() -> Self {
         Self {
             path: "fourfold.gif".into(),
-            sweep: false,
+            motion: Motion::Turn,
             plane: "xw".into(),
             turns: 1.0,
             param: String::new(),
             range: (0.5, 1.5),
+            slice_range: (-1.0, 1.0),
             frames: 60,
             fps: 24.0,
             fit: true,
         }
     }
+}
+
+/// What moves in an exported animation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Motion {
+    /// The manifold turns in a plane.
+    Turn,
+    /// A parameter sweeps.
+    Sweep,
+    /// A slice moves along n2.
+    Slice,
 }
 
 /// The planes and angles "Export animation" offers.
@@ -231,18 +244,22 @@ impl FourfoldApp {
     /// The animation "Export animation" is set to make, or why it cannot be made.
     fn chosen_animation(&self) -> Result<Animation, String> {
         let c = &self.ui.animation;
-        let (turn, sweep) = if c.sweep {
-            let text = format!("{}={}..{}", c.param, c.range.0, c.range.1);
-            (None, Some(Sweep::parse(&text)?))
-        } else {
-            (
-                Some(Turn::parse(&format!("{}:{}", c.plane, c.turns))?),
-                None,
-            )
-        };
+        let (mut turn, mut sweep, mut slice_sweep) = (None, None, None);
+        match c.motion {
+            Motion::Turn => turn = Some(Turn::parse(&format!("{}:{}", c.plane, c.turns))?),
+            Motion::Sweep => {
+                let text = format!("{}={}..{}", c.param, c.range.0, c.range.1);
+                sweep = Some(Sweep::parse(&text)?);
+            }
+            Motion::Slice => {
+                let (a, b) = c.slice_range;
+                slice_sweep = Some(parse_range(&format!("{a}..{b}"))?);
+            }
+        }
         Ok(Animation {
             turn,
             sweep,
+            slice_sweep,
             frames: c.frames.clamp(1, MAX_FRAMES),
             fps: c.fps.clamp(1.0, 100.0),
         })
@@ -275,11 +292,20 @@ impl FourfoldApp {
         let params = self.session.param_names();
         let c = &mut self.ui.animation;
         ui.horizontal(|ui| {
-            ui.radio_value(&mut c.sweep, false, "turn");
-            ui.radio_value(&mut c.sweep, true, "sweep a parameter")
+            ui.radio_value(&mut c.motion, Motion::Turn, "turn");
+            ui.radio_value(&mut c.motion, Motion::Sweep, "sweep a parameter")
                 .on_hover_text("the tree is rebuilt for every frame");
+            ui.radio_value(&mut c.motion, Motion::Slice, "move a slice")
+                .on_hover_text("the cut by a hyperplane moving along the hidden n2");
         });
-        if c.sweep {
+        if c.motion == Motion::Slice {
+            ui.horizontal(|ui| {
+                ui.label("slice from");
+                ui.add(egui::DragValue::new(&mut c.slice_range.0).speed(0.02));
+                ui.label("to");
+                ui.add(egui::DragValue::new(&mut c.slice_range.1).speed(0.02));
+            });
+        } else if c.motion == Motion::Sweep {
             if !params.contains(&c.param) {
                 c.param = params.first().cloned().unwrap_or_default();
             }
