@@ -11,7 +11,7 @@ use crate::render::animation::{
 };
 use crate::render::framing::fit;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
-use crate::scene::{Color, Domain, Sampling, Scene, Speaker};
+use crate::scene::{Color, ColorBy, Domain, Sampling, Scene, Speaker};
 use crate::tree::BuildSettings;
 
 #[derive(Debug, Parser)]
@@ -179,6 +179,11 @@ pub struct RenderArgs {
         conflicts_with = "slab"
     )]
     pub slice: Option<f64>,
+    /// What colours a hit: surface (the lighting's colour) or hidden (its place along the
+    /// hidden direction n2, from dark blue at -R to yellow at +R, R the domain's half
+    /// diagonal: the viridis map).
+    #[arg(long, visible_alias = "color-by", value_name = "surface|hidden")]
+    pub colour_by: Option<String>,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -563,6 +568,17 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
             *field = v;
         }
     }
+    if let Some(by) = &args.colour_by {
+        r.color_by = match by.as_str() {
+            "surface" => ColorBy::Surface,
+            "hidden" => ColorBy::Hidden,
+            other => {
+                return Err(Failure::usage(format!(
+                    "--colour-by {other}: use surface or hidden"
+                )));
+            }
+        };
+    }
     r.brute_force |= args.brute_force;
     r.silhouette.enabled &= !args.no_silhouette;
     r.border.enabled &= !args.no_border;
@@ -660,6 +676,15 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
             .unwrap_or_default(),
         args.output.display()
     );
+    if scene.render.color_by == ColorBy::Hidden {
+        let camera = crate::render::Camera::new(&scene.domain, &scene.view, width, height);
+        let [lo, hi] =
+            crate::render::uniforms::hidden_range(&prepared.hierarchy, &scene.domain, &camera);
+        out.push_str(&format!(
+            "\ncolour by the hidden direction: n2 = {lo:.3} (dark blue) to {hi:.3} (yellow), \
+             from the domain's centre"
+        ));
+    }
     if picture.tree.nodes == 0 {
         out.push_str("\nno surface in this domain: the picture shows only the background");
     }

@@ -129,6 +129,8 @@ pub const FLAG_BRUTE_FORCE: u32 = 16;
 pub const FLAG_SLAB: u32 = 32;
 /// A slice: one ray per pixel along n1, at `Root::section_offset` along n2.
 pub const FLAG_SLICE: u32 = 64;
+/// Colour hits by their coordinate along n2 (the viridis map) instead of the surface colour.
+pub const FLAG_HIDDEN: u32 = 128;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;
@@ -227,7 +229,17 @@ pub struct March {
     pub unused: [u32; 3],
 }
 
-/// The frame's settings (binding 0, a read-only storage buffer: see `render::gpu`; 1088
+/// With `FLAG_HIDDEN`: the coordinates along n2 (from the domain's centre) that the colour
+/// map's ends stand for (WGSL `hidden`): those of the manifold's boxes in this view.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Hidden {
+    pub lo: f32,
+    pub hi: f32,
+    pub unused: [f32; 2],
+}
+
+/// The frame's settings (binding 0, a read-only storage buffer: see `render::gpu`; 1104
 /// bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -257,6 +269,7 @@ pub struct Uniforms {
     /// them (see `Hierarchy::base_half`).
     pub half0: [f32; 4],
     pub march: March,
+    pub hidden: Hidden,
     pub levels: [LevelInfo; LEVEL_SLOTS],
     /// The formula's parameters, four to a vec4 (at most 64).
     pub params: [[f32; 4]; 16],

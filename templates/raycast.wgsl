@@ -55,6 +55,7 @@ struct Uniforms {
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
     march: vec4<u32>,     // the finest level (see box_steps), unused x3
+    hidden: vec4<f32>,    // the n2 coordinates the colour map's ends stand for (flag 128), unused x2
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -318,6 +319,29 @@ fn clip_to_box(o: vec4<f32>, d: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2
     return vec2<f32>(t0, t1);
 }
 
+// The viridis colour map at t in [0, 1], linear between nine samples: dark blue to yellow,
+// its lightness rising all the way (perceptually uniform, readable in grey).
+fn viridis(t: f32) -> vec3<f32> {
+    var stops = array<vec3<f32>, 9>(
+        vec3<f32>(68.0, 1.0, 84.0), vec3<f32>(71.0, 45.0, 123.0), vec3<f32>(59.0, 82.0, 139.0),
+        vec3<f32>(44.0, 114.0, 142.0), vec3<f32>(33.0, 145.0, 140.0), vec3<f32>(40.0, 174.0, 128.0),
+        vec3<f32>(94.0, 201.0, 98.0), vec3<f32>(173.0, 220.0, 48.0), vec3<f32>(253.0, 231.0, 37.0),
+    );
+    let x = clamp(t, 0.0, 1.0) * 8.0;
+    let i = min(u32(x), 7u);
+    return mix(stops[i], stops[i + 1u], x - f32(i)) / 255.0;
+}
+
+// The colour a hit at p gets before lighting: the surface colour, or (flag 128) its place
+// along n2 from the domain's centre, between hidden.x and hidden.y (the manifold's extent).
+fn base_color(p: vec4<f32>) -> vec3<f32> {
+    if ((u.control.z & 128u) == 0u) {
+        return u.surface.rgb;
+    }
+    let centre = 0.5 * (u.domain_lo + u.domain_hi);
+    return viridis((dot(p - centre, u.n2) - u.hidden.x) / (u.hidden.y - u.hidden.x));
+}
+
 fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
     var g = ff_grad(p);
     if (slice_on()) {
@@ -338,8 +362,9 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
             return u.border_color.rgb;
         }
     }
+    let surface = base_color(p);
     if ((flags & 1u) == 0u) {
-        return u.surface.rgb;
+        return surface;
     }
     var nrm = vec4<f32>(0.0);
     if (glen > 0.0) {
@@ -352,7 +377,7 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
     let diffuse = max(dot(nrm, l), 0.0);
     let r = 2.0 * dot(nrm, l) * nrm - l;
     let specular = pow(max(dot(r, -d), 0.0), u.shading.w);
-    return u.surface.rgb * (u.shading.x + u.shading.y * diffuse) + vec3<f32>(u.shading.z * specular);
+    return surface * (u.shading.x + u.shading.y * diffuse) + vec3<f32>(u.shading.z * specular);
 }
 
 

@@ -130,6 +130,7 @@ fn the_buffers_structs_are_laid_out_as_the_shader_reads_them() {
             tiling,
             half0,
             march,
+            hidden,
             levels,
             params
         }),
@@ -148,6 +149,7 @@ fn each_vec4_block_of_the_settings_is_sixteen_bytes() {
         ("Counts", size_of::<Counts>()),
         ("Tiling", size_of::<Tiling>()),
         ("March", size_of::<March>()),
+        ("Hidden", size_of::<Hidden>()),
     ] {
         assert_eq!(size, 16, "{name}");
     }

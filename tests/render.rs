@@ -1170,3 +1170,43 @@ fn slices_on_the_gpu_are_the_cpu_twin_s() {
         assert!(drawn.iter().any(|c| *c), "{name}: the slice drew nothing");
     }
 }
+
+#[test]
+fn colour_by_the_hidden_direction_brightens_monotonically_along_n2() {
+    // The glome cut along a line of places c across n2: with flat colour, each slice has the
+    // colour map's colour for c, and viridis gets lighter all the way.
+    use fourfold::scene::ColorBy;
+    let gpu = gpu();
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
+    scene.tree.max_level = 5;
+    scene.tree.min_level = 5;
+    scene.render.color_by = ColorBy::Hidden;
+    scene.render.lighting.enabled = false;
+    scene.view.angles = [0.4, 1.2, -0.8, 0.3, 2.0, -1.1];
+    let size = 32;
+    let mut lightness = Vec::new();
+    for k in 0..=8 {
+        let c = -0.8 + 0.2 * f64::from(k);
+        scene.view.slice = Some(c);
+        let picture =
+            render_scene(&scene, size, size, Device::Gpu(&gpu), Default::default()).unwrap();
+        let centre = ((size / 2) * size + size / 2) as usize * 4;
+        let [r, g, b] = [0, 1, 2].map(|i| f64::from(picture.rgba[centre + i]));
+        lightness.push(0.2126 * r + 0.7152 * g + 0.0722 * b);
+    }
+    assert!(
+        lightness.windows(2).all(|w| w[1] > w[0]),
+        "lightness along n2: {lightness:?}"
+    );
+    // And the projection coloured so is the CPU twin's.
+    scene.view.slice = None;
+    scene.render.lighting.enabled = true;
+    let g = render_scene(&scene, 40, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+    let c = render_scene(&scene, 40, 40, Device::Cpu, Default::default()).unwrap();
+    let (close, cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
+    assert!(
+        cover >= 0.99 && close >= 0.90,
+        "colour {close}, coverage {cover}"
+    );
+}

@@ -11,10 +11,42 @@ use crate::tree::{Curvature, Hierarchy};
 use super::march::{march_steps, slope_along};
 
 use super::uniforms::{
-    FLAG_BORDER, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Uniforms,
+    FLAG_BORDER, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE,
+    Uniforms,
 };
 
 type V4 = [f32; 4];
+
+/// Nine samples of the viridis colour map, 0 to 255 (as the shader's `viridis`).
+const VIRIDIS: [[f32; 3]; 9] = [
+    [68.0, 1.0, 84.0],
+    [71.0, 45.0, 123.0],
+    [59.0, 82.0, 139.0],
+    [44.0, 114.0, 142.0],
+    [33.0, 145.0, 140.0],
+    [40.0, 174.0, 128.0],
+    [94.0, 201.0, 98.0],
+    [173.0, 220.0, 48.0],
+    [253.0, 231.0, 37.0],
+];
+
+/// The viridis colour map at t in [0, 1], linear between its samples.
+pub fn viridis(t: f32) -> [f32; 3] {
+    let x = t.clamp(0.0, 1.0) * 8.0;
+    let i = (x as usize).min(7);
+    let f = x - i as f32;
+    std::array::from_fn(|c| (VIRIDIS[i][c] + (VIRIDIS[i + 1][c] - VIRIDIS[i][c]) * f) / 255.0)
+}
+
+/// The colour of a hit at p before lighting, as the shader's `base_color`.
+fn base_color(u: &Uniforms, p: V4) -> [f32; 3] {
+    if u.control.flags & FLAG_HIDDEN == 0 {
+        return [u.surface[0], u.surface[1], u.surface[2]];
+    }
+    let centre: V4 = std::array::from_fn(|i| 0.5 * (u.domain_lo[i] + u.domain_hi[i]));
+    let (lo, hi) = (u.hidden.lo, u.hidden.hi);
+    viridis((dot(sub(p, centre), u.n2) - lo) / (hi - lo))
+}
 
 /// The part of a ray's span within the slab, as the shader's `clip_to_slab`.
 fn clip_to_slab(u: &Uniforms, (t0, t1): (f32, f32), b: f32) -> (f32, f32) {
@@ -268,8 +300,9 @@ impl Pixel<'_> {
                 return rgb(u.border_color);
             }
         }
+        let surface = base_color(u, p);
         if flags & FLAG_LIGHTING == 0 {
-            return rgb(u.surface);
+            return surface;
         }
         let mut n = if glen > 0.0 {
             scale(g, 1.0 / glen)
@@ -284,7 +317,7 @@ impl Pixel<'_> {
         let r = sub(scale(n, 2.0 * dot(n, l)), l);
         let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading.shininess);
         std::array::from_fn(|i| {
-            u.surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
+            surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
                 + u.shading.specular * specular
         })
     }

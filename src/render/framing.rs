@@ -21,20 +21,25 @@ pub fn projected_extent(
     domain: &Domain,
     a: &Rotation4,
 ) -> Option<[[f64; 2]; 2]> {
+    Some([
+        extent_along(hierarchy, domain, a.row(0))?,
+        extent_along(hierarchy, domain, a.row(1))?,
+    ])
+}
+
+/// The range of coordinates along the unit vector `v` (from the domain's centre) that the
+/// hierarchy's finest boxes reach; None for an empty hierarchy.
+pub fn extent_along(hierarchy: &Hierarchy, domain: &Domain, v: [f64; 4]) -> Option<[f64; 2]> {
     let boxes = hierarchy.cover.first().filter(|c| !c.is_empty())?;
-    let (v1, v2) = (a.row(0), a.row(1));
     let c = domain.center();
-    let mut extent = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
+    let mut range = [f64::INFINITY, f64::NEG_INFINITY];
     for b in boxes {
         let half = hierarchy.levels[b.level as usize].half;
-        for (range, v) in extent.iter_mut().zip([v1, v2]) {
-            let mid: f64 = (0..4).map(|k| (f64::from(b.center[k]) - c[k]) * v[k]).sum();
-            let reach: f64 = (0..4).map(|k| f64::from(half[k]) * v[k].abs()).sum();
-            range[0] = range[0].min(mid - reach);
-            range[1] = range[1].max(mid + reach);
-        }
+        let mid: f64 = (0..4).map(|k| (f64::from(b.center[k]) - c[k]) * v[k]).sum();
+        let reach: f64 = (0..4).map(|k| f64::from(half[k]) * v[k].abs()).sum();
+        range = [range[0].min(mid - reach), range[1].max(mid + reach)];
     }
-    Some(extent)
+    Some(range)
 }
 
 /// `view` with the zoom and pan that frame the hierarchy's boxes in a `width`×`height`

@@ -4,14 +4,33 @@
 use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
-    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE,
-    FLAG_SLAB, FLAG_SLICE, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
+    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_RANDOM,
+    FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size,
+    Tiling, Uniforms,
 };
-use crate::scene::{RenderSettings, Sampling};
+use crate::scene::{ColorBy, RenderSettings, Sampling};
 use crate::tree::{Hierarchy, LevelInfo};
 
 use super::camera::{Camera, Section};
 use super::march::march_steps;
+
+/// The coordinates along n2 (from the domain's centre) that the hidden-direction colour map
+/// spans: those the manifold's boxes reach in this view, or the domain's half diagonal
+/// either way where there are none. Never an empty range.
+pub fn hidden_range(
+    hierarchy: &Hierarchy,
+    domain: &crate::scene::Domain,
+    camera: &Camera,
+) -> [f64; 2] {
+    let reach = domain.half_diagonal();
+    let [lo, hi] =
+        super::framing::extent_along(hierarchy, domain, camera.n2).unwrap_or([-reach, reach]);
+    if hi - lo > 1e-9 * reach {
+        [lo, hi]
+    } else {
+        [lo - 1e-3 * reach, hi + 1e-3 * reach]
+    }
+}
 
 fn v4(a: [f64; 4]) -> [f32; 4] {
     a.map(|v| v as f32)
@@ -64,6 +83,12 @@ impl Uniforms {
         }
         if render.sampling == Sampling::Random {
             flags |= FLAG_RANDOM;
+        }
+        let mut hidden = Hidden::zeroed();
+        if render.color_by == ColorBy::Hidden {
+            flags |= FLAG_HIDDEN;
+            let [lo, hi] = hidden_range(hierarchy, domain, camera);
+            (hidden.lo, hidden.hi) = (lo as f32, hi as f32);
         }
         let [section_offset, section_half] = match camera.section {
             Section::Plane => [0.0; 2],
@@ -151,6 +176,7 @@ impl Uniforms {
                 finest,
                 unused: [0; 3],
             },
+            hidden,
             levels,
             params: packed,
         }

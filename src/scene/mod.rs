@@ -342,6 +342,21 @@ pub struct RenderSettings {
     /// length, instead of marching the tree's boxes (the same picture, many times slower:
     /// the baseline of `cargo bench --bench frame`).
     pub brute_force: bool,
+    /// What gives a hit its colour: the surface colour, or its place along the hidden n2.
+    #[serde(alias = "colour_by")]
+    pub color_by: ColorBy,
+}
+
+/// What gives a hit its colour before lighting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum ColorBy {
+    /// The lighting's surface colour.
+    #[default]
+    Surface,
+    /// The hit's coordinate along n2 (from the domain's centre, over the domain's half
+    /// diagonal either way), through the viridis colour map: depth in the fourth direction.
+    Hidden,
 }
 
 impl Default for RenderSettings {
@@ -368,6 +383,7 @@ impl Default for RenderSettings {
             },
             seed: 1,
             brute_force: false,
+            color_by: ColorBy::Surface,
         }
     }
 }

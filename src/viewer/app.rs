@@ -11,11 +11,13 @@ use egui::{Color32, RichText, TextFormat, text::LayoutJob};
 
 use crate::render::animation::{Animation, MAX_FRAMES, Sweep, Turn, parse_range};
 use crate::render::camera::rotate_view;
+use crate::render::cpu::viridis;
 use crate::render::framing::{self, ZOOM_RANGE};
-use crate::render::{Gpu, MAX_PICTURE_SIDE};
+use crate::render::uniforms::hidden_range;
+use crate::render::{Camera, Gpu, MAX_PICTURE_SIDE};
 use crate::scene::{
-    AxisRange, Color, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling, Scene,
-    Speaker,
+    AxisRange, Color, ColorBy, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling,
+    Scene, Speaker,
 };
 use crate::syntax::SourceError;
 use crate::syntax::parser::{TokenKind, tokens};
@@ -870,6 +872,15 @@ impl FourfoldApp {
             ui.radio_value(&mut r.sampling, Sampling::Stratified, "stratified");
             ui.radio_value(&mut r.sampling, Sampling::Random, "random");
         });
+        ui.horizontal(|ui| {
+            ui.label("colour by");
+            ui.radio_value(&mut r.color_by, ColorBy::Surface, "surface");
+            ui.radio_value(&mut r.color_by, ColorBy::Hidden, "hidden n2")
+                .on_hover_text(
+                    "each hit's place along the hidden direction n2, from dark blue to yellow \
+                     (the legend gives the values)",
+                );
+        });
         // Applied when a pipeline warmed up for it is ready (see Session::set_brute_force).
         let mut brute = self.session.pending_brute_force.unwrap_or(r.brute_force);
         let toggled = ui
@@ -970,6 +981,7 @@ impl FourfoldApp {
         let painter = ui.painter_at(rect);
         self.paint_layers(&painter, rect);
         self.paint_build_state(&painter, rect);
+        self.paint_legend(&painter, rect);
         let ppp = ui.ctx().pixels_per_point();
         let size = [rect.width(), rect.height()]
             .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE));
@@ -1061,6 +1073,55 @@ impl FourfoldApp {
                 }
             }
         }
+    }
+
+    /// With colour by the hidden direction: the colour map and the n2 values its ends stand
+    /// for, at the picture's bottom left.
+    fn paint_legend(&self, painter: &egui::Painter, rect: egui::Rect) {
+        let scene = &self.session.scene;
+        let Some(hierarchy) = self
+            .session
+            .hierarchy
+            .as_ref()
+            .filter(|_| scene.render.color_by == ColorBy::Hidden)
+        else {
+            return;
+        };
+        let [w, h] = self.picture_size;
+        let camera = Camera::new(&scene.domain, &scene.view, w, h);
+        let [lo, hi] = hidden_range(hierarchy, &scene.domain, &camera);
+        let (width, height) = (160.0, 12.0);
+        let origin = rect.left_bottom() + egui::vec2(12.0, -34.0);
+        let steps = 32;
+        for k in 0..steps {
+            let t = (k as f32 + 0.5) / steps as f32;
+            let [r, g, b] = viridis(t).map(|c| (c * 255.0).round() as u8);
+            let x = origin.x + width * k as f32 / steps as f32;
+            painter.rect_filled(
+                egui::Rect::from_min_size(
+                    egui::pos2(x, origin.y),
+                    egui::vec2(width / steps as f32 + 0.5, height),
+                ),
+                0.0,
+                Color32::from_rgb(r, g, b),
+            );
+        }
+        let font = egui::FontId::proportional(12.0);
+        let below = origin + egui::vec2(0.0, height + 2.0);
+        painter.text(
+            below,
+            egui::Align2::LEFT_TOP,
+            format!("n2 = {lo:.2}"),
+            font.clone(),
+            Color32::LIGHT_GRAY,
+        );
+        painter.text(
+            below + egui::vec2(width, 0.0),
+            egui::Align2::RIGHT_TOP,
+            format!("{hi:.2}"),
+            font,
+            Color32::LIGHT_GRAY,
+        );
     }
 
     /// "building…" over the picture while a tree is built, or a word where there is nothing
