@@ -131,6 +131,9 @@ pub const FLAG_SLAB: u32 = 32;
 pub const FLAG_SLICE: u32 = 64;
 /// Colour hits by their coordinate along n2 (the viridis map) instead of the surface colour.
 pub const FLAG_HIDDEN: u32 = 128;
+/// Mark the hits within `Root::section_half` of `Root::section_offset` along n2 (where a
+/// slice cuts), in the projection.
+pub const FLAG_MARK: u32 = 256;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;

@@ -319,6 +319,9 @@ fn clip_to_box(o: vec4<f32>, d: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2
     return vec2<f32>(t0, t1);
 }
 
+// The colour of the hits where a slice cuts (flag 256).
+const MARK_COLOR = vec3<f32>(1.0, 0.35, 0.1);
+
 // The viridis colour map at t in [0, 1], linear between nine samples: dark blue to yellow,
 // its lightness rising all the way (perceptually uniform, readable in grey).
 fn viridis(t: f32) -> vec3<f32> {
@@ -360,6 +363,13 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
         let inside = min(p - u.domain_lo, u.domain_hi - p);
         if (min(min(inside.x, inside.y), min(inside.z, inside.w)) < u.misc.w) {
             return u.border_color.rgb;
+        }
+    }
+    if ((flags & 256u) != 0u) {
+        // Where the slice beside the projection cuts (root.z, within root.w along n2).
+        let centre = 0.5 * (u.domain_lo + u.domain_hi);
+        if (abs(dot(p - centre, u.n2) - u.root.z) < u.root.w) {
+            return MARK_COLOR;
         }
     }
     let surface = base_color(p);

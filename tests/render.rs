@@ -1210,3 +1210,24 @@ fn colour_by_the_hidden_direction_brightens_monotonically_along_n2() {
         "colour {close}, coverage {cover}"
     );
 }
+
+#[test]
+fn the_slice_s_place_is_marked_in_the_projection_as_on_the_cpu() {
+    let gpu = gpu();
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "glome"]) {
+        let mut scene = small(&scene);
+        let plain = render_scene(&scene, 48, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+        scene.view.mark = Some(0.0);
+        let g = render_scene(&scene, 48, 40, Device::Gpu(&gpu), Default::default()).unwrap();
+        let c = render_scene(&scene, 48, 40, Device::Cpu, Default::default()).unwrap();
+        let (close, cover) = agreement(&g.rgba, &c.rgba, scene.render.background.0, 12);
+        assert!(
+            cover >= 0.99 && close >= 0.90,
+            "{name}: colour {close}, coverage {cover}"
+        );
+        assert!(
+            differing(&plain.rgba, &g.rgba) > 0,
+            "{name}: nothing marked"
+        );
+    }
+}

@@ -477,3 +477,25 @@ fn an_animation_exports_in_the_background_with_its_progress() {
     assert_eq!(frames, 3);
     std::fs::remove_file(&path).ok();
 }
+
+#[test]
+fn a_slice_is_shown_beside_the_projection() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.state_mut().session.scene.view.slice = Some(0.3);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while h.state().inset.paint().layers.is_empty() {
+        h.step();
+        assert!(
+            Instant::now() < deadline,
+            "the projection beside the slice never drew"
+        );
+    }
+    let app = h.state();
+    assert!(app.side_by_side());
+    assert!(!app.progressive.paint().layers.is_empty());
+    // Back to the projection alone.
+    h.state_mut().session.scene.view.slice = None;
+    h.step();
+    assert!(!h.state().side_by_side());
+}

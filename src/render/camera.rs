@@ -82,6 +82,8 @@ pub struct Camera {
     pub pixel_size: f64,
     /// What part of each pixel's observer plane is searched.
     pub section: Section,
+    /// In a projection, the place along n2 whose hits are marked.
+    pub mark: Option<f64>,
     pub width: u32,
     pub height: u32,
 }
@@ -120,6 +122,7 @@ impl Camera {
             center: std::array::from_fn(|i| c[i] + px * v1[i] + py * v2[i]),
             pixel_size: 2.0 * domain.half_diagonal() / shorter / view.zoom,
             section: Section::of(view),
+            mark: view.mark.filter(|_| Section::of(view) == Section::Plane),
             width,
             height,
         }

@@ -11,11 +11,14 @@ use crate::tree::{Curvature, Hierarchy};
 use super::march::{march_steps, slope_along};
 
 use super::uniforms::{
-    FLAG_BORDER, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE,
-    Uniforms,
+    FLAG_BORDER, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
+    FLAG_SLICE, Uniforms,
 };
 
 type V4 = [f32; 4];
+
+/// The colour of the hits where a slice cuts (as the shader's `MARK_COLOR`).
+const MARK_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
 
 /// Nine samples of the viridis colour map, 0 to 255 (as the shader's `viridis`).
 const VIRIDIS: [[f32; 3]; 9] = [
@@ -298,6 +301,12 @@ impl Pixel<'_> {
                 .fold(f32::INFINITY, f32::min);
             if inside < u.misc.border_tolerance {
                 return rgb(u.border_color);
+            }
+        }
+        if flags & FLAG_MARK != 0 {
+            let centre: V4 = std::array::from_fn(|i| 0.5 * (u.domain_lo[i] + u.domain_hi[i]));
+            if (dot(sub(p, centre), u.n2) - u.root.section_offset).abs() < u.root.section_half {
+                return MARK_COLOR;
             }
         }
         let surface = base_color(u, p);

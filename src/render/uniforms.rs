@@ -4,9 +4,9 @@
 use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
-    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_RANDOM,
-    FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size,
-    Tiling, Uniforms,
+    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK,
+    FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Hidden, LEVEL_SLOTS, March, Misc, Root,
+    Shading, Size, Tiling, Uniforms,
 };
 use crate::scene::{ColorBy, RenderSettings, Sampling};
 use crate::tree::{Hierarchy, LevelInfo};
@@ -31,6 +31,10 @@ pub fn hidden_range(
         [lo - 1e-3 * reach, hi + 1e-3 * reach]
     }
 }
+
+/// How close along n2 (in the domain's half diagonals) a hit must be to a slice's place to be
+/// marked.
+const MARK_WIDTH: f64 = 0.003;
 
 fn v4(a: [f64; 4]) -> [f32; 4] {
     a.map(|v| v as f32)
@@ -91,7 +95,13 @@ impl Uniforms {
             (hidden.lo, hidden.hi) = (lo as f32, hi as f32);
         }
         let [section_offset, section_half] = match camera.section {
-            Section::Plane => [0.0; 2],
+            Section::Plane => match camera.mark {
+                Some(c) => {
+                    flags |= FLAG_MARK;
+                    [c as f32, (MARK_WIDTH * domain.half_diagonal()) as f32]
+                }
+                None => [0.0; 2],
+            },
             Section::Slab { center, half } => {
                 flags |= FLAG_SLAB;
                 [center as f32, half as f32]

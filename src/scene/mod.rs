@@ -181,6 +181,10 @@ pub struct View {
     /// seen along n1 (docs/method.md §5.8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub slice: Option<f64>,
+    /// In a projection: the place along n2 whose hits are marked (where the viewer's slice
+    /// beside it cuts). Not part of a scene file.
+    #[serde(skip)]
+    pub mark: Option<f64>,
 }
 
 impl Default for View {
@@ -191,6 +195,7 @@ impl Default for View {
             pan: [0.0; 2],
             slab: None,
             slice: None,
+            mark: None,
         }
     }
 }

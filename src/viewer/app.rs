@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
+use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::{egui, egui_wgpu};
@@ -14,7 +15,7 @@ use crate::render::camera::rotate_view;
 use crate::render::cpu::viridis;
 use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::uniforms::hidden_range;
-use crate::render::{Camera, Gpu, MAX_PICTURE_SIDE};
+use crate::render::{Camera, Gpu, MAX_PICTURE_SIDE, RayCaster, Shader};
 use crate::scene::{
     AxisRange, Color, ColorBy, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling,
     Scene, Speaker,
@@ -26,12 +27,24 @@ use super::files::{self, AnimationExport, Notice, PngExport};
 use super::gallery::Gallery;
 use super::history::{History, Snapshot};
 use super::pacing::Pacing;
-use super::progressive::{Progressive, ViewKey};
+use super::progressive::{Progressive, Subject};
 use super::session::Session;
+use super::session::VIEW_TARGET;
 
 /// Storage keys (eframe persistence).
 const KEY_SCENE: &str = "fourfold.scene";
 const KEY_UI: &str = "fourfold.ui";
+
+/// A second ray caster, for the projection beside a slice: the shader it was made for and
+/// the session's picture generation whose hierarchy it holds.
+struct InsetCaster {
+    caster: RayCaster,
+    shader: Arc<Shader>,
+    generation: u64,
+}
+
+/// Ray casting for the projection beside a slice gets at least this much of a UI frame.
+const RAY_FLOOR_MS: f64 = 2.0;
 
 /// The largest side of the picture in the window, in pixels.
 const MAX_WINDOW_PICTURE: u32 = 4096;
@@ -52,6 +65,8 @@ pub struct UiSettings {
     pub wgsl_path: String,
     pub export_size: [u32; 2],
     pub animation: AnimationChoice,
+    /// Show a slice beside the projection, with the slice's place marked there.
+    pub side_by_side: bool,
 }
 
 /// What "Export animation" makes, as the user last set it.
@@ -118,6 +133,7 @@ impl Default for UiSettings {
             wgsl_path: "fourfold.wgsl".into(),
             export_size: [1024, 1024],
             animation: AnimationChoice::default(),
+            side_by_side: true,
         }
     }
 }
@@ -146,6 +162,9 @@ pub struct FourfoldApp {
     pub history: History,
     gallery: Gallery,
     pub gallery_open: bool,
+    /// The projection drawn beside a slice, and the ray caster it draws with.
+    pub inset: Progressive,
+    inset_caster: Option<InsetCaster>,
     /// Where the controls panel was at the last frame (tests check that the formula's
     /// error stays inside it).
     pub controls_rect: Option<egui::Rect>,
@@ -199,6 +218,8 @@ impl FourfoldApp {
             gallery: Gallery::default(),
             gallery_open: false,
             controls_rect: None,
+            inset: Progressive::default(),
+            inset_caster: None,
         };
         if app.gpu.is_none() {
             app.message = Some(Notice::error(
@@ -807,6 +828,8 @@ impl FourfoldApp {
         if let Some(c) = &mut view.slice {
             ui.add(egui::Slider::new(c, -reach..=reach).text("slice at"))
                 .on_hover_text("where the hyperplane cuts, along n2 from the domain's centre");
+            ui.checkbox(&mut self.ui.side_by_side, "beside the projection")
+                .on_hover_text("the projection on the right, where the slice cuts in orange");
         }
     }
 
@@ -978,17 +1001,87 @@ impl FourfoldApp {
         if self.turn_and_zoom(ui, &response) {
             self.pacing.interacted();
         }
+        self.keep_inset_caster();
+        // Side by side: the slice on the left, the projection with the slice's place on
+        // the right.
+        let (main, inset) = if self.side_by_side() {
+            let (left, right) = rect.split_left_right_at_fraction(0.5);
+            (
+                left.shrink2(egui::vec2(2.0, 0.0)),
+                Some(right.shrink2(egui::vec2(2.0, 0.0))),
+            )
+        } else {
+            (rect, None)
+        };
         let painter = ui.painter_at(rect);
-        self.paint_layers(&painter, rect);
-        self.paint_build_state(&painter, rect);
-        self.paint_legend(&painter, rect);
+        paint_layers(&self.progressive, &self.session.scene, &painter, main);
+        if let Some(inset) = inset {
+            paint_layers(&self.inset, &self.session.scene, &painter, inset);
+            let c = self.session.scene.view.slice.unwrap_or(0.0);
+            let font = egui::FontId::proportional(13.0);
+            let label = |at: egui::Rect, text: String| {
+                painter.text(
+                    at.center_top() + egui::vec2(0.0, 8.0),
+                    egui::Align2::CENTER_TOP,
+                    text,
+                    font.clone(),
+                    Color32::LIGHT_GRAY,
+                );
+            };
+            label(main, format!("slice at n2 = {c:.2}"));
+            label(inset, "projection: the slice's place in orange".to_string());
+        }
+        self.paint_build_state(&painter, main);
+        self.paint_legend(&painter, main);
         let ppp = ui.ctx().pixels_per_point();
-        let size = [rect.width(), rect.height()]
-            .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE));
-        self.picture_size = size;
-        let more = self.cast_rays(size);
+        self.picture_size = pixels(main, ppp);
+        let more = self.cast_rays(self.picture_size, inset.map(|r| pixels(r, ppp)));
         self.note_edit_latency();
         more || self.pacing.interacting()
+    }
+
+    /// Whether the slice is shown beside the projection.
+    pub fn side_by_side(&self) -> bool {
+        self.ui.side_by_side && self.session.scene.view.slice.is_some()
+    }
+
+    /// Keeps a second ray caster for the projection beside a slice: made for the session's
+    /// shader, given each new hierarchy, dropped when not shown.
+    fn keep_inset_caster(&mut self) {
+        let s = &self.session;
+        let (Some(gpu), Some(shader), Some(hierarchy)) = (&self.gpu, &s.shader, &s.hierarchy)
+        else {
+            return;
+        };
+        if !self.side_by_side() {
+            self.inset_caster = None;
+            return;
+        }
+        let generation = s.picture_generation;
+        if let Some(inset) = &mut self.inset_caster
+            && Arc::ptr_eq(&inset.shader, shader)
+        {
+            if inset.generation != generation {
+                match inset.caster.set_hierarchy(gpu, hierarchy) {
+                    Ok(()) => inset.generation = generation,
+                    Err(e) => {
+                        self.message = Some(Notice::error(e.to_string()));
+                        self.inset_caster = None;
+                    }
+                }
+            }
+            return;
+        }
+        match RayCaster::with_target(gpu, shader, hierarchy, VIEW_TARGET) {
+            Ok(caster) => {
+                self.inset_caster = Some(InsetCaster {
+                    caster,
+                    shader: shader.clone(),
+                    generation,
+                });
+            }
+            Err(e) => self.message = Some(Notice::error(e.to_string())),
+        }
     }
 
     /// Drag = rotate in the view's own planes; middle or alt drag = pan; scroll = zoom. True
@@ -1033,46 +1126,6 @@ impl FourfoldApp {
             }
         }
         changed
-    }
-
-    /// Paints the ray caster's textures over `rect` (the background until there are any).
-    fn paint_layers(&self, painter: &egui::Painter, rect: egui::Rect) {
-        let layers = self.progressive.paint().layers;
-        if layers.is_empty() {
-            painter.rect_filled(rect, 0.0, {
-                let [r, g, b] = self.session.scene.render.background.0;
-                Color32::from_rgb(r, g, b)
-            });
-        }
-        for layer in layers {
-            let Some(t) = self.progressive.texture(layer.texture) else {
-                continue;
-            };
-            let [x, y, w, h] = layer.rect;
-            let (tw, th) = (t.width as f32, t.height as f32);
-            let uv = egui::Rect::from_min_max(
-                egui::pos2(x as f32 / tw, y as f32 / th),
-                egui::pos2((x + w) as f32 / tw, (y + h) as f32 / th),
-            );
-            let screen = egui::Rect::from_min_max(
-                rect.min + egui::vec2(uv.min.x * rect.width(), uv.min.y * rect.height()),
-                rect.min + egui::vec2(uv.max.x * rect.width(), uv.max.y * rect.height()),
-            );
-            match &t.blit {
-                Some(bind_group) => {
-                    painter.add(egui_wgpu::Callback::new_paint_callback(
-                        screen,
-                        super::blit::Layer {
-                            bind_group: bind_group.clone(),
-                            full: rect,
-                        },
-                    ));
-                }
-                None => {
-                    painter.image(t.id, screen, uv, Color32::WHITE);
-                }
-            }
-        }
     }
 
     /// With colour by the hidden direction: the colour map and the n2 values its ends stand
@@ -1148,22 +1201,55 @@ impl FourfoldApp {
     }
 
     /// Lets the ray caster draw for this frame's budget; true while it has more to do.
-    fn cast_rays(&mut self, size: [u32; 2]) -> bool {
-        let key = ViewKey::new(&self.session.scene, size);
+    fn cast_rays(&mut self, size: [u32; 2], inset: Option<[u32; 2]>) -> bool {
         let interacting = self.pacing.interacting();
         let budget_ms = self.pacing.ray_budget_ms();
         let started = Instant::now();
         let mut more = false;
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {
             let mut renderer = renderer.write();
-            more = self.progressive.step(
-                gpu,
-                &mut renderer,
-                &mut self.session,
-                key,
-                interacting,
-                budget_ms,
-            );
+            let s = &mut self.session;
+            let Some(hierarchy) = &s.hierarchy else {
+                return false;
+            };
+            if let Some(caster) = &mut s.caster {
+                let subject = Subject {
+                    caster,
+                    hierarchy,
+                    params: &s.tree_params,
+                    scene: &s.scene,
+                    generation: s.picture_generation,
+                };
+                more = self.progressive.step(
+                    gpu,
+                    &mut renderer,
+                    subject,
+                    size,
+                    interacting,
+                    budget_ms,
+                );
+            }
+            if let (Some(size), Some(inset)) = (inset, &mut self.inset_caster) {
+                // The projection, with the slice's place marked.
+                let mut scene = s.scene.clone();
+                scene.view.mark = scene.view.slice.take();
+                let subject = Subject {
+                    caster: &mut inset.caster,
+                    hierarchy,
+                    params: &s.tree_params,
+                    scene: &scene,
+                    generation: s.picture_generation,
+                };
+                let left = budget_ms - started.elapsed().as_secs_f64() * 1e3;
+                more |= self.inset.step(
+                    gpu,
+                    &mut renderer,
+                    subject,
+                    size,
+                    interacting,
+                    left.max(RAY_FLOOR_MS),
+                );
+            }
         }
         let took_ms = started.elapsed().as_secs_f64() * 1e3;
         self.pacing.rays_took(took_ms);
@@ -1293,6 +1379,57 @@ impl eframe::App for FourfoldApp {
         eframe::set_value(storage, KEY_SCENE, &self.session.scene.to_toml());
         eframe::set_value(storage, KEY_UI, &self.ui);
     }
+}
+
+/// Paints the ray caster's textures over `rect` (the background until there are any).
+fn paint_layers(
+    progressive: &Progressive,
+    scene: &Scene,
+    painter: &egui::Painter,
+    rect: egui::Rect,
+) {
+    let layers = progressive.paint().layers;
+    if layers.is_empty() {
+        painter.rect_filled(rect, 0.0, {
+            let [r, g, b] = scene.render.background.0;
+            Color32::from_rgb(r, g, b)
+        });
+    }
+    for layer in layers {
+        let Some(t) = progressive.texture(layer.texture) else {
+            continue;
+        };
+        let [x, y, w, h] = layer.rect;
+        let (tw, th) = (t.width as f32, t.height as f32);
+        let uv = egui::Rect::from_min_max(
+            egui::pos2(x as f32 / tw, y as f32 / th),
+            egui::pos2((x + w) as f32 / tw, (y + h) as f32 / th),
+        );
+        let screen = egui::Rect::from_min_max(
+            rect.min + egui::vec2(uv.min.x * rect.width(), uv.min.y * rect.height()),
+            rect.min + egui::vec2(uv.max.x * rect.width(), uv.max.y * rect.height()),
+        );
+        match &t.blit {
+            Some(bind_group) => {
+                painter.add(egui_wgpu::Callback::new_paint_callback(
+                    screen,
+                    super::blit::Layer {
+                        bind_group: bind_group.clone(),
+                        full: rect,
+                    },
+                ));
+            }
+            None => {
+                painter.image(t.id, screen, uv, Color32::WHITE);
+            }
+        }
+    }
+}
+
+/// The size in pixels of a picture filling `rect` at `ppp` pixels per point.
+fn pixels(rect: egui::Rect, ppp: f32) -> [u32; 2] {
+    [rect.width(), rect.height()]
+        .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE))
 }
 
 /// The scene the viewer opens with when none is given or stored: the chapter's figure.

@@ -18,10 +18,18 @@ use crate::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, TileLists, Unifo
 use crate::scene::{Domain, RenderSettings, Scene, View};
 use crate::tree::Hierarchy;
 
-use super::session::Session;
-
 /// Full-resolution passes averaged into the picture once it is complete.
 pub const ACCUMULATED_PASSES: u32 = 16;
+
+/// What a progressive picture draws: a ray caster with its hierarchy and parameter values,
+/// seen as `scene` says, for the session's picture `generation` (a new one starts again).
+pub struct Subject<'a> {
+    pub caster: &'a mut RayCaster,
+    pub hierarchy: &'a Arc<Hierarchy>,
+    pub params: &'a [f64],
+    pub scene: &'a Scene,
+    pub generation: u64,
+}
 
 /// Everything the picture on screen depends on besides the session's picture generation: a
 /// different key starts the picture again.
@@ -317,28 +325,28 @@ impl Progressive {
         &mut self,
         gpu: &Gpu,
         renderer: &mut egui_wgpu::Renderer,
-        session: &mut Session,
-        key: ViewKey,
+        subject: Subject<'_>,
+        size: [u32; 2],
         interacting: bool,
         budget_ms: f64,
     ) -> bool {
-        let size = key.size;
-        if session.caster.is_none() || session.hierarchy.is_none() {
-            return false;
-        }
-        if let Some(caster) = &session.caster {
-            self.ensure_textures(gpu, caster, renderer, size);
-        }
-        let full_key = (key, session.picture_generation, interacting);
+        let Subject {
+            caster,
+            hierarchy,
+            params,
+            scene,
+            generation,
+        } = subject;
+        self.ensure_textures(gpu, caster, renderer, size);
+        let full_key = (ViewKey::new(scene, size), generation, interacting);
         if self.key.as_ref() != Some(&full_key) {
             // Keep what is on screen (completed) until the new preview is done.
             self.key = Some(full_key);
-            self.generation = session.picture_generation;
-            self.plan(&session.scene, interacting);
+            self.generation = generation;
+            self.plan(scene, interacting);
         }
         let started = Instant::now();
         let mut runs = 0;
-        let params = session.tree_params.clone();
         while self.stage < self.stages.len() {
             let stage = self.stages[self.stage];
             let index = Self::texture_index(stage.div);
@@ -374,21 +382,18 @@ impl Progressive {
             if spent >= budget_ms || (runs > 0 && budget_ms - spent < half_square) {
                 return true;
             }
-            let camera = Camera::new(&session.scene.domain, &session.scene.view, width, height);
-            let (Some(caster), Some(hierarchy)) = (&mut session.caster, &session.hierarchy) else {
-                return false;
-            };
+            let camera = Camera::new(&scene.domain, &scene.view, width, height);
             if self.stage_started.is_none() {
                 self.stage_started = Some(Instant::now());
             }
-            let mut render = session.scene.render;
+            let mut render = scene.render;
             render.rays = stage.rays;
             let uniforms = Uniforms::new(
                 &camera,
                 &render,
-                &session.scene.domain,
+                &scene.domain,
                 hierarchy,
-                &params,
+                params,
                 FrameOptions {
                     frame: stage.frame,
                     brute_force_level: None,
