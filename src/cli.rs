@@ -9,7 +9,7 @@ use crate::render::Gpu;
 use crate::render::animation::{
     Animation, FrameDevice, MAX_FRAMES, Output, Sweep, Turn, draw, parse_range,
 };
-use crate::render::framing::fit;
+use crate::render::framing::fit_scene;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
 use crate::scene::{Color, ColorBy, Domain, Sampling, Scene, Speaker};
 use crate::tree::BuildSettings;
@@ -620,16 +620,8 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         Device::NewGpu
     };
     let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
-    if args.fit
-        && let Some(view) = fit(
-            &prepared.hierarchy,
-            &scene.domain,
-            &scene.view,
-            width,
-            height,
-        )
-    {
-        scene.view = view;
+    if args.fit {
+        fit_scene(&mut scene, &prepared.hierarchy, width, height);
     }
     let picture = render_prepared(
         &scene,

@@ -624,13 +624,19 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
     }
 }
 
-#[test]
-fn the_glome_covers_exactly_its_disk_at_any_angles() {
-    let gpu = gpu();
+/// The unit glome in [-1.5, 1.5]⁴, refined uniformly to level 5.
+fn unit_glome() -> Scene {
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
     scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
     scene.tree.max_level = 5;
     scene.tree.min_level = 5;
+    scene
+}
+
+#[test]
+fn the_glome_covers_exactly_its_disk_at_any_angles() {
+    let gpu = gpu();
+    let mut scene = unit_glome();
     scene.render.rays = 16;
     let size = 64;
     for angles in [[0.0; 6], [0.4, 1.2, -0.8, 0.3, 2.0, -1.1]] {
@@ -1016,10 +1022,7 @@ fn a_slab_of_the_glome_covers_the_disk_its_band_allows() {
     // r = √(1 − s²) around the pixel's origin, which reaches n2 in [−r, r]: a slab whose band
     // along n2 is [lo, hi], 0 < lo, keeps the pixels with r ≥ lo, a disk of radius √(1 − lo²).
     let gpu = gpu();
-    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
-    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
-    scene.tree.max_level = 5;
-    scene.tree.min_level = 5;
+    let mut scene = unit_glome();
     scene.render.rays = 16;
     let size = 64;
     let (c, h) = (0.5, 0.2);
@@ -1109,10 +1112,7 @@ fn the_glome_sliced_at_c_is_a_disk_of_radius_root_of_one_minus_c_squared() {
     // Cut by the hyperplane at c along n2, the unit glome is a sphere of radius √(1 − c²)
     // about the domain's centre, whatever the angles: seen along n1, a disk of that radius.
     let gpu = gpu();
-    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
-    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
-    scene.tree.max_level = 5;
-    scene.tree.min_level = 5;
+    let mut scene = unit_glome();
     let size = 64;
     for angles in [[0.0; 6], [0.4, 1.2, -0.8, 0.3, 2.0, -1.1], [1.1; 6]] {
         for c in [0.0, 0.45, -0.8, 0.95] {
@@ -1177,10 +1177,7 @@ fn colour_by_the_hidden_direction_brightens_monotonically_along_n2() {
     // colour map's colour for c, and viridis gets lighter all the way.
     use fourfold::scene::ColorBy;
     let gpu = gpu();
-    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
-    scene.domain = Domain::parse_list("-1.5,1.5,-1.5,1.5,-1.5,1.5,-1.5,1.5").unwrap();
-    scene.tree.max_level = 5;
-    scene.tree.min_level = 5;
+    let mut scene = unit_glome();
     scene.render.color_by = ColorBy::Hidden;
     scene.render.lighting.enabled = false;
     scene.view.angles = [0.4, 1.2, -0.8, 0.3, 2.0, -1.1];

@@ -484,16 +484,19 @@ fn a_slice_is_shown_beside_the_projection() {
     settle(&mut h);
     h.state_mut().session.scene.view.slice = Some(0.3);
     let deadline = Instant::now() + Duration::from_secs(120);
-    while h.state().inset.paint().layers.is_empty() {
+    // (The slice's picture starts again at its new size; the projection starts anew.)
+    let drawn = |h: &Harness<'static, FourfoldApp>| {
+        let app = h.state();
+        !app.inset.paint().layers.is_empty() && !app.progressive.paint().layers.is_empty()
+    };
+    while !drawn(&h) {
         h.step();
         assert!(
             Instant::now() < deadline,
-            "the projection beside the slice never drew"
+            "the slice and the projection beside it never both drew"
         );
     }
-    let app = h.state();
-    assert!(app.side_by_side());
-    assert!(!app.progressive.paint().layers.is_empty());
+    assert!(h.state().side_by_side());
     // Back to the projection alone.
     h.state_mut().session.scene.view.slice = None;
     h.step();

@@ -2,7 +2,7 @@
 //! The tree's boxes enclose M, so the rectangle their projections cover on the screen
 //! encloses M's picture; fitting it (with a margin) makes M fill the picture.
 
-use crate::scene::{Domain, View};
+use crate::scene::{Domain, Scene, View};
 use crate::tree::Hierarchy;
 
 use super::camera::Rotation4;
@@ -54,6 +54,14 @@ pub fn fit(
 ) -> Option<View> {
     let a = Rotation4::from_angles(view.angles);
     fit_through(hierarchy, domain, view, &[a], width, height)
+}
+
+/// Frames the manifold of `hierarchy` in `scene`'s view for a `width`×`height` picture (the
+/// view stays as it is where there is nothing to frame).
+pub fn fit_scene(scene: &mut Scene, hierarchy: &Hierarchy, width: u32, height: u32) {
+    if let Some(view) = fit(hierarchy, &scene.domain, &scene.view, width, height) {
+        scene.view = view;
+    }
 }
 
 /// As [`fit`], for a manifold seen through each of the `rotations` in turn (the frames of

@@ -152,15 +152,7 @@ fn thumbnail(gpu: &Gpu, name: &str) -> Thumbnail {
     let formula = CompiledFormula::compile(&scene.formula)
         .map_err(|e| e.render("formula", &scene.formula))?;
     let prepared = Prepared::new(&formula, &scene).map_err(|e| e.to_string())?;
-    if let Some(view) = framing::fit(
-        &prepared.hierarchy,
-        &scene.domain,
-        &scene.view,
-        THUMB,
-        THUMB,
-    ) {
-        scene.view = view;
-    }
+    framing::fit_scene(&mut scene, &prepared.hierarchy, THUMB, THUMB);
     let picture = render_prepared(
         &scene,
         &formula,
