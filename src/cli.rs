@@ -767,7 +767,7 @@ pub fn animate(args: &AnimateArgs) -> Result<String, Failure> {
     let animation = animation_of(args, &formula)?;
     let output = Output::from_path(&args.render.output).map_err(Failure::usage)?;
     let mut writer = output
-        .open(width, height, animation.fps)
+        .open(width, height, animation.fps, animation.frames)
         .map_err(Failure::usage)?;
     // Ctrl-C stops after the frame being drawn and finishes the file with the frames so far.
     let stop = Arc::new(AtomicBool::new(false));

@@ -427,3 +427,30 @@ fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
         assert!(failure.message.contains(expected), "{}", failure.message);
     }
 }
+
+#[test]
+fn an_animation_stopped_early_keeps_its_frames_readable() {
+    // As after Ctrl-C: a file that was to hold 6 frames gets 2, and says so.
+    use fourfold::render::animation::Output;
+    let dir = std::env::temp_dir().join(format!("fourfold-stopped-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let frame = |v: u8| vec![v; 8 * 6 * 4];
+    for name in ["stopped.gif", "stopped.png"] {
+        let path = dir.join(name);
+        let mut writer = Output::from_path(&path)
+            .unwrap()
+            .open(8, 6, 24.0, 6)
+            .unwrap();
+        writer.add(frame(40)).unwrap();
+        writer.add(frame(200)).unwrap();
+        let said = writer.finish().unwrap();
+        assert!(said.contains("2 frames"), "{said}");
+        let count = if name.ends_with(".gif") {
+            gif_frames(&path).len()
+        } else {
+            apng_frames(&path).len()
+        };
+        assert_eq!(count, 2, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

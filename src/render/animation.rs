@@ -212,7 +212,15 @@ impl Output {
 
     /// Opens the output for writing (before any frame is drawn, so that an unwritable
     /// place is said at once).
-    pub fn open(&self, width: u32, height: u32, fps: f64) -> Result<FrameWriter, String> {
+    /// `frames` is how many frames the animation will have (an animated PNG declares it
+    /// first; one stopped early is mended when it is finished).
+    pub fn open(
+        &self,
+        width: u32,
+        height: u32,
+        fps: f64,
+        frames: u32,
+    ) -> Result<FrameWriter, String> {
         let delay_ms = (1000.0 / fps).round().clamp(1.0, 65_535.0) as u16;
         match self {
             Output::Gif(path) => {
@@ -231,14 +239,18 @@ impl Output {
                 })
             }
             Output::Apng(path) => {
-                // Checked now; written at the end, when the number of frames is known.
-                create(path)?;
+                let failed =
+                    |e: png::EncodingError| format!("cannot write {}: {e}", path.display());
+                let mut encoder = png::Encoder::new(create(path)?, width, height);
+                encoder.set_color(png::ColorType::Rgba);
+                encoder.set_depth(png::BitDepth::Eight);
+                encoder.set_animated(frames.max(1), 0).map_err(failed)?;
+                encoder.set_frame_delay(delay_ms, 1000).map_err(failed)?;
                 Ok(FrameWriter::Apng {
+                    writer: encoder.write_header().map_err(failed)?,
                     path: path.clone(),
-                    width,
-                    height,
-                    delay_ms,
-                    frames: Vec::new(),
+                    declared: frames.max(1),
+                    count: 0,
                 })
             }
             Output::Folder(path) => {
@@ -272,11 +284,11 @@ pub enum FrameWriter {
         count: u32,
     },
     Apng {
+        writer: png::Writer<BufWriter<File>>,
         path: PathBuf,
-        width: u32,
-        height: u32,
-        delay_ms: u16,
-        frames: Vec<Vec<u8>>,
+        /// The frames the file says it has.
+        declared: u32,
+        count: u32,
     },
     Folder {
         path: PathBuf,
@@ -306,7 +318,17 @@ impl FrameWriter {
                     .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 *count += 1;
             }
-            FrameWriter::Apng { frames, .. } => frames.push(rgba),
+            FrameWriter::Apng {
+                writer,
+                path,
+                count,
+                ..
+            } => {
+                writer
+                    .write_image_data(&rgba)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                *count += 1;
+            }
             FrameWriter::Folder {
                 path,
                 width,
@@ -342,19 +364,24 @@ impl FrameWriter {
                 Ok(format!("{} ({count} frames, animated GIF)", path.display()))
             }
             FrameWriter::Apng {
+                writer,
                 path,
-                width,
-                height,
-                delay_ms,
-                frames,
+                declared,
+                count,
             } => {
-                write_apng(&path, width, height, delay_ms, &frames)
-                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-                Ok(format!(
-                    "{} ({} frames, animated PNG)",
-                    path.display(),
-                    frames.len()
-                ))
+                let failed = |e: String| format!("cannot write {}: {e}", path.display());
+                if count == declared {
+                    writer.finish().map_err(|e| failed(e.to_string()))?;
+                } else {
+                    // Stopped early: close the file, then say how many frames it has.
+                    drop(writer);
+                    if count == 0 {
+                        std::fs::remove_file(&path).ok();
+                        return Ok(format!("{} (no frame drawn, not written)", path.display()));
+                    }
+                    set_frame_count(&path, count).map_err(|e| failed(e.to_string()))?;
+                }
+                Ok(format!("{} ({count} frames, animated PNG)", path.display()))
             }
             FrameWriter::Folder { path, count, .. } => Ok(format!(
                 "{} ({count} frames, frame-0001.png …)",
@@ -364,28 +391,38 @@ impl FrameWriter {
     }
 }
 
-fn write_apng(
-    path: &Path,
-    width: u32,
-    height: u32,
-    delay_ms: u16,
-    frames: &[Vec<u8>],
-) -> Result<(), png::EncodingError> {
-    if frames.is_empty() {
-        std::fs::remove_file(path).ok();
-        return Ok(());
+/// Rewrites the frame count in an animated PNG's `acTL` chunk (and its checksum): for a file
+/// whose writing stopped before the frames it declared.
+fn set_frame_count(path: &Path, frames: u32) -> std::io::Result<()> {
+    use std::io::{Read, Seek, SeekFrom, Write};
+    let mut file = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)?;
+    // The chunks after the 8-byte signature: length, type, data, CRC.
+    let mut at = 8u64;
+    loop {
+        let mut head = [0u8; 8];
+        file.seek(SeekFrom::Start(at))?;
+        file.read_exact(&mut head)?;
+        let length = u64::from(u32::from_be_bytes([head[0], head[1], head[2], head[3]]));
+        if &head[4..] == b"acTL" {
+            let mut data = [0u8; 8];
+            file.read_exact(&mut data)?;
+            data[..4].copy_from_slice(&frames.to_be_bytes());
+            let mut crc = crc32fast::Hasher::new();
+            crc.update(b"acTL");
+            crc.update(&data);
+            file.seek(SeekFrom::Start(at + 8))?;
+            file.write_all(&data)?;
+            file.write_all(&crc.finalize().to_be_bytes())?;
+            return Ok(());
+        }
+        if &head[4..] == b"IDAT" || &head[4..] == b"IEND" {
+            return Err(std::io::Error::other("no acTL chunk before the image data"));
+        }
+        at += 12 + length;
     }
-    let mut encoder =
-        png::Encoder::new(create(path).map_err(std::io::Error::other)?, width, height);
-    encoder.set_color(png::ColorType::Rgba);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_animated(frames.len() as u32, 0)?;
-    encoder.set_frame_delay(delay_ms, 1000)?;
-    let mut writer = encoder.write_header()?;
-    for frame in frames {
-        writer.write_image_data(frame)?;
-    }
-    writer.finish()
 }
 
 /// Where frames are drawn.

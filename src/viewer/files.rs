@@ -193,7 +193,7 @@ fn write_animation(
     let formula = CompiledFormula::compile(&scene.formula)
         .map_err(|e| e.render("formula", &scene.formula))?;
     let output = Output::from_path(std::path::Path::new(path))?;
-    let mut writer = output.open(width, height, animation.fps)?;
+    let mut writer = output.open(width, height, animation.fps, animation.frames)?;
     let gpu = Gpu::new().map_err(|e| e.to_string())?;
     let done = draw(
         scene,
