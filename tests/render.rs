@@ -27,6 +27,44 @@ fn every_example_scene_generates_valid_wgsl() {
     codegen::generate(&CompiledFormula::compile(all).unwrap()).unwrap();
 }
 
+/// Browsers' WGSL compilers reject a constant expression whose value is infinite or NaN
+/// ("value inf cannot be represented as 'f32'", Chromium); naga accepts it. So no shader
+/// fourfold generates (or exports for users' own WebGPU code) spells one: its infinity and
+/// NaN come from the settings buffer at run time. (A proxy for compiling in a browser: no
+/// float bit pattern of an infinity or NaN, and no float literal beyond f32's range.)
+#[test]
+fn generated_shaders_spell_no_infinite_or_nan_constant() {
+    let all = "exp(x)^9 + 1e30 x - 3.4e38 + y/0 + sqrt(-1) + ln(0)";
+    let mut formulas: Vec<String> = example_scenes()
+        .into_iter()
+        .map(|(_, s)| s.formula)
+        .collect();
+    formulas.push(all.to_string());
+    for formula in formulas {
+        let f = CompiledFormula::compile(&formula).unwrap();
+        let source = codegen::generate(&f).unwrap().source.to_lowercase();
+        // +inf, -inf and the NaNs have all exponent bits set: 0x7f8…, 0xff8… and above.
+        for pattern in ["bitcast<f32>(0x7f", "bitcast<f32>(0xff"] {
+            assert!(
+                !source.contains(pattern),
+                "{formula}: a constant {pattern}… in the shader"
+            );
+        }
+        for literal in
+            source.split(|c: char| !(c.is_ascii_alphanumeric() || c == '.' || c == '-' || c == '+'))
+        {
+            if let Ok(v) = literal.trim_end_matches('f').parse::<f64>()
+                && literal.chars().next().is_some_and(|c| c.is_ascii_digit())
+            {
+                assert!(
+                    v.abs() <= f64::from(f32::MAX),
+                    "{formula}: the literal {literal} is beyond f32"
+                );
+            }
+        }
+    }
+}
+
 /// Mesa's lavapipe bakes the uniform-buffer values that steer a shader's loops into the
 /// shader, and rebuilt the ray caster at every pass (4-5 ms a pass, see src/render/gpu.rs):
 /// the frame's settings must stay in a storage buffer, with binding 0 as the header says.
