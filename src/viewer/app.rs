@@ -182,6 +182,11 @@ impl FourfoldApp {
             .and_then(|s| eframe::get_value(s, KEY_UI))
             .unwrap_or_default();
         let scene = scene.or(stored_scene).unwrap_or_else(default_scene);
+        // The preset list names the scene when it is one of the examples.
+        let preset = EXAMPLES.iter().map(|(name, _)| *name).find(|name| {
+            Scene::example(name)
+                .is_some_and(|e| e.formula == scene.formula && e.description == scene.description)
+        });
         let (gpu, renderer) = match &cc.wgpu_render_state {
             Some(rs) => {
                 let info = rs.adapter.get_info();
@@ -211,7 +216,7 @@ impl FourfoldApp {
             pacing: Pacing::default(),
             edit_latency_ms: None,
             latency_generation: 0,
-            preset: None,
+            preset,
             fit_pending: true,
             picture_size: [0, 0],
             history: History::default(),
