@@ -347,6 +347,7 @@ impl Progressive {
         }
         let started = Instant::now();
         let mut runs = 0;
+        let mut frame: Option<(usize, Camera, Uniforms)> = None;
         while self.stage < self.stages.len() {
             let stage = self.stages[self.stage];
             let index = Self::texture_index(stage.div);
@@ -382,27 +383,27 @@ impl Progressive {
             if spent >= budget_ms || (runs > 0 && budget_ms - spent < half_square) {
                 return true;
             }
-            let camera = Camera::new(&scene.domain, &scene.view, width, height);
             if self.stage_started.is_none() {
                 self.stage_started = Some(Instant::now());
             }
-            let mut render = scene.render;
-            render.rays = stage.rays;
-            let uniforms = Uniforms::new(
-                &camera,
-                &render,
-                &scene.domain,
-                hierarchy,
-                params,
-                FrameOptions {
+            // The stage's camera and settings are the same for all its squares: made once.
+            if frame.as_ref().is_none_or(|(s, ..)| *s != self.stage) {
+                let camera = Camera::new(&scene.domain, &scene.view, width, height);
+                let mut render = scene.render;
+                render.rays = stage.rays;
+                let options = FrameOptions {
                     frame: stage.frame,
                     brute_force_level: None,
-                },
-            );
+                };
+                let uniforms =
+                    Uniforms::new(&camera, &render, &scene.domain, hierarchy, params, options);
+                frame = Some((self.stage, camera, uniforms));
+            }
+            let (_, camera, uniforms) = frame.as_ref().expect("made above");
             // The leaves of each screen tile, for this stage's resolution and view (brute
             // force reads none). Binned once per texture and plan, off the UI thread.
             if !uniforms.brute_force()
-                && !self.lists_ready(gpu, caster, hierarchy, &camera, (index, self.plans))
+                && !self.lists_ready(gpu, caster, hierarchy, camera, (index, self.plans))
             {
                 return true;
             }
@@ -423,7 +424,7 @@ impl Progressive {
                 gpu,
                 &mut encoder,
                 &self.textures[index].view,
-                &uniforms,
+                uniforms,
                 Pass {
                     region: Some(region),
                     weight: stage.weight,
