@@ -662,6 +662,21 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
     }
 }
 
+/// The pixels of a size² picture's coverage that contradict a disk about its centre: not
+/// covered within `inner` pixels of the centre, or covered beyond `outer`.
+fn off_disk(covered: &[bool], size: u32, inner: f64, outer: f64) -> usize {
+    let mid = 0.5 * f64::from(size);
+    (0..size * size)
+        .filter(|&i| {
+            let (px, py) = (i % size, i / size);
+            let (dx, dy) = (f64::from(px) + 0.5 - mid, f64::from(py) + 0.5 - mid);
+            let r = dx.hypot(dy);
+            let c = covered[i as usize];
+            (r < inner && !c) || (r > outer && c)
+        })
+        .count()
+}
+
 /// The unit glome in [-1.5, 1.5]⁴, refined uniformly to level 5.
 fn unit_glome() -> Scene {
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
@@ -685,19 +700,7 @@ fn the_glome_covers_exactly_its_disk_at_any_angles() {
         // Independent: the projection of S³ onto any plane through its centre is the unit disk.
         let camera = Camera::new(&scene.domain, &scene.view, size, size);
         let radius_px = 1.0 / camera.pixel_size;
-        let mut wrong = 0;
-        for py in 0..size {
-            for px in 0..size {
-                let (dx, dy) = (f64::from(px) + 0.5 - 32.0, f64::from(py) + 0.5 - 32.0);
-                let r = (dx * dx + dy * dy).sqrt();
-                let inside = r < radius_px - 1.0;
-                let outside = r > radius_px + 1.0;
-                let c = covered[(py * size + px) as usize];
-                if (inside && !c) || (outside && c) {
-                    wrong += 1;
-                }
-            }
-        }
+        let wrong = off_disk(&covered, size, radius_px - 1.0, radius_px + 1.0);
         assert_eq!(wrong, 0, "{wrong} pixels off the disk at angles {angles:?}");
     }
 }
@@ -1076,17 +1079,7 @@ fn a_slab_of_the_glome_covers_the_disk_its_band_allows() {
         // Inside 0.9 the band's arcs of the circle are wider than the angle between two of
         // the 16 rays, so a ray meets them; between 0.9 and the edge they may be missed.
         let sure = 0.9 * unit;
-        let mut wrong = 0;
-        for py in 0..size {
-            for px in 0..size {
-                let (dx, dy) = (f64::from(px) + 0.5 - 32.0, f64::from(py) + 0.5 - 32.0);
-                let s = (dx * dx + dy * dy).sqrt();
-                let cov = covered[(py * size + px) as usize];
-                if (s < sure - 1.0 && !cov) || (s > edge + 1.0 && cov) {
-                    wrong += 1;
-                }
-            }
-        }
+        let wrong = off_disk(&covered, size, sure - 1.0, edge + 1.0);
         assert_eq!(wrong, 0, "{wrong} pixels off at angles {angles:?}");
         // Narrower than the projection, which covers the unit disk.
         let projected = {
@@ -1161,17 +1154,7 @@ fn the_glome_sliced_at_c_is_a_disk_of_radius_root_of_one_minus_c_squared() {
             let covered = coverage(&picture.rgba, scene.render.background.0);
             let camera = Camera::new(&scene.domain, &scene.view, size, size);
             let radius = (1.0f64 - c * c).sqrt() / camera.pixel_size;
-            let mut wrong = 0;
-            for py in 0..size {
-                for px in 0..size {
-                    let (dx, dy) = (f64::from(px) + 0.5 - 32.0, f64::from(py) + 0.5 - 32.0);
-                    let r = (dx * dx + dy * dy).sqrt();
-                    let cov = covered[(py * size + px) as usize];
-                    if (r < radius - 1.0 && !cov) || (r > radius + 1.0 && cov) {
-                        wrong += 1;
-                    }
-                }
-            }
+            let wrong = off_disk(&covered, size, radius - 1.0, radius + 1.0);
             assert_eq!(
                 wrong, 0,
                 "c = {c}, angles {angles:?}: {wrong} pixels off the disk"
