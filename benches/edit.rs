@@ -10,8 +10,10 @@
 
 use std::time::Instant;
 
+mod common;
+
 use fourfold::CompiledFormula;
-use fourfold::render::{FrameOptions, Gpu, Prepared, RayCaster, TileLists, codegen};
+use fourfold::render::{FrameOptions, Prepared, RayCaster, TileLists, codegen};
 use fourfold::scene::Scene;
 use fourfold::syntax;
 
@@ -22,18 +24,9 @@ fn ms(t: Instant) -> f64 {
 }
 
 fn main() {
-    let gpu = match Gpu::new() {
-        Ok(g) => g,
-        Err(e) => {
-            eprintln!("{e}");
-            std::process::exit(1);
-        }
-    };
+    let gpu = common::gpu_or_exit();
     let (width, height) = (1280u32, 800u32);
-    let div: u32 = std::env::var("FOURFOLD_PREVIEW_DIV")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(8);
+    let div = common::env_u32("FOURFOLD_PREVIEW_DIV", 8);
     let (pw, ph) = (width.div_ceil(div), height.div_ceil(div));
     println!("adapter: {}", gpu.adapter);
     println!("window {width}x{height}, preview {pw}x{ph} (1/{div}) with 4 rays; best of {RUNS}\n");

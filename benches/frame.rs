@@ -29,6 +29,9 @@
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+mod common;
+
+use common::env_u32;
 use fourfold::CompiledFormula;
 use fourfold::render::codegen;
 use fourfold::render::{Camera, FrameOptions, Gpu, Prepared, RayCaster, TileLists, Uniforms};
@@ -41,13 +44,6 @@ fn env_list(name: &str, default: &str) -> Vec<u32> {
         .split(',')
         .filter_map(|s| s.trim().parse().ok())
         .collect()
-}
-
-fn env_u32(name: &str, default: u32) -> u32 {
-    std::env::var(name)
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(default)
 }
 
 struct Case {
@@ -307,13 +303,7 @@ fn agreement(a: &[u8], b: &[u8], background: [u8; 3]) -> (f64, f64) {
 }
 
 fn main() {
-    let gpu = match Gpu::new() {
-        Ok(g) => g,
-        Err(e) => {
-            eprintln!("{e}");
-            std::process::exit(1);
-        }
-    };
+    let gpu = common::gpu_or_exit();
     let size = env_u32("FOURFOLD_BENCH_SIZE", 512);
     let levels = env_list("FOURFOLD_BENCH_LEVELS", "5,6,7");
     let ray_counts = env_list("FOURFOLD_BENCH_RAYS", "8,16,32");

@@ -11,23 +11,16 @@
 //! seeds (other ray offsets) differ by at least 8 and 32 levels.
 //! Environment: FOURFOLD_BENCH_SIZE, FOURFOLD_BENCH_SCENES (comma-separated example names).
 
+mod common;
+
 use fourfold::CompiledFormula;
 use fourfold::render::{FrameOptions, Gpu, Prepared, RayCaster, TileLists, codegen};
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold::viewer::progressive::ACCUMULATED_PASSES;
 
 fn main() {
-    let gpu = match Gpu::new() {
-        Ok(g) => g,
-        Err(e) => {
-            eprintln!("{e}");
-            std::process::exit(1);
-        }
-    };
-    let size: u32 = std::env::var("FOURFOLD_BENCH_SIZE")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(512);
+    let gpu = common::gpu_or_exit();
+    let size = common::env_u32("FOURFOLD_BENCH_SIZE", 512);
     let names: Vec<String> = match std::env::var("FOURFOLD_BENCH_SCENES") {
         Ok(list) => list.split(',').map(|s| s.trim().to_string()).collect(),
         Err(_) => EXAMPLES.iter().map(|(n, _)| n.to_string()).collect(),

@@ -42,6 +42,16 @@ impl Notice {
     }
 }
 
+/// What a background job sent once it is done; `died` if its thread ended without a word.
+fn outcome(result: &Receiver<Result<String, String>>, died: &str) -> Option<Notice> {
+    use std::sync::mpsc::TryRecvError;
+    match result.try_recv() {
+        Ok(result) => Some(Notice::of(result)),
+        Err(TryRecvError::Empty) => None,
+        Err(TryRecvError::Disconnected) => Some(Notice::error(died)),
+    }
+}
+
 /// Writes `scene` as TOML to `path`.
 pub fn save_scene(scene: &Scene, path: &str) -> Notice {
     match std::fs::write(path, scene.to_toml()) {
@@ -103,16 +113,12 @@ impl PngExport {
         Self { result: rx }
     }
 
-    /// The export's outcome once it is done (a thread that died is an error too).
+    /// The export's outcome once it is done.
     pub fn poll(&self) -> Option<Notice> {
-        use std::sync::mpsc::TryRecvError;
-        match self.result.try_recv() {
-            Ok(result) => Some(Notice::of(result)),
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Notice::error(
-                "the export stopped before writing its picture",
-            )),
-        }
+        outcome(
+            &self.result,
+            "the export stopped before writing its picture",
+        )
     }
 }
 
@@ -168,14 +174,10 @@ impl AnimationExport {
 
     /// The export's outcome once it is done.
     pub fn poll(&self) -> Option<Notice> {
-        use std::sync::mpsc::TryRecvError;
-        match self.result.try_recv() {
-            Ok(result) => Some(Notice::of(result)),
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Notice::error(
-                "the animation export stopped before writing its file",
-            )),
-        }
+        outcome(
+            &self.result,
+            "the animation export stopped before writing its file",
+        )
     }
 }
 
