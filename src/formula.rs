@@ -47,39 +47,48 @@ pub const HESSIAN_PAIRS: [(u8, u8); 10] = [
 ];
 
 /// Stack for parsing and lowering: formulas up to the size limit can nest thousands deep.
+#[cfg(not(target_arch = "wasm32"))]
 const FRONT_END_STACK: usize = 256 * 1024 * 1024;
+
+/// Parses and lowers `source`. The syntax tree is recursive; its construction, lowering and
+/// drop run on a thread with a large stack (reserved, not committed) so no accepted input
+/// can overflow. A web page has no threads: there it runs in place, and accepts shorter
+/// formulas (`MAX_FORMULA_BYTES`).
+fn front_end(source: &str) -> Result<(ExprGraph, NodeId, expr::lower::ParamSpans), SourceError> {
+    let text = source.to_string();
+    let work = move || {
+        let ast = syntax::parse(&text)?;
+        let mut graph = ExprGraph::new();
+        let (root, spans) = expr::lower::lower(&ast, &mut graph)?;
+        Ok::<_, SourceError>((graph, root, spans))
+    };
+    #[cfg(target_arch = "wasm32")]
+    return work();
+    #[cfg(not(target_arch = "wasm32"))]
+    match std::thread::Builder::new()
+        .name("fourfold-parse".into())
+        .stack_size(FRONT_END_STACK)
+        .spawn(work)
+    {
+        Ok(handle) => handle.join().unwrap_or_else(|_| {
+            Err(SourceError::new(
+                "internal error while parsing",
+                0..source.len(),
+                "here",
+            ))
+        }),
+        Err(e) => Err(SourceError::new(
+            format!("could not start the parser thread: {e}"),
+            0..0,
+            "here",
+        )),
+    }
+}
 
 impl CompiledFormula {
     /// Parses, lowers and differentiates `source`. Errors carry a span into `source`.
     pub fn compile(source: &str) -> Result<Self, SourceError> {
-        let text = source.to_string();
-        // The syntax tree is recursive; its construction, lowering and drop run on a thread
-        // with a large stack (reserved, not committed) so no accepted input can overflow.
-        let front_end = std::thread::Builder::new()
-            .name("fourfold-parse".into())
-            .stack_size(FRONT_END_STACK)
-            .spawn(move || {
-                let ast = syntax::parse(&text)?;
-                let mut graph = ExprGraph::new();
-                let (root, spans) = expr::lower::lower(&ast, &mut graph)?;
-                Ok::<_, SourceError>((graph, root, spans))
-            });
-        let (mut graph, f, spans) = match front_end {
-            Ok(handle) => handle.join().unwrap_or_else(|_| {
-                Err(SourceError::new(
-                    "internal error while parsing",
-                    0..source.len(),
-                    "here",
-                ))
-            })?,
-            Err(e) => {
-                return Err(SourceError::new(
-                    format!("could not start the parser thread: {e}"),
-                    0..0,
-                    "here",
-                ));
-            }
-        };
+        let (mut graph, f, spans) = front_end(source)?;
         let gradient = [0u8, 1, 2, 3].map(|axis| expr::derivative(&mut graph, f, axis));
         let params = graph
             .params()

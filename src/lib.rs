@@ -17,5 +17,7 @@ pub mod tree;
 pub mod viewer;
 
 pub use formula::CompiledFormula;
+/// The command line (not in the web page, which has no terminal).
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
 pub mod scene;

@@ -704,3 +704,40 @@ fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
         }
     }
 }
+
+/// The web page builds in slices between frames; the tree and hierarchy must be the ones a
+/// build in one go makes, budget stop included.
+#[test]
+fn a_build_in_slices_is_the_build_in_one_go() {
+    use fourfold::render::Prepared;
+    use std::time::Duration;
+    for (name, scene) in example_scenes() {
+        let f = CompiledFormula::compile(&scene.formula).unwrap();
+        let budget_stop = BuildSettings {
+            node_budget: 3000,
+            ..scene.tree.into()
+        };
+        for (settings, split) in [(scene.tree.into(), true), (budget_stop, false)] {
+            let whole =
+                Prepared::build(&f, &scene, settings, &AtomicBool::new(false), None).unwrap();
+            let mut steps = Prepared::steps(&f, &scene, settings).unwrap();
+            let mut slices = 0;
+            let sliced = loop {
+                slices += 1;
+                if let Some(p) = steps.step(&f, Duration::ZERO).unwrap() {
+                    break p;
+                }
+            };
+            assert_eq!(sliced.tree.levels, whole.tree.levels, "{name}");
+            let (mut a, mut b) = (sliced.tree.stats.clone(), whole.tree.stats.clone());
+            (a.build_ms, b.build_ms) = (0.0, 0.0);
+            assert_eq!(a, b, "{name}");
+            assert_eq!(sliced.hierarchy.nodes, whole.hierarchy.nodes, "{name}");
+            // (At the scene's own settings some level is cut into slices.)
+            assert!(
+                !split || slices > whole.tree.stats.nodes_per_level.len(),
+                "{name}: {slices} slices"
+            );
+        }
+    }
+}

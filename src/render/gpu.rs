@@ -273,7 +273,7 @@ impl RayCaster {
             section: 0,
         };
         let pipeline = build_pipeline(device, &module, &pipeline_layout, target, variant);
-        if let Some(error) = pollster::block_on(scope.pop()) {
+        if let Some(error) = scope_error(scope) {
             return Err(GpuError::Pipeline(error.to_string()));
         }
         let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT] =
@@ -940,4 +940,21 @@ fn bind_group(
         layout,
         entries: &entries,
     })
+}
+
+/// The validation error a scope caught. Natively the scope is waited for; a web page cannot
+/// wait, so there the error goes to the browser's console (as its WebGPU does with errors
+/// no scope catches) and none is returned.
+pub fn scope_error(scope: wgpu::ErrorScopeGuard) -> Option<wgpu::Error> {
+    #[cfg(not(target_arch = "wasm32"))]
+    return pollster::block_on(scope.pop());
+    #[cfg(target_arch = "wasm32")]
+    {
+        wasm_bindgen_futures::spawn_local(async move {
+            if let Some(error) = scope.pop().await {
+                web_sys::console::error_1(&format!("fourfold: {error}").into());
+            }
+        });
+        None
+    }
 }

@@ -17,6 +17,6 @@ pub use camera::{Camera, Rotation4};
 pub use codegen::{CodegenError, Shader};
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
 pub use pipeline::MAX_PICTURE_SIDE;
-pub use prepare::Prepared;
+pub use prepare::{PrepareSteps, Prepared};
 pub use tiles::TileLists;
 pub use uniforms::{FrameOptions, Uniforms};

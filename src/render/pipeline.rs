@@ -1,7 +1,7 @@
 //! The whole pipeline for one picture: formula → tree → hierarchy → shader → frame, with the
 //! time of each stage. The CLI's `render` and the benchmarks call this.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use crate::formula::CompiledFormula;
 use crate::scene::Scene;

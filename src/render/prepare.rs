@@ -3,11 +3,12 @@
 //! hierarchy the ray caster marches; then, per view, the camera and the frame's settings.
 
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+
+use web_time::{Duration, Instant};
 
 use crate::formula::CompiledFormula;
 use crate::scene::Scene;
-use crate::tree::{BuildError, BuildSettings, Hierarchy, Progress, Tree16};
+use crate::tree::{BuildError, BuildSettings, Hierarchy, Progress, Tree16, TreeSteps};
 
 use super::camera::Camera;
 use super::uniforms::{FrameOptions, Uniforms};
@@ -64,6 +65,17 @@ impl Prepared {
         })
     }
 
+    /// The same preparation in steps of about `budget` each (see [`PrepareSteps`]).
+    pub fn steps(
+        formula: &CompiledFormula,
+        scene: &Scene,
+        settings: BuildSettings,
+    ) -> Result<PrepareSteps, BuildError> {
+        let params = scene.param_values(&formula.param_names());
+        let tree = TreeSteps::new(formula, &params, &scene.domain.to_box(), settings)?;
+        Ok(PrepareSteps { params, tree })
+    }
+
     /// The camera of the scene's view at `width`×`height`, and the settings of a frame
     /// drawn through it.
     pub fn frame(
@@ -83,5 +95,53 @@ impl Prepared {
             options,
         );
         (camera, uniforms)
+    }
+}
+
+/// A preparation that runs a little at a time, between the frames of a window that has no
+/// other thread to give it (the web page): the tree is refined in slices of a level, then the
+/// hierarchy is made in one go (a few milliseconds at the viewer's levels).
+pub struct PrepareSteps {
+    params: Vec<f64>,
+    tree: TreeSteps,
+}
+
+/// Boxes refined between two looks at the clock: a few milliseconds of work on one core.
+const BOXES_PER_SLICE: usize = 64;
+
+impl PrepareSteps {
+    /// Works for about `budget`; the prepared scene once it is complete. `formula` must be
+    /// the one the steps were made for.
+    pub fn step(
+        &mut self,
+        formula: &CompiledFormula,
+        budget: Duration,
+    ) -> Result<Option<Prepared>, BuildError> {
+        let started = Instant::now();
+        let never = AtomicBool::new(false);
+        loop {
+            if let Some(tree) = self
+                .tree
+                .step(formula, &self.params, &never, BOXES_PER_SLICE)?
+            {
+                let t = Instant::now();
+                let hierarchy = Hierarchy::for_formula(&tree, formula, &self.params);
+                let build_ms = tree.stats.build_ms + t.elapsed().as_secs_f64() * 1e3;
+                return Ok(Some(Prepared {
+                    params: std::mem::take(&mut self.params),
+                    tree,
+                    hierarchy,
+                    build_ms,
+                }));
+            }
+            if started.elapsed() >= budget {
+                return Ok(None);
+            }
+        }
+    }
+
+    /// Nodes made so far.
+    pub fn nodes(&self) -> u64 {
+        self.tree.nodes()
     }
 }

@@ -27,11 +27,12 @@ pub enum Problem {
     Other(String),
 }
 
-/// How a problem is told: by scene-file key or by command-line flag.
+/// How a problem is told: by scene-file key, by command-line flag or by share-link key.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Speaker {
     File,
     Flag,
+    Link,
 }
 
 impl Invalid {
@@ -57,11 +58,13 @@ impl Invalid {
         let name = |key: &str| match speaker {
             Speaker::File => key.rsplit('.').next().unwrap_or(key).to_string(),
             Speaker::Flag => flag_of(key),
+            Speaker::Link => super::link::link_key(key),
         };
         let key = name(&self.key);
         let sep = match speaker {
             Speaker::File => " = ",
             Speaker::Flag => " ",
+            Speaker::Link => "=",
         };
         match &self.problem {
             Problem::Range { value, allowed } => format!("{key}{sep}{value}: {allowed}"),
@@ -74,7 +77,7 @@ impl Invalid {
                 name(limit_key)
             ),
             Problem::Other(message) => match speaker {
-                Speaker::File => message.clone(),
+                Speaker::File | Speaker::Link => message.clone(),
                 Speaker::Flag => format!("{key}: {message}"),
             },
         }

@@ -12,7 +12,9 @@ use crate::syntax::SourceError;
 use crate::tree::BuildSettings;
 
 mod check;
+pub mod link;
 pub use check::{Invalid, Problem, Speaker, flag_of};
+pub use link::LinkProblem;
 
 /// The largest `max_level` accepted (the tree's limit).
 pub const MAX_TREE_LEVEL: u32 = crate::tree::MAX_LEVEL;

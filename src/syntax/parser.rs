@@ -14,7 +14,12 @@ use super::diagnostic::SourceError;
 
 /// The longest formula accepted, in bytes. Far beyond anything typed by hand; it bounds the
 /// work (and the recursion) of every later stage.
+#[cfg(not(target_arch = "wasm32"))]
 pub const MAX_FORMULA_BYTES: usize = 64 * 1024;
+/// The web page's is shorter: it parses on the browser's own stack (about 1 MB), where the
+/// desktop has a thread with a large one (see `CompiledFormula::compile`).
+#[cfg(target_arch = "wasm32")]
+pub const MAX_FORMULA_BYTES: usize = 4 * 1024;
 /// The deepest nesting of brackets accepted.
 pub const MAX_NESTING: usize = 256;
 /// pest stops after this many rule calls, so that no input can make the parser backtrack for

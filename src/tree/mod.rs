@@ -6,6 +6,6 @@ pub mod hierarchy;
 
 pub use crate::gpu_layout::{Curvature, LevelInfo, NodeBounds, SphereNode};
 pub use build::{
-    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Tree16, TreeBox, TreeStats,
+    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Tree16, TreeBox, TreeStats, TreeSteps,
 };
 pub use hierarchy::{CoverBox, Hierarchy};

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 use eframe::{egui, egui_wgpu};
 use egui::{Color32, RichText, TextFormat, text::LayoutJob};
@@ -15,7 +15,7 @@ use crate::render::camera::rotate_view;
 use crate::render::cpu::viridis;
 use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::uniforms::hidden_range;
-use crate::render::{Camera, Gpu, MAX_PICTURE_SIDE, RayCaster, Shader};
+use crate::render::{Camera, Gpu, RayCaster, Shader};
 use crate::scene::{
     AxisRange, Color, ColorBy, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling,
     Scene, Speaker,
@@ -23,7 +23,7 @@ use crate::scene::{
 use crate::syntax::SourceError;
 use crate::syntax::parser::{TokenKind, tokens};
 
-use super::files::{self, AnimationExport, Notice, PngExport};
+use super::files::{AnimationExport, Notice, PngExport};
 use super::gallery::Gallery;
 use super::history::{History, Snapshot};
 use super::pacing::Pacing;
@@ -165,6 +165,15 @@ pub struct FourfoldApp {
     /// The projection drawn beside a slice, and the ray caster it draws with.
     pub inset: Progressive,
     inset_caster: Option<InsetCaster>,
+    /// A scene file the browser is reading (the page's "Open…").
+    #[cfg(target_arch = "wasm32")]
+    upload: super::web::Upload,
+    /// Where the formula editor and the picture were at the last frame (the web page's
+    /// tests type into the one and read the other).
+    pub editor_rect: Option<egui::Rect>,
+    pub picture_rect: Option<egui::Rect>,
+    /// The picture was still being drawn (or a tree built) at the last frame.
+    pub drawing: bool,
     /// Where the controls panel was at the last frame (tests check that the formula's
     /// error stays inside it).
     pub controls_rect: Option<egui::Rect>,
@@ -223,8 +232,13 @@ impl FourfoldApp {
             gallery: Gallery::default(),
             gallery_open: false,
             controls_rect: None,
+            editor_rect: None,
+            picture_rect: None,
+            drawing: true,
             inset: Progressive::default(),
             inset_caster: None,
+            #[cfg(target_arch = "wasm32")]
+            upload: Default::default(),
         };
         if app.gpu.is_none() {
             app.message = Some(Notice::error(
@@ -238,6 +252,14 @@ impl FourfoldApp {
     /// The GPU the viewer draws with.
     pub fn gpu(&self) -> Option<&Gpu> {
         self.gpu.as_ref()
+    }
+
+    /// Opens `scene` in place of the one on screen; `frame` fits the picture to it once its
+    /// tree is ready (a share link keeps the view it carries).
+    pub fn open(&mut self, scene: Scene, frame: bool) {
+        self.session.load_scene(scene, self.gpu.as_ref());
+        self.preset = None;
+        self.fit_pending = frame;
     }
 
     /// Loads one of the embedded example scenes by name.
@@ -414,34 +436,6 @@ impl FourfoldApp {
         });
     }
 
-    fn export_png(&mut self) {
-        let [w, h] = self.ui.export_size;
-        let path = self.ui.png_path.clone();
-        self.message = Some(Notice::done(format!("rendering {w}x{h} to {path}…")));
-        self.export = Some(PngExport::start(self.session.scene.clone(), w, h, path));
-    }
-
-    fn open_scene(&mut self) {
-        let path = self.ui.scene_path.clone();
-        match files::open_scene(&path) {
-            Ok(scene) => {
-                self.session.load_scene(scene, self.gpu.as_ref());
-                self.preset = None;
-                self.fit_pending = true;
-                self.message = Some(Notice::done(format!("opened {path}")));
-            }
-            Err(notice) => self.message = Some(notice),
-        }
-    }
-
-    fn export_wgsl(&mut self) {
-        let path = &self.ui.wgsl_path;
-        self.message = Some(match &self.session.shader {
-            Some(shader) => files::export_wgsl(&shader.source, path),
-            None => Notice::error("no valid shader yet"),
-        });
-    }
-
     /// Zooms and pans so that the manifold fills the picture (the tree's boxes, at the
     /// current angles); false if there is nothing to frame yet.
     pub fn fit(&mut self) -> bool {
@@ -564,8 +558,10 @@ impl FourfoldApp {
     fn top_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("fourfold").strong());
-            if ui
-                .selectable_label(self.gallery_open, "Gallery")
+            // (The gallery draws on a thread of its own, which a web page does not have.)
+            if cfg!(not(target_arch = "wasm32"))
+                && ui
+                    .selectable_label(self.gallery_open, "Gallery")
                 .on_hover_text("every example scene, as pictures")
                 .clicked()
             {
@@ -599,37 +595,14 @@ impl FourfoldApp {
                         }
                     }
                 });
-            ui.separator();
-            ui.add(egui::TextEdit::singleline(&mut self.ui.scene_path).desired_width(140.0))
-                .on_hover_text("scene file path (TOML, as for the command line)");
-            if ui.button("Open").clicked() {
-                self.open_scene();
-            }
-            if ui.button("Save").clicked() {
-                self.message = Some(files::save_scene(&self.session.scene, &self.ui.scene_path));
-            }
-            ui.separator();
-            ui.add(egui::TextEdit::singleline(&mut self.ui.png_path).desired_width(120.0));
-            ui.add(
-                egui::DragValue::new(&mut self.ui.export_size[0])
-                    .range(1..=MAX_PICTURE_SIDE)
-                    .suffix(" w"),
-            );
-            ui.add(
-                egui::DragValue::new(&mut self.ui.export_size[1])
-                    .range(1..=MAX_PICTURE_SIDE)
-                    .suffix(" h"),
-            );
+            self.file_actions(ui);
             if ui
-                .add_enabled(self.export.is_none(), egui::Button::new("Export PNG"))
+                .button("Copy link")
+                .on_hover_text("a link that opens this scene in the web page (fourfold view LINK opens it here)")
                 .clicked()
             {
-                self.export_png();
-            }
-            ui.separator();
-            ui.add(egui::TextEdit::singleline(&mut self.ui.wgsl_path).desired_width(120.0));
-            if ui.button("Export WGSL").clicked() {
-                self.export_wgsl();
+                ui.ctx().copy_text(self.share_link());
+                self.message = Some(Notice::done("link copied"));
             }
             if ui.button("Copy formula").clicked() {
                 ui.ctx().copy_text(self.session.text.clone());
@@ -640,6 +613,16 @@ impl FourfoldApp {
         if !description.is_empty() {
             ui.label(RichText::new(description).italics());
         }
+    }
+
+    /// The share link of the scene on screen: the page's address in the browser, a
+    /// relative one on the desktop.
+    pub fn share_link(&self) -> String {
+        #[cfg(target_arch = "wasm32")]
+        let page = super::web::page_address();
+        #[cfg(not(target_arch = "wasm32"))]
+        let page = "index.html".to_string();
+        format!("{page}#{}", self.session.scene.to_link())
     }
 
     /// The formula editor and its error; returns nothing, edits the session.
@@ -665,6 +648,7 @@ impl FourfoldApp {
                 .layouter(&mut layouter),
         );
         let response = response.labelled_by(label.id);
+        self.editor_rect = Some(response.rect);
         if response.changed() && text != self.session.text {
             self.session.set_text(&text, self.gpu.as_ref());
         }
@@ -1002,6 +986,7 @@ impl FourfoldApp {
     /// and lets it make more; true while more frames are wanted.
     fn picture(&mut self, ui: &mut egui::Ui) -> bool {
         let rect = ui.available_rect_before_wrap();
+        self.picture_rect = Some(rect);
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
         if self.turn_and_zoom(ui, &response) {
             self.pacing.interacted();
@@ -1298,6 +1283,126 @@ impl FourfoldApp {
     }
 }
 
+/// The file actions of the desktop: paths typed in, files written beside the picture.
+#[cfg(not(target_arch = "wasm32"))]
+impl FourfoldApp {
+    /// Open, save and export, with paths typed in.
+    fn file_actions(&mut self, ui: &mut egui::Ui) {
+        ui.separator();
+        ui.add(egui::TextEdit::singleline(&mut self.ui.scene_path).desired_width(140.0))
+            .on_hover_text("scene file path (TOML, as for the command line)");
+        if ui.button("Open").clicked() {
+            self.open_scene();
+        }
+        if ui.button("Save").clicked() {
+            self.message = Some(super::files::save_scene(
+                &self.session.scene,
+                &self.ui.scene_path,
+            ));
+        }
+        ui.separator();
+        ui.add(egui::TextEdit::singleline(&mut self.ui.png_path).desired_width(120.0));
+        ui.add(
+            egui::DragValue::new(&mut self.ui.export_size[0])
+                .range(1..=crate::render::MAX_PICTURE_SIDE)
+                .suffix(" w"),
+        );
+        ui.add(
+            egui::DragValue::new(&mut self.ui.export_size[1])
+                .range(1..=crate::render::MAX_PICTURE_SIDE)
+                .suffix(" h"),
+        );
+        if ui
+            .add_enabled(self.export.is_none(), egui::Button::new("Export PNG"))
+            .clicked()
+        {
+            self.export_png();
+        }
+        ui.separator();
+        ui.add(egui::TextEdit::singleline(&mut self.ui.wgsl_path).desired_width(120.0));
+        if ui.button("Export WGSL").clicked() {
+            self.export_wgsl();
+        }
+        ui.separator();
+    }
+
+    fn export_png(&mut self) {
+        let [w, h] = self.ui.export_size;
+        let path = self.ui.png_path.clone();
+        self.message = Some(Notice::done(format!("rendering {w}x{h} to {path}…")));
+        self.export = Some(PngExport::start(self.session.scene.clone(), w, h, path));
+    }
+
+    fn open_scene(&mut self) {
+        let path = self.ui.scene_path.clone();
+        match super::files::open_scene(&path) {
+            Ok(scene) => {
+                self.open(scene, true);
+                self.message = Some(Notice::done(format!("opened {path}")));
+            }
+            Err(notice) => self.message = Some(notice),
+        }
+    }
+
+    fn export_wgsl(&mut self) {
+        let path = &self.ui.wgsl_path;
+        self.message = Some(match &self.session.shader {
+            Some(shader) => super::files::export_wgsl(&shader.source, path),
+            None => Notice::error("no valid shader yet"),
+        });
+    }
+}
+
+/// The file actions of the web page: uploads and downloads.
+#[cfg(target_arch = "wasm32")]
+impl FourfoldApp {
+    /// Open as an upload; save and export as downloads.
+    fn file_actions(&mut self, ui: &mut egui::Ui) {
+        use super::web;
+        ui.separator();
+        if ui
+            .button("Open…")
+            .on_hover_text("a scene file (.toml)")
+            .clicked()
+            && let Err(e) = self.upload.choose(".toml,text/plain", ui.ctx())
+        {
+            self.message = Some(Notice::error(e));
+        }
+        match self.upload.take() {
+            Some(Ok((name, text))) => match Scene::parse(&text, &name) {
+                Ok(scene) => {
+                    self.open(scene, true);
+                    self.message = Some(Notice::done(format!("opened {name}")));
+                }
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
+            },
+            Some(Err(e)) => self.message = Some(Notice::error(e)),
+            None => {}
+        }
+        if ui.button("Save scene").clicked() {
+            let toml = self.session.scene.to_toml();
+            self.message = Some(
+                match web::download("scene.toml", "application/toml", toml.as_bytes()) {
+                    Ok(()) => Notice::done("scene.toml downloaded"),
+                    Err(e) => Notice::error(e),
+                },
+            );
+        }
+        if ui.button("Export WGSL").clicked() {
+            self.message = Some(match &self.session.shader {
+                Some(shader) => {
+                    match web::download("fourfold.wgsl", "text/plain", shader.source.as_bytes()) {
+                        Ok(()) => Notice::done("fourfold.wgsl downloaded"),
+                        Err(e) => Notice::error(e),
+                    }
+                }
+                None => Notice::error("no valid shader yet"),
+            });
+        }
+        ui.separator();
+    }
+}
+
 impl eframe::App for FourfoldApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         if let Some(dt_ms) = self.pacing.begin_frame()
@@ -1340,9 +1445,13 @@ impl eframe::App for FourfoldApp {
                     egui::CollapsingHeader::new(RichText::new("Rendering").heading())
                         .id_salt("fourfold rendering")
                         .show(ui, |ui| self.render_controls(ui));
-                    egui::CollapsingHeader::new(RichText::new("Export animation").heading())
-                        .id_salt("fourfold animation")
-                        .show(ui, |ui| self.animation_controls(ui));
+                    // (Animations are drawn on a thread of their own, which a web page does not
+                    // have.)
+                    if cfg!(not(target_arch = "wasm32")) {
+                        egui::CollapsingHeader::new(RichText::new("Export animation").heading())
+                            .id_salt("fourfold animation")
+                            .show(ui, |ui| self.animation_controls(ui));
+                    }
                 });
             });
         self.controls_rect = Some(controls.response.rect);
@@ -1365,15 +1474,24 @@ impl eframe::App for FourfoldApp {
             self.gallery_open = false;
         }
         self.record_history(ui.ctx());
+        #[cfg(target_arch = "wasm32")]
+        super::web::sync_address(self);
         let busy = self.session.building()
             || self.export.is_some()
             || self.animation_export.is_some()
             || self.gallery.busy();
+        self.drawing = more || self.session.building();
         if more || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         } else {
             self.pacing.idle();
         }
+    }
+
+    /// (The web page reads the app's state for its scripts through this.)
+    #[cfg(target_arch = "wasm32")]
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
     }
 
     fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {

@@ -99,7 +99,7 @@ impl Blit {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        if pollster::block_on(scope.pop()).is_some() {
+        if crate::render::gpu::scope_error(scope).is_some() {
             return None;
         }
         Some(Self {

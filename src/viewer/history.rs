@@ -3,7 +3,7 @@
 //! settled (no further change for a moment, no drag in progress), so a slider's drag or a
 //! typed word is one step, not one per frame.
 
-use std::time::{Duration, Instant};
+use web_time::{Duration, Instant};
 
 use crate::scene::Scene;
 

@@ -16,12 +16,14 @@ pub mod session;
 pub use app::FourfoldApp;
 pub use session::Session;
 
-use eframe::egui;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
-use crate::scene::Scene;
-
-/// Opens the viewer window on `scene` (or the last scene, or the default one).
-pub fn run(scene: Option<Scene>) -> Result<(), String> {
+/// Opens the viewer window on `scene` (or the last scene, or the default one); `frame`
+/// fits the picture to it once its tree is ready (a share link keeps its own view).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn run(scene: Option<crate::scene::Scene>, frame: bool) -> Result<(), String> {
+    use eframe::egui;
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("fourfold")
@@ -35,7 +37,11 @@ pub fn run(scene: Option<Scene>) -> Result<(), String> {
     eframe::run_native(
         "fourfold",
         options,
-        Box::new(move |cc| Ok(Box::new(FourfoldApp::new(cc, scene)))),
+        Box::new(move |cc| {
+            let mut app = FourfoldApp::new(cc, scene);
+            app.fit_pending = frame;
+            Ok(Box::new(app))
+        }),
     )
     .map_err(|e| {
         format!(

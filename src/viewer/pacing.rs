@@ -1,7 +1,7 @@
 //! Frame pacing: how long the window's frames take, and how much of each the ray caster may
 //! use so that the window keeps 20 frames per second whatever the GPU.
 
-use std::time::{Duration, Instant};
+use web_time::{Duration, Instant};
 
 /// The UI frame time the viewer aims at: 20 frames per second with a margin. Ray casting gets
 /// what the rest of a frame (egui's widgets, the picture blit, presenting) leaves of it.

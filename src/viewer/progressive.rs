@@ -10,7 +10,7 @@
 
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError};
-use std::time::Instant;
+use web_time::Instant;
 
 use eframe::{egui, egui_wgpu};
 

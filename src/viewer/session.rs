@@ -8,13 +8,16 @@
 //! when a newer edit arrives) → swap. Until the swap the last good picture stays.
 
 use std::sync::Arc;
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
-use std::time::Instant;
+
+use web_time::{Duration, Instant};
 
 use crate::formula::CompiledFormula;
 use crate::render::codegen::{self, Shader};
-use crate::render::{Gpu, Prepared, RayCaster, Target, TileLists};
+use crate::render::{Gpu, PrepareSteps, Prepared, RayCaster, Target, TileLists};
 use crate::scene::Scene;
 use crate::syntax::SourceError;
 use crate::tree::{BuildError, Hierarchy, TreeStats};
@@ -68,16 +71,44 @@ struct JobResult {
     brute_force: bool,
 }
 
+/// What a build needs besides the tree, and makes of it.
+struct JobInputs {
+    generation: u64,
+    formula: Arc<CompiledFormula>,
+    shader: Arc<Shader>,
+    scene: Scene,
+    gpu: Option<Gpu>,
+    /// Make the ray caster too (the shader is new, or brute force changes).
+    make_pipeline: bool,
+    /// The brute-force setting the pipeline is warmed up for.
+    brute_force: bool,
+}
+
 /// A background build in flight.
 struct Job {
     generation: u64,
-    cancel: Arc<AtomicBool>,
-    progress: Arc<AtomicU64>,
-    receiver: Receiver<JobResult>,
+    work: Work,
     started: Instant,
     compile_ms: f64,
     codegen_ms: f64,
 }
+
+/// Where a build runs: on a thread beside the window's, or (in the web page, which has one
+/// thread) in slices of the window's own frames.
+enum Work {
+    #[cfg(not(target_arch = "wasm32"))]
+    Thread {
+        cancel: Arc<AtomicBool>,
+        progress: Arc<AtomicU64>,
+        receiver: Receiver<JobResult>,
+    },
+    #[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+    Slices(Box<(PrepareSteps, JobInputs)>),
+}
+
+/// How long a UI frame spends on a build run in slices: the window stays at ~60 frames per
+/// second while the tree grows.
+const SLICE_BUDGET: Duration = Duration::from_millis(10);
 
 /// The picture-making state of the viewer.
 pub struct Session {
@@ -146,9 +177,11 @@ impl Session {
 
     /// Nodes made so far by the build in flight.
     pub fn build_progress(&self) -> Option<u64> {
-        self.job
-            .as_ref()
-            .map(|j| j.progress.load(Ordering::Relaxed))
+        self.job.as_ref().map(|j| match &j.work {
+            #[cfg(not(target_arch = "wasm32"))]
+            Work::Thread { progress, .. } => progress.load(Ordering::Relaxed),
+            Work::Slices(slices) => slices.0.nodes(),
+        })
     }
 
     /// The parameter names of the current formula, in uniform order.
@@ -265,77 +298,43 @@ impl Session {
         compile_ms: f64,
         codegen_ms: f64,
     ) {
-        if let Some(old) = self.job.take() {
-            old.cancel.store(true, Ordering::Relaxed);
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(Job {
+            work: Work::Thread { cancel, .. },
+            ..
+        }) = self.job.take()
+        {
+            cancel.store(true, Ordering::Relaxed);
         }
         self.generation += 1;
         let generation = self.generation;
-        let cancel = Arc::new(AtomicBool::new(false));
-        let progress = Arc::new(AtomicU64::new(0));
-        let (sender, receiver) = channel();
-        let scene = self.scene.clone();
-        let gpu = gpu.cloned();
         // When the shader is new, the pipeline is made here too, off the UI thread.
         // (Also while a brute-force switch waits for its pipeline: this job replaces the one
         // that was making it.)
-        let make_pipeline =
-            new_shader || self.caster.is_none() || self.pending_brute_force.is_some();
-        let brute_force = self
-            .pending_brute_force
-            .unwrap_or(self.scene.render.brute_force);
-        {
-            let (cancel, progress) = (cancel.clone(), progress.clone());
-            let (formula, shader) = (formula.clone(), shader.clone());
-            let spawned = std::thread::Builder::new()
-                .name("fourfold build".into())
-                .spawn(move || {
-                    let report = |_level: u32, nodes: u64| progress.store(nodes, Ordering::Relaxed);
-                    let settings = scene.tree.into();
-                    let prepared =
-                        Prepared::build(&formula, &scene, settings, &cancel, Some(&report));
-                    let (tree, params, tree_ms) = match prepared {
-                        Ok(p) => (Ok((p.hierarchy, p.tree.stats)), p.params, p.build_ms),
-                        Err(BuildError::Cancelled) => return,
-                        Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
-                    };
-                    let t = Instant::now();
-                    let caster = match (&gpu, &tree) {
-                        (Some(gpu), Ok((hierarchy, _))) if make_pipeline => Some(
-                            RayCaster::with_target(gpu, &shader, hierarchy, VIEW_TARGET)
-                                .map_err(|e| e.to_string())
-                                .and_then(|mut caster| {
-                                    // One 1x1 draw here, so that a driver that compiles the
-                                    // shader at its first draw (llvmpipe) does it off the UI
-                                    // thread.
-                                    warm_up(gpu, &mut caster, hierarchy, brute_force)
-                                        .map(|()| caster)
-                                }),
-                        ),
-                        _ => None,
-                    };
-                    let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
-                    let _ = sender.send(JobResult {
-                        brute_force,
-                        generation,
-                        formula,
-                        shader,
-                        params,
-                        tree,
-                        caster,
-                        tree_ms,
-                        pipeline_ms,
-                    });
-                });
-            if let Err(e) = spawned {
-                self.error = Some(format!("could not start the tree build: {e}"));
+        let inputs = JobInputs {
+            generation,
+            formula,
+            shader,
+            scene: self.scene.clone(),
+            gpu: gpu.cloned(),
+            make_pipeline: new_shader
+                || self.caster.is_none()
+                || self.pending_brute_force.is_some(),
+            brute_force: self
+                .pending_brute_force
+                .unwrap_or(self.scene.render.brute_force),
+        };
+        let work = match start_work(inputs) {
+            Ok(work) => work,
+            Err(e) => {
+                self.error = Some(e);
+                self.job = None;
                 return;
             }
-        }
+        };
         self.job = Some(Job {
             generation,
-            cancel,
-            progress,
-            receiver,
+            work,
             started,
             compile_ms,
             codegen_ms,
@@ -345,16 +344,27 @@ impl Session {
 
     /// Takes a finished build, if any; returns true when the picture changed.
     pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
-        let Some(job) = &self.job else {
+        let Some(job) = &mut self.job else {
             return false;
         };
-        let result = match job.receiver.try_recv() {
-            Ok(r) => r,
-            Err(TryRecvError::Empty) => return false,
-            Err(TryRecvError::Disconnected) => {
-                // Cancelled (a newer job replaced it) or the thread died.
-                self.job = None;
-                return false;
+        let result = match &mut job.work {
+            #[cfg(not(target_arch = "wasm32"))]
+            Work::Thread { receiver, .. } => match receiver.try_recv() {
+                Ok(r) => r,
+                Err(TryRecvError::Empty) => return false,
+                Err(TryRecvError::Disconnected) => {
+                    // Cancelled (a newer job replaced it) or the thread died.
+                    self.job = None;
+                    return false;
+                }
+            },
+            Work::Slices(slices) => {
+                let (steps, inputs) = &mut **slices;
+                match steps.step(&inputs.formula, SLICE_BUDGET) {
+                    Ok(None) => return false,
+                    Ok(Some(prepared)) => inputs.finish(Ok(prepared)),
+                    Err(e) => inputs.finish(Err(e)),
+                }
             }
         };
         let job = self.job.take().expect("checked above");
@@ -414,6 +424,7 @@ impl Session {
         let mut changed = false;
         while self.job.is_some() {
             changed |= self.poll(gpu);
+            #[cfg(not(target_arch = "wasm32"))]
             std::thread::sleep(std::time::Duration::from_millis(2));
         }
         changed
@@ -443,6 +454,86 @@ impl Session {
         }
         line.push_str(&format!(", built in {:.0} ms", s.build_ms));
         line
+    }
+}
+
+/// Starts a build: on a thread of its own where there are threads, else in slices.
+#[cfg(not(target_arch = "wasm32"))]
+fn start_work(inputs: JobInputs) -> Result<Work, String> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let progress = Arc::new(AtomicU64::new(0));
+    let (sender, receiver) = channel();
+    let (thread_cancel, thread_progress) = (cancel.clone(), progress.clone());
+    std::thread::Builder::new()
+        .name("fourfold build".into())
+        .spawn(move || {
+            let report = |_level: u32, nodes: u64| thread_progress.store(nodes, Ordering::Relaxed);
+            let settings = inputs.scene.tree.into();
+            let prepared = Prepared::build(
+                &inputs.formula,
+                &inputs.scene,
+                settings,
+                &thread_cancel,
+                Some(&report),
+            );
+            if !matches!(prepared, Err(BuildError::Cancelled)) {
+                let _ = sender.send(inputs.finish(prepared));
+            }
+        })
+        .map_err(|e| format!("could not start the tree build: {e}"))?;
+    Ok(Work::Thread {
+        cancel,
+        progress,
+        receiver,
+    })
+}
+
+/// Starts a build: on a thread of its own where there are threads, else in slices.
+#[cfg(target_arch = "wasm32")]
+fn start_work(inputs: JobInputs) -> Result<Work, String> {
+    let settings = inputs.scene.tree.into();
+    let steps =
+        Prepared::steps(&inputs.formula, &inputs.scene, settings).map_err(|e| e.to_string())?;
+    Ok(Work::Slices(Box::new((steps, inputs))))
+}
+
+impl JobInputs {
+    /// The result of a build: the tree, and the ray caster where one is to be made.
+    fn finish(&self, prepared: Result<Prepared, BuildError>) -> JobResult {
+        let (tree, params, tree_ms) = match prepared {
+            Ok(p) => (Ok((p.hierarchy, p.tree.stats)), p.params, p.build_ms),
+            Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
+        };
+        let t = Instant::now();
+        let caster = match (&self.gpu, &tree) {
+            (Some(gpu), Ok((hierarchy, _))) if self.make_pipeline => Some(
+                RayCaster::with_target(gpu, &self.shader, hierarchy, VIEW_TARGET)
+                    .map_err(|e| e.to_string())
+                    .and_then(|mut caster| {
+                        // One 1x1 draw here, so that a driver that compiles the shader at its
+                        // first draw (llvmpipe) does it off the UI thread. (The browser compiles
+                        // at pipeline creation, and a page cannot wait for a read-back.)
+                        if cfg!(target_arch = "wasm32") {
+                            Ok(caster)
+                        } else {
+                            warm_up(gpu, &mut caster, hierarchy, self.brute_force).map(|()| caster)
+                        }
+                    }),
+            ),
+            _ => None,
+        };
+        let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
+        JobResult {
+            brute_force: self.brute_force,
+            generation: self.generation,
+            formula: self.formula.clone(),
+            shader: self.shader.clone(),
+            params,
+            tree,
+            caster,
+            tree_ms,
+            pipeline_ms,
+        }
     }
 }
 

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Builds the web page into web/dist/: index.html beside fourfold_web.js and its .wasm.
+# Serve it with any static server, e.g.  python3 -m http.server -d web/dist
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fail() { echo "web/build.sh: $*" >&2; exit 1; }
+
+command -v cargo >/dev/null || fail "cargo is missing: install Rust from https://rustup.rs"
+if ! rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknown; then
+  echo "adding the wasm32-unknown-unknown target…"
+  rustup target add wasm32-unknown-unknown || fail "could not add the wasm32 target (rustup target add wasm32-unknown-unknown)"
+fi
+
+# wasm-bindgen must be the version of the wasm-bindgen crate in Cargo.lock.
+version=$(grep -A1 '^name = "wasm-bindgen"$' Cargo.lock | sed -n 's/^version = "\(.*\)"/\1/p')
+[ -n "$version" ] || fail "no wasm-bindgen in Cargo.lock"
+if [ "$(wasm-bindgen --version 2>/dev/null | cut -d' ' -f2)" != "$version" ]; then
+  echo "installing wasm-bindgen-cli $version (a few minutes, once)…"
+  # (--locked first; a registry mirror may lack one of its locked dependencies.)
+  cargo install wasm-bindgen-cli --version "$version" --locked \
+    || cargo install wasm-bindgen-cli --version "$version" \
+    || fail "could not install wasm-bindgen-cli $version (cargo install wasm-bindgen-cli --version $version)"
+fi
+
+cargo build --release --target wasm32-unknown-unknown -p fourfold-web \
+  || fail "the wasm build failed (see above)"
+rm -rf web/dist
+mkdir -p web/dist
+wasm-bindgen --target web --no-typescript --out-dir web/dist \
+  target/wasm32-unknown-unknown/release/fourfold_web.wasm \
+  || fail "wasm-bindgen could not make the JavaScript glue"
+cp web/index.html web/dist/
+echo "built web/dist ($(du -h web/dist/fourfold_web_bg.wasm | cut -f1) of wasm); serve it with:"
+echo "  python3 -m http.server -d web/dist"

@@ -1,0 +1,244 @@
+// The web page's tests, in a real browser: Debian's Chromium, headless, WebGPU on SwiftShader.
+//
+//   node web/tests/browser.mjs [--measure]
+//
+// Serves web/dist (built by web/build.sh) on 127.0.0.1 and checks, from the page's pixels
+// and console: the default scene draws a shaded picture; a share link draws its own formula;
+// typing a formula changes the picture; a mistyped one keeps the last picture and shows the
+// error; no example scene logs an error. With --measure it also prints the wasm's size, load
+// → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
+
+import { chromium } from 'playwright-core';
+import { PNG } from 'pngjs';
+import fs from 'node:fs';
+import http from 'node:http';
+import path from 'node:path';
+import zlib from 'node:zlib';
+
+const here = path.dirname(new URL(import.meta.url).pathname);
+const dist = path.resolve(here, '..', 'dist');
+const measure = process.argv.includes('--measure');
+const TIMEOUT = 120_000;
+
+if (!fs.existsSync(path.join(dist, 'index.html'))) {
+  console.error(`no ${dist}/index.html: build the page first (bash web/build.sh)`);
+  process.exit(1);
+}
+
+// A static server for web/dist.
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm' };
+const server = http.createServer((req, res) => {
+  const name = path.normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname));
+  const file = path.join(dist, name === '/' ? 'index.html' : name);
+  if (!file.startsWith(dist) || !fs.existsSync(file)) {
+    res.writeHead(404).end();
+    return;
+  }
+  res.writeHead(200, { 'content-type': types[path.extname(file)] ?? 'application/octet-stream' });
+  fs.createReadStream(file).pipe(res);
+});
+await new Promise((done) => server.listen(0, '127.0.0.1', done));
+const page_url = `http://127.0.0.1:${server.address().port}/index.html`;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  args: [
+    '--headless=new', '--no-sandbox', '--enable-unsafe-webgpu', '--enable-features=Vulkan',
+    '--use-vulkan=swiftshader', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync',
+    '--no-first-run',
+  ],
+});
+
+let failures = 0;
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures += 1;
+};
+
+/** A new page at `hash`, with its console errors collected. */
+async function open(hash = '') {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
+  page.on('pageerror', (e) => errors.push(String(e)));
+  const started = Date.now();
+  await page.goto(page_url + hash);
+  await page.waitForFunction(() => window.fourfold || document.getElementById('message').className === 'error',
+    null, { timeout: TIMEOUT });
+  const failed = await page.evaluate(() => !window.fourfold && document.getElementById('message').textContent);
+  if (failed) throw new Error(`the page did not start: ${failed}`);
+  return { page, errors, started };
+}
+
+const status = (page) => page.evaluate(() => JSON.parse(window.fourfold.status()));
+
+/** Waits until the picture of generation > `after` is drawn and complete; its status. */
+async function settled(page, after = 0) {
+  await page.waitForFunction((after) => {
+    const s = JSON.parse(window.fourfold.status());
+    return s.panic || (s.generation > after && s.first_frame_of === s.generation && !s.drawing && !s.building);
+  }, after, { timeout: TIMEOUT, polling: 50 });
+  const s = await status(page);
+  if (s.panic) throw new Error(`the page panicked: ${s.panic}`);
+  return s;
+}
+
+/** The picture's pixels (RGBA) as the page shows them. */
+async function picture(page) {
+  const s = await status(page);
+  const [x0, y0, x1, y1] = s.picture;
+  const png = PNG.sync.read(await page.screenshot({
+    clip: { x: x0, y: y0, width: x1 - x0, height: y1 - y0 },
+  }));
+  return png;
+}
+
+/** Pixels that differ from the picture's corner (the background), and the grey levels among them. */
+function coverage(png) {
+  const { data } = png;
+  const bg = [data[0], data[1], data[2]];
+  let covered = 0;
+  const levels = new Set();
+  for (let i = 0; i < data.length; i += 4) {
+    if (Math.abs(data[i] - bg[0]) + Math.abs(data[i + 1] - bg[1]) + Math.abs(data[i + 2] - bg[2]) > 24) {
+      covered += 1;
+      levels.add((data[i] + data[i + 1] + data[i + 2]) >> 2);
+    }
+  }
+  return { share: covered / (data.length / 4), levels: levels.size };
+}
+
+/**
+ * The share of pixels whose colour differs by more than 32 levels between two pictures, over
+ * the middle part they share (the picture is centred in its panel, which a one-line
+ * description above it makes a little shorter).
+ */
+function changed(a, b) {
+  const [w, h] = [Math.min(a.width, b.width), Math.min(a.height, b.height)];
+  const at = (p, x, y) => 4 * ((y + ((p.height - h) >> 1)) * p.width + x + ((p.width - w) >> 1));
+  let n = 0;
+  for (let y = 0; y < h; y++) {
+    for (let x = 0; x < w; x++) {
+      const [i, j] = [at(a, x, y), at(b, x, y)];
+      const d = Math.abs(a.data[i] - b.data[j]) + Math.abs(a.data[i + 1] - b.data[j + 1])
+        + Math.abs(a.data[i + 2] - b.data[j + 2]);
+      if (d > 32) n += 1;
+    }
+  }
+  return n / (w * h);
+}
+
+/** Replaces the editor's text by `text`, entered at once (as a paste is). */
+async function type(page, text) {
+  const [x0, y0, x1, y1] = (await status(page)).editor;
+  await page.mouse.click((x0 + x1) / 2, (y0 + y1) / 2);
+  await page.keyboard.press('Control+A');
+  await page.keyboard.press('Backspace');
+  await page.keyboard.insertText(text);
+}
+
+try {
+  // The default scene.
+  const { page, errors, started } = await open();
+  const first = await settled(page);
+  const load_ms = Date.now() - started;
+  const home = await picture(page);
+  const seen = coverage(home);
+  check(seen.share > 0.02 && seen.levels > 20,
+    `the default scene draws a shaded picture (${(100 * seen.share).toFixed(1)}% covered, ${seen.levels} grey levels)`);
+
+  // Typing a formula changes the picture.
+  await type(page, 'x^2 + y^2 + z^2 + w^2 - 0.7');
+  const typed = await settled(page, first.generation);
+  const glome = await picture(page);
+  check(typed.formula === 'x^2 + y^2 + z^2 + w^2 - 0.7' && changed(home, glome) > 0.02,
+    `typing a formula changes the picture (${(100 * changed(home, glome)).toFixed(1)}% of pixels changed)`);
+  check(/formula=x%5E2/.test(await page.evaluate(() => location.hash)),
+    'the address bar holds the link of the scene on screen');
+
+  // A mistyped formula keeps the last picture and says what is wrong.
+  await type(page, 'x^2 + y^2 + (z');
+  await page.waitForFunction(() => JSON.parse(window.fourfold.status()).error, null, { timeout: TIMEOUT });
+  await page.waitForTimeout(500);
+  const kept = await picture(page);
+  const wrong = await status(page);
+  check(wrong.generation === typed.generation && changed(glome, kept) < 0.002,
+    `a mistyped formula keeps the last picture (${(100 * changed(glome, kept)).toFixed(2)}% changed)`);
+  check(/\^/.test(wrong.error) && wrong.formula === typed.formula,
+    `the error is shown with its caret: ${JSON.stringify(wrong.error.split('\n')[0])}`);
+
+  // The deepest formulas the page accepts parse on the browser's stack; a longer one is refused.
+  for (const [what, deep] of [['4 KiB of unary minus', '-'.repeat(4095) + 'x'],
+    ['a 4 KiB tower of powers', 'x^'.repeat(2047) + 'x'], ['a 4 KiB sum', 'x+'.repeat(2047) + 'x']]) {
+    await type(page, deep);
+    await page.waitForFunction((t) => JSON.parse(window.fourfold.status()).text === t, deep, { timeout: TIMEOUT });
+    const d = await status(page);
+    check(!d.panic && (d.error === null || !/internal/.test(d.error)), `${what} is taken without a crash`);
+  }
+  await type(page, 'x+'.repeat(2100) + 'x');
+  await page.waitForFunction(() => JSON.parse(window.fourfold.status()).error, null, { timeout: TIMEOUT });
+  check(/4096/.test((await status(page)).error), 'a formula over 4 KiB is refused with the limit named');
+  check(errors.length === 0, `no error in the console (${errors.join(' | ') || 'none'})`);
+  await page.close();
+
+  // A share link opens its own scene, a different picture.
+  const link = '#formula=' + encodeURIComponent('x^2 + y^2 - z^2 - w^2 - 0.1') + '&angles=0.3,0,0,0.5,0,0';
+  const shared = await open(link);
+  const s = await settled(shared.page);
+  const linked = await picture(shared.page);
+  check(s.formula === 'x^2 + y^2 - z^2 - w^2 - 0.1' && changed(home, linked) > 0.02,
+    `a share link draws its formula (${(100 * changed(home, linked)).toFixed(1)}% of pixels differ from the default)`);
+
+  // A link with a mistyped formula opens the editor on it, with the error.
+  const bad = await open('#formula=' + encodeURIComponent('sn(x) + y') + '&zoom=nine');
+  await bad.page.waitForFunction(() => JSON.parse(window.fourfold.status()).error, null, { timeout: TIMEOUT });
+  const b = await status(bad.page);
+  check(b.text === 'sn(x) + y' && /sin/.test(b.error) && /zoom/.test(b.notice ?? ''),
+    `a link with a mistyped formula and value opens with both errors: ${JSON.stringify(b.notice)}`);
+  await bad.page.close();
+
+  // Every example scene, opened by its link in one page: drawn, and nothing in the console.
+  const examples = JSON.parse(await shared.page.evaluate(() => window.fourfold.example_links()));
+  let generation = s.generation;
+  for (const [name, fragment] of examples) {
+    await shared.page.evaluate((f) => { location.hash = f; }, fragment);
+    const done = await settled(shared.page, generation);
+    generation = done.generation;
+    const c = coverage(await picture(shared.page));
+    check(c.share > 0.001 && !done.error, `example ${name} draws (${(100 * c.share).toFixed(1)}% covered)`);
+  }
+  check(shared.errors.length === 0, `no error in the console for any example (${shared.errors.join(' | ') || 'none'})`);
+
+  if (measure) {
+    const wasm = fs.readFileSync(path.join(dist, 'fourfold_web_bg.wasm'));
+    const mb = (n) => (n / 1e6).toFixed(2);
+    console.log(`\nwasm: ${mb(wasm.length)} MB raw, ${mb(zlib.gzipSync(wasm, { level: 9 }).length)} MB gzipped`);
+    console.log(`page load → first complete picture: ${load_ms} ms`);
+    console.log('keystroke → first new preview (the edit\'s own clock, text change → first frame):');
+    for (const [name, fragment] of examples.filter(([n]) => ['fig-3-9-left', 'glome', 'tiger'].includes(n))) {
+      await shared.page.evaluate((f) => { location.hash = f; }, fragment);
+      const before = await settled(shared.page, generation);
+      generation = before.generation;
+      const runs = [];
+      for (let i = 0; i < 3; i++) {
+        await type(shared.page, before.formula + ' + 0.0');
+        generation = (await settled(shared.page, generation)).generation;
+        // One keystroke: 0.0 becomes 0.0i, a new constant.
+        await shared.page.keyboard.press(String(i + 1));
+        const done = await settled(shared.page, generation);
+        runs.push(done.edit_latency_ms);
+        generation = done.generation;
+      }
+      console.log(`  ${name}: ${runs.map((r) => r.toFixed(0)).join(', ')} ms (best ${Math.min(...runs).toFixed(0)})`);
+    }
+  }
+  await shared.page.close();
+} catch (e) {
+  check(false, e.stack ?? String(e));
+} finally {
+  await browser.close();
+  server.close();
+}
+console.log(failures ? `\n${failures} browser check(s) failed` : '\nall browser checks passed');
+process.exit(failures ? 1 : 0);
