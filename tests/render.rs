@@ -1249,3 +1249,33 @@ fn the_slice_s_place_is_marked_in_the_projection_as_on_the_cpu() {
         );
     }
 }
+
+#[test]
+fn a_frame_read_back_without_waiting_is_the_frame_read_back_at_once() {
+    // The web page's PNG export cannot wait for the GPU: it starts the read-back and polls.
+    use fourfold::render::{RayCaster, TileLists};
+    let gpu = gpu();
+    for (name, scene) in example_scenes_named(&["glome", "tiger"]) {
+        let scene = small(&scene);
+        let (params, shader, h) = caster_inputs(&scene);
+        let camera = Camera::new(&scene.domain, &scene.view, 96, 64);
+        let mut caster = RayCaster::new(&gpu, &shader, &h).unwrap();
+        let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
+        caster.set_tiles(&gpu, Some(&lists));
+        let uniforms = frame_uniforms(&scene, &camera, &h, &params, None);
+        let at_once = caster.render_rgba(&gpu, &uniforms).unwrap();
+        let pending = caster.start_rgba(&gpu, &uniforms).unwrap();
+        assert_eq!(pending.size(), [96, 64]);
+        let polled = loop {
+            if let Some(rgba) = pending.poll(&gpu) {
+                break rgba.unwrap();
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        };
+        assert_eq!(differing(&polled, &at_once), 0, "{name}");
+        assert!(
+            polled.chunks(4).any(|p| p[..3] != at_once[..3]),
+            "{name}: a blank picture"
+        );
+    }
+}

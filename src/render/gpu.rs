@@ -5,6 +5,8 @@
 //! rendering returns an RGBA image; the viewer draws with the same pipeline into its own
 //! target.
 
+use std::sync::{Arc, Mutex};
+
 use bytemuck::Zeroable;
 use wgpu::util::DeviceExt;
 
@@ -552,6 +554,38 @@ impl RayCaster {
         gpu: &Gpu,
         uniforms: &Uniforms,
     ) -> Result<(Vec<u8>, Option<f64>), GpuError> {
+        let timer = gpu.has_timestamps().then(|| Timer::new(gpu));
+        let frame = self.submit_rgba(gpu, uniforms, timer.as_ref())?;
+        let pixels = read_back(gpu, &frame.readback, |data| frame.rows(data))?;
+        let gpu_ms = match &timer {
+            Some(timer) => timer.read(gpu)?,
+            None => None,
+        };
+        Ok((pixels, gpu_ms))
+    }
+
+    /// Renders one frame offscreen and starts reading it back without waiting (a web page
+    /// cannot wait for the GPU): poll the result until it is there.
+    pub fn start_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<PendingRgba, GpuError> {
+        let frame = self.submit_rgba(gpu, uniforms, None)?;
+        let state = Arc::new(Mutex::new(None));
+        let mapped = state.clone();
+        frame
+            .readback
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                *mapped.lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+            });
+        Ok(PendingRgba { frame, state })
+    }
+
+    /// Records and submits one frame and its copy into a mappable buffer.
+    fn submit_rgba(
+        &self,
+        gpu: &Gpu,
+        uniforms: &Uniforms,
+        timer: Option<&Timer>,
+    ) -> Result<FrameCopy, GpuError> {
         let (width, height) = (uniforms.size.width, uniforms.size.height);
         check_image_size(width, height, &gpu.device.limits())?;
         let texture = self.target_texture(
@@ -561,9 +595,8 @@ impl RayCaster {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let row = width * 4;
-        let padded_row =
-            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold readback"),
             size: u64::from(padded_row) * u64::from(height),
@@ -573,16 +606,15 @@ impl RayCaster {
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        let timer = gpu.has_timestamps().then(|| Timer::new(gpu));
         self.record_pass(
             gpu,
             &mut encoder,
             &view,
             uniforms,
             Pass::default(),
-            timer.as_ref().map(|t| &t.queries),
+            timer.map(|t| &t.queries),
         );
-        if let Some(timer) = &timer {
+        if let Some(timer) = timer {
             timer.resolve(&mut encoder);
         }
         encoder.copy_texture_to_buffer(
@@ -607,19 +639,72 @@ impl RayCaster {
             },
         );
         gpu.queue.submit([encoder.finish()]);
-        let pixels = read_back(gpu, &readback, |data| {
-            let mut pixels = Vec::with_capacity((row * height) as usize);
-            for y in 0..height as usize {
-                let start = y * padded_row as usize;
-                pixels.extend_from_slice(&data[start..start + row as usize]);
-            }
-            pixels
-        })?;
-        let gpu_ms = match &timer {
-            Some(timer) => timer.read(gpu)?,
-            None => None,
-        };
-        Ok((pixels, gpu_ms))
+        Ok(FrameCopy {
+            readback,
+            width,
+            height,
+            padded_row,
+        })
+    }
+}
+
+/// A frame copied into a mappable buffer, its rows padded to the copy alignment.
+struct FrameCopy {
+    readback: wgpu::Buffer,
+    width: u32,
+    height: u32,
+    padded_row: u32,
+}
+
+impl FrameCopy {
+    /// The rows without their padding, 4 bytes a pixel.
+    fn rows(&self, data: &[u8]) -> Vec<u8> {
+        let row = (self.width * 4) as usize;
+        let mut pixels = Vec::with_capacity(row * self.height as usize);
+        for y in 0..self.height as usize {
+            let start = y * self.padded_row as usize;
+            pixels.extend_from_slice(&data[start..start + row]);
+        }
+        pixels
+    }
+}
+
+/// A frame on its way back from the GPU (see [`RayCaster::start_rgba`]).
+pub struct PendingRgba {
+    frame: FrameCopy,
+    state: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
+}
+
+impl PendingRgba {
+    /// The frame's width and height.
+    pub fn size(&self) -> [u32; 2] {
+        [self.frame.width, self.frame.height]
+    }
+
+    /// The pixels (tightly packed RGBA8 rows) once the GPU has written them, else None.
+    pub fn poll(&self, gpu: &Gpu) -> Option<Result<Vec<u8>, GpuError>> {
+        // (Natively this lets wgpu call the map callback; in a browser the page's event loop
+        // does.)
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let mapped = self
+            .state
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()?;
+        Some(
+            mapped
+                .map_err(|e| GpuError::Readback(e.to_string()))
+                .and_then(|()| {
+                    let slice = self.frame.readback.slice(..);
+                    let data = slice
+                        .get_mapped_range()
+                        .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
+                    let pixels = self.frame.rows(&data);
+                    drop(data);
+                    self.frame.readback.unmap();
+                    Ok(pixels)
+                }),
+        )
     }
 }
 

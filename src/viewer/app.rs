@@ -165,9 +165,12 @@ pub struct FourfoldApp {
     /// The projection drawn beside a slice, and the ray caster it draws with.
     pub inset: Progressive,
     inset_caster: Option<InsetCaster>,
-    /// A scene file the browser is reading (the page's "Open…").
+    /// A scene file the browser is reading (the page's "Open…"), and a PNG on its way back
+    /// from the GPU.
     #[cfg(target_arch = "wasm32")]
     upload: super::web::Upload,
+    #[cfg(target_arch = "wasm32")]
+    png_download: Option<super::web::PngDownload>,
     /// Where the formula editor and the picture were at the last frame (the web page's
     /// tests type into the one and read the other).
     pub editor_rect: Option<egui::Rect>,
@@ -239,6 +242,8 @@ impl FourfoldApp {
             inset_caster: None,
             #[cfg(target_arch = "wasm32")]
             upload: Default::default(),
+            #[cfg(target_arch = "wasm32")]
+            png_download: None,
         };
         if app.gpu.is_none() {
             app.message = Some(Notice::error(
@@ -1387,6 +1392,38 @@ impl FourfoldApp {
                     Err(e) => Notice::error(e),
                 },
             );
+        }
+        ui.add(
+            egui::DragValue::new(&mut self.ui.export_size[0])
+                .range(1..=crate::render::MAX_PICTURE_SIDE)
+                .suffix(" w"),
+        );
+        ui.add(
+            egui::DragValue::new(&mut self.ui.export_size[1])
+                .range(1..=crate::render::MAX_PICTURE_SIDE)
+                .suffix(" h"),
+        );
+        if ui
+            .add_enabled(self.png_download.is_none(), egui::Button::new("Export PNG"))
+            .clicked()
+            && let Some(gpu) = &self.gpu
+        {
+            match web::PngDownload::start(gpu, &self.session, self.ui.export_size) {
+                Ok(download) => {
+                    self.png_download = Some(download);
+                    self.message = Some(Notice::done("drawing the PNG…"));
+                }
+                Err(e) => self.message = Some(Notice::error(e)),
+            }
+        }
+        if let (Some(download), Some(gpu)) = (&self.png_download, &self.gpu) {
+            match download.poll(gpu) {
+                Some(notice) => {
+                    self.message = Some(notice);
+                    self.png_download = None;
+                }
+                None => ui.ctx().request_repaint(),
+            }
         }
         if ui.button("Export WGSL").clicked() {
             self.message = Some(match &self.session.shader {

@@ -155,10 +155,13 @@ pub fn download(name: &str, mime: &str, bytes: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// A file the browser has read: its name and text, or why it could not.
+pub type ReadFile = Result<(String, String), String>;
+
 /// A file the user is choosing or the browser is reading: its name and text once read.
 #[derive(Default, Clone)]
 pub struct Upload {
-    slot: Rc<RefCell<Option<Result<(String, String), String>>>>,
+    slot: Rc<RefCell<Option<ReadFile>>>,
 }
 
 impl Upload {
@@ -200,15 +203,15 @@ impl Upload {
     }
 
     /// The file read since the last call, if any.
-    pub fn take(&self) -> Option<Result<(String, String), String>> {
+    pub fn take(&self) -> Option<ReadFile> {
         self.slot.borrow_mut().take()
     }
 }
 
 /// The page's state for scripts and tests, as JSON: the picture's generation and when its
-/// first frame was drawn, the last edit's latency, the editor's text, the formula on screen,
+/// first frame was drawn, the last edit's latency and its stages, the editor's text, the formula on screen,
 /// the error shown, whether a build runs or the picture is still being drawn, where the
-/// editor and the picture are (CSS pixels), and a panic if one happened.
+/// editor, the controls' panel and the picture are (CSS pixels), and a panic if one happened.
 pub fn status() -> String {
     RUNNER.with(|runner| {
         let runner = runner.borrow();
@@ -225,6 +228,13 @@ pub fn status() -> String {
             "generation": app.session.picture_generation,
             "first_frame_of": app.progressive.first_frame_of,
             "edit_latency_ms": app.edit_latency_ms,
+            "edit_stages_ms": {
+                "compile": app.session.times.compile_ms,
+                "codegen": app.session.times.codegen_ms,
+                "tree": app.session.times.tree_ms,
+                "pipeline": app.session.times.pipeline_ms,
+                "ready": app.session.times.ready_ms,
+            },
             "text": app.session.text,
             "formula": app.session.scene.formula,
             "error": app.session.error,
@@ -232,6 +242,7 @@ pub fn status() -> String {
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
             "editor": app.editor_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),
+            "controls": app.controls_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),
             "picture": app.picture_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),
             "link": app.share_link(),
         })
@@ -246,4 +257,85 @@ pub fn example_links() -> String {
         .filter_map(|(name, _)| Some((*name, Scene::example(name)?.to_link())))
         .collect();
     serde_json::to_string(&links).unwrap_or_default()
+}
+
+/// A PNG of the scene on screen, drawn at its own size on the page's GPU and read back over
+/// the next frames (a page cannot wait for the GPU), then handed over as a download.
+pub struct PngDownload {
+    pending: crate::render::gpu::PendingRgba,
+    /// Kept until the read-back is done: the frame was drawn with it.
+    _caster: crate::render::RayCaster,
+    started: Instant,
+}
+
+impl PngDownload {
+    /// Draws the session's scene at `width`×`height` with a ray caster of its own (the
+    /// viewer's keeps its tile lists for the picture on screen).
+    pub fn start(
+        gpu: &crate::render::Gpu,
+        session: &super::Session,
+        [width, height]: [u32; 2],
+    ) -> Result<Self, String> {
+        use crate::render::{Camera, FrameOptions, RayCaster, Target, TileLists, Uniforms};
+        let (Some(hierarchy), Some(shader)) = (&session.hierarchy, &session.shader) else {
+            return Err("no picture yet: wait for the tree to be built".into());
+        };
+        let scene = &session.scene;
+        let mut caster = RayCaster::with_target(gpu, shader, hierarchy, Target::OFFSCREEN)
+            .map_err(|e| e.to_string())?;
+        let camera = Camera::new(&scene.domain, &scene.view, width, height);
+        let uniforms = Uniforms::new(
+            &camera,
+            &scene.render,
+            &scene.domain,
+            hierarchy,
+            &session.tree_params,
+            FrameOptions::default(),
+        );
+        // (Brute force reads no tile lists.)
+        if !uniforms.brute_force() {
+            let lists = TileLists::build_within(hierarchy, &camera, gpu.tile_entry_budget());
+            caster.set_tiles(gpu, Some(&lists));
+        }
+        let pending = caster
+            .start_rgba(gpu, &uniforms)
+            .map_err(|e| e.to_string())?;
+        Ok(Self {
+            pending,
+            _caster: caster,
+            started: Instant::now(),
+        })
+    }
+
+    /// The outcome once the picture is back and downloaded, else None.
+    pub fn poll(&self, gpu: &crate::render::Gpu) -> Option<Notice> {
+        let mut rgba = match self.pending.poll(gpu)? {
+            Ok(rgba) => rgba,
+            Err(e) => return Some(Notice::error(e.to_string())),
+        };
+        let [width, height] = self.pending.size();
+        let cut = crate::render::pipeline::take_cut_pixels(&mut rgba).len();
+        let mut png = Vec::new();
+        let encoded = image::ImageEncoder::write_image(
+            image::codecs::png::PngEncoder::new(&mut png),
+            &rgba,
+            width,
+            height,
+            image::ExtendedColorType::Rgba8,
+        );
+        if let Err(e) = encoded {
+            return Some(Notice::error(format!("could not encode the PNG: {e}")));
+        }
+        let ms = self.started.elapsed().as_secs_f64() * 1e3;
+        Some(match download("fourfold.png", "image/png", &png) {
+            Ok(()) if cut > 0 => Notice::error(format!(
+                "fourfold.png downloaded ({width}x{height}, {ms:.0} ms); the GPU cut {cut} \
+                 pixels short: lower the rays or steps"
+            )),
+            Ok(()) => Notice::done(format!(
+                "fourfold.png downloaded ({width}x{height}, {ms:.0} ms)"
+            )),
+            Err(e) => Notice::error(e),
+        })
+    }
 }
