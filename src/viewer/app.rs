@@ -1197,6 +1197,13 @@ impl FourfoldApp {
 
     /// Lets the ray caster draw for this frame's budget; true while it has more to do.
     fn cast_rays(&mut self, size: [u32; 2], inset: Option<[u32; 2]>) -> bool {
+        // A picture about to be replaced is not refined further: where the build runs in
+        // the window's own frames (the web page), that would slow the build replacing it.
+        if self.session.building()
+            && self.progressive.first_frame_of == Some(self.session.picture_generation)
+        {
+            return false;
+        }
         let interacting = self.pacing.interacting();
         let budget_ms = self.pacing.ray_budget_ms();
         let started = Instant::now();
@@ -1448,6 +1455,11 @@ impl eframe::App for FourfoldApp {
             self.auto_rotate(dt_ms);
         }
         let gpu = self.gpu.clone();
+        let (least, most) = super::session::SLICE_BUDGET.into_inner();
+        self.session.slice_budget =
+            web_time::Duration::try_from_secs_f64(self.pacing.ui_frame_ms / 1e3)
+                .unwrap_or(least)
+                .clamp(least, most);
         self.session.poll(gpu.as_ref());
         self.poll_export();
         self.fit_when_ready();
@@ -1509,6 +1521,11 @@ impl eframe::App for FourfoldApp {
         if let Some(name) = self.gallery.show(ui.ctx(), &mut self.gallery_open) {
             self.load_preset(name);
             self.gallery_open = false;
+        }
+        if self.session.building() {
+            // An edit made in this frame starts building now, not a frame later (a frame
+            // is long on a software GPU, and the page builds in its frames).
+            self.session.poll(gpu.as_ref());
         }
         self.record_history(ui.ctx());
         #[cfg(target_arch = "wasm32")]

@@ -106,9 +106,11 @@ enum Work {
     Slices(Box<(PrepareSteps, JobInputs)>),
 }
 
-/// How long a UI frame spends on a build run in slices: the window stays at ~60 frames per
-/// second while the tree grows.
-const SLICE_BUDGET: Duration = Duration::from_millis(10);
+/// How long a UI frame spends on a build run in slices, at least and at most: as long as the
+/// rest of the frame takes (see `Session::slice_budget`), so the page keeps at least half
+/// its frame rate while the tree grows, and a slow page (a software GPU) still builds fast.
+pub const SLICE_BUDGET: std::ops::RangeInclusive<Duration> =
+    Duration::from_millis(10)..=Duration::from_millis(100);
 
 /// The picture-making state of the viewer.
 pub struct Session {
@@ -140,6 +142,9 @@ pub struct Session {
     generation: u64,
     /// The edit whose timing runs from its text change (`Instant`) to its first frame.
     pub edit_started: Option<Instant>,
+    /// How long the next UI frame may spend on a build run in slices (the window sets it
+    /// from its frame time, within [`SLICE_BUDGET`]).
+    pub slice_budget: Duration,
     /// A brute-force setting waiting for its pipeline (warmed up in the background, so that
     /// the window never waits for a driver compiling it at its first draw).
     pub pending_brute_force: Option<bool>,
@@ -166,6 +171,7 @@ impl Session {
             job: None,
             generation: 0,
             edit_started: None,
+            slice_budget: *SLICE_BUDGET.start(),
             pending_brute_force: None,
         }
     }
@@ -344,6 +350,7 @@ impl Session {
 
     /// Takes a finished build, if any; returns true when the picture changed.
     pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
+        let budget = self.slice_budget;
         let Some(job) = &mut self.job else {
             return false;
         };
@@ -360,7 +367,7 @@ impl Session {
             },
             Work::Slices(slices) => {
                 let (steps, inputs) = &mut **slices;
-                match steps.step(&inputs.formula, SLICE_BUDGET) {
+                match steps.step(&inputs.formula, budget) {
                     Ok(None) => return false,
                     Ok(Some(prepared)) => inputs.finish(Ok(prepared)),
                     Err(e) => inputs.finish(Err(e)),

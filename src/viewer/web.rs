@@ -210,7 +210,8 @@ impl Upload {
 
 /// The page's state for scripts and tests, as JSON: the picture's generation and when its
 /// first frame was drawn, the last edit's latency and its stages, the editor's text, the formula on screen,
-/// the error shown, whether a build runs or the picture is still being drawn, where the
+/// the error shown, whether a build runs or the picture is still being drawn, the UI's
+/// frame time, where the
 /// editor, the controls' panel and the picture are (CSS pixels), and a panic if one happened.
 pub fn status() -> String {
     RUNNER.with(|runner| {
@@ -241,6 +242,7 @@ pub fn status() -> String {
             "building": app.session.building(),
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
+            "ui_frame_ms": app.pacing.ui_frame_ms,
             "editor": app.editor_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),
             "controls": app.controls_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),
             "picture": app.picture_rect.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]),

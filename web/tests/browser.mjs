@@ -240,7 +240,8 @@ try {
       const t = best.edit_stages_ms;
       console.log(`  ${name}: ${runs.map((r) => r.edit_latency_ms.toFixed(0)).join(', ')} ms; best: `
         + `${t.compile.toFixed(1)} + ${t.codegen.toFixed(1)} + ${t.tree.toFixed(0)} + ${t.pipeline.toFixed(0)} → `
-        + `${t.ready.toFixed(0)}, first frame at ${best.edit_latency_ms.toFixed(0)} ms`);
+        + `${t.ready.toFixed(0)}, first frame at ${best.edit_latency_ms.toFixed(0)} ms; `
+        + `UI frames ${best.ui_frame_ms.toFixed(0)} ms`);
     }
   }
   await shared.page.close();
