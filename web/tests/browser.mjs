@@ -215,6 +215,19 @@ try {
   }
   check(shared.errors.length === 0, `no error in the console for any example (${shared.errors.join(' | ') || 'none'})`);
 
+  // Without WebGPU the page says what it needs, never a blank canvas.
+  const plain = await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    args: ['--headless=new', '--no-sandbox', '--disable-features=WebGPU', '--no-first-run'],
+  });
+  const without = await plain.newPage();
+  await without.goto(page_url);
+  await without.waitForFunction(() => document.getElementById('message').className === 'error',
+    null, { timeout: TIMEOUT });
+  const said = await without.textContent('#message');
+  check(/WebGPU/.test(said) && /browser/.test(said), `without WebGPU the page says so: ${JSON.stringify(said.split('\n')[0])}`);
+  await plain.close();
+
   if (measure) {
     const wasm = fs.readFileSync(path.join(dist, 'fourfold_web_bg.wasm'));
     const mb = (n) => (n / 1e6).toFixed(2);
