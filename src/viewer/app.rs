@@ -614,10 +614,9 @@ impl FourfoldApp {
                 self.message = Some(Notice::done("formula copied"));
             }
         });
-        let description = &self.session.scene.description;
-        if !description.is_empty() {
-            ui.label(RichText::new(description).italics());
-        }
+        // The line stays when empty: the picture keeps its size (and what it shows) when an
+        // edit clears the explanation.
+        ui.label(RichText::new(&self.session.scene.description).italics());
     }
 
     /// The share link of the scene on screen: the page's address in the browser, a
@@ -627,7 +626,18 @@ impl FourfoldApp {
         let page = super::web::page_address();
         #[cfg(not(target_arch = "wasm32"))]
         let page = "index.html".to_string();
-        format!("{page}#{}", self.session.scene.to_link())
+        format!("{page}#{}", self.link_fragment())
+    }
+
+    /// The share link's `#…` part: the scene on screen, with only the parameters its formula
+    /// has (the scene keeps the values of earlier formulas' parameters, for undo).
+    pub fn link_fragment(&self) -> String {
+        let names = self.session.param_names();
+        let mut scene = self.session.scene.clone();
+        if self.session.formula.is_some() {
+            scene.params.retain(|name, _| names.contains(name));
+        }
+        scene.to_link()
     }
 
     /// The formula editor and its error; returns nothing, edits the session.

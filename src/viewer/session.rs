@@ -5,7 +5,8 @@
 //!
 //! An edit flows one way: text → parse + gradient → WGSL + naga validation (on the UI thread:
 //! milliseconds) → tree build, hierarchy and pipeline creation (a background thread, cancelled
-//! when a newer edit arrives) → swap. Until the swap the last good picture stays.
+//! when a newer edit arrives; in the web page, slices of the UI's frames, replaced by a newer
+//! edit) → swap. Until the swap the last good picture stays.
 
 use std::sync::Arc;
 #[cfg(not(target_arch = "wasm32"))]
@@ -17,7 +18,7 @@ use web_time::{Duration, Instant};
 
 use crate::formula::CompiledFormula;
 use crate::render::codegen::{self, Shader};
-use crate::render::{Gpu, PrepareSteps, Prepared, RayCaster, Target, TileLists};
+use crate::render::{Gpu, Prepared, RayCaster, Target, TileLists};
 use crate::scene::Scene;
 use crate::syntax::SourceError;
 use crate::tree::{BuildError, Hierarchy, TreeStats};
@@ -102,8 +103,8 @@ enum Work {
         progress: Arc<AtomicU64>,
         receiver: Receiver<JobResult>,
     },
-    #[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
-    Slices(Box<(PrepareSteps, JobInputs)>),
+    #[cfg(target_arch = "wasm32")]
+    Slices(Box<(crate::render::PrepareSteps, JobInputs)>),
 }
 
 /// How long a UI frame spends on a build run in slices, at least and at most: as long as the
@@ -186,6 +187,7 @@ impl Session {
         self.job.as_ref().map(|j| match &j.work {
             #[cfg(not(target_arch = "wasm32"))]
             Work::Thread { progress, .. } => progress.load(Ordering::Relaxed),
+            #[cfg(target_arch = "wasm32")]
             Work::Slices(slices) => slices.0.nodes(),
         })
     }
@@ -350,7 +352,6 @@ impl Session {
 
     /// Takes a finished build, if any; returns true when the picture changed.
     pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
-        let budget = self.slice_budget;
         let Some(job) = &mut self.job else {
             return false;
         };
@@ -365,9 +366,10 @@ impl Session {
                     return false;
                 }
             },
+            #[cfg(target_arch = "wasm32")]
             Work::Slices(slices) => {
                 let (steps, inputs) = &mut **slices;
-                match steps.step(&inputs.formula, budget) {
+                match steps.step(&inputs.formula, self.slice_budget) {
                     Ok(None) => return false,
                     Ok(Some(prepared)) => inputs.finish(Ok(prepared)),
                     Err(e) => inputs.finish(Err(e)),

@@ -110,7 +110,7 @@ pub fn sync_address(app: &mut FourfoldApp) {
         if at.is_some_and(|t| t.elapsed() < ADDRESS_EVERY) {
             return;
         }
-        let link = format!("#{}", app.session.scene.to_link());
+        let link = format!("#{}", app.link_fragment());
         if link == *written {
             return;
         }

@@ -153,6 +153,24 @@ try {
   check(seen.share > 0.02 && seen.levels > 20,
     `the default scene draws a shaded picture (${(100 * seen.share).toFixed(1)}% covered, ${seen.levels} grey levels)`);
 
+  // Dragging the picture turns the manifold in 4D.
+  const [px0, py0, px1, py1] = first.picture;
+  const [cx, cy] = [(px0 + px1) / 2, (py0 + py1) / 2];
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  await page.mouse.move(cx + 80, cy + 40, { steps: 8 });
+  await page.mouse.up();
+  await page.waitForFunction((link) => {
+    const s = JSON.parse(window.fourfold.status());
+    return s.link !== link && !s.drawing && !s.building;
+  }, first.link, { timeout: TIMEOUT, polling: 50 });
+  const dragged = await status(page);
+  const angles = (s) => s.link.match(/angles=[^&]*/)?.[0];
+  const turned = await picture(page);
+  check(angles(dragged) !== angles(first) && changed(home, turned) > 0.01,
+    `dragging turns the manifold: ${angles(first)} → ${angles(dragged)}, `
+    + `${(100 * changed(home, turned)).toFixed(1)}% of pixels changed`);
+
   // Typing a formula changes the picture.
   await type(page, 'x^2 + y^2 + z^2 + w^2 - 0.7');
   const typed = await settled(page, first.generation);
