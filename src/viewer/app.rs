@@ -619,6 +619,17 @@ impl FourfoldApp {
         ui.label(RichText::new(&self.session.scene.description).italics());
     }
 
+    /// The exported picture's width and height.
+    fn export_size_fields(&mut self, ui: &mut egui::Ui) {
+        for (side, suffix) in self.ui.export_size.iter_mut().zip([" w", " h"]) {
+            ui.add(
+                egui::DragValue::new(side)
+                    .range(1..=crate::render::MAX_PICTURE_SIDE)
+                    .suffix(suffix),
+            );
+        }
+    }
+
     /// The share link of the scene on screen: the page's address in the browser, a
     /// relative one on the desktop.
     pub fn share_link(&self) -> String {
@@ -1324,16 +1335,7 @@ impl FourfoldApp {
         }
         ui.separator();
         ui.add(egui::TextEdit::singleline(&mut self.ui.png_path).desired_width(120.0));
-        ui.add(
-            egui::DragValue::new(&mut self.ui.export_size[0])
-                .range(1..=crate::render::MAX_PICTURE_SIDE)
-                .suffix(" w"),
-        );
-        ui.add(
-            egui::DragValue::new(&mut self.ui.export_size[1])
-                .range(1..=crate::render::MAX_PICTURE_SIDE)
-                .suffix(" h"),
-        );
+        self.export_size_fields(ui);
         if ui
             .add_enabled(self.export.is_none(), egui::Button::new("Export PNG"))
             .clicked()
@@ -1410,16 +1412,7 @@ impl FourfoldApp {
                 },
             );
         }
-        ui.add(
-            egui::DragValue::new(&mut self.ui.export_size[0])
-                .range(1..=crate::render::MAX_PICTURE_SIDE)
-                .suffix(" w"),
-        );
-        ui.add(
-            egui::DragValue::new(&mut self.ui.export_size[1])
-                .range(1..=crate::render::MAX_PICTURE_SIDE)
-                .suffix(" h"),
-        );
+        self.export_size_fields(ui);
         if ui
             .add_enabled(self.png_download.is_none(), egui::Button::new("Export PNG"))
             .clicked()
