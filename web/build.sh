@@ -17,9 +17,11 @@ version=$(grep -A1 '^name = "wasm-bindgen"$' Cargo.lock | sed -n 's/^version = "
 if [ "$(wasm-bindgen --version 2>/dev/null | cut -d' ' -f2)" != "$version" ]; then
   echo "installing wasm-bindgen-cli $version (a few minutes, once)…"
   # (--locked first; a registry mirror may lack one of its locked dependencies.)
-  cargo install wasm-bindgen-cli --version "$version" --locked \
-    || cargo install wasm-bindgen-cli --version "$version" \
+  cargo install wasm-bindgen-cli --version "$version" --locked --force \
+    || cargo install wasm-bindgen-cli --version "$version" --force \
     || fail "could not install wasm-bindgen-cli $version (cargo install wasm-bindgen-cli --version $version)"
+  command -v wasm-bindgen >/dev/null \
+    || fail "wasm-bindgen was installed but is not on PATH: add ~/.cargo/bin to PATH"
 fi
 
 cargo build --release --target wasm32-unknown-unknown -p fourfold-web \
