@@ -64,7 +64,10 @@ pub async fn start(canvas_id: &str) -> Result<(), JsValue> {
                     Some((scene, problems)) => (Some(scene), problems),
                     None => (None, Vec::new()),
                 };
+                let from_link = scene.is_some();
                 let mut app = FourfoldApp::new(cc, scene);
+                // A link shows the view it carries, as its sender saw it.
+                app.fit_pending = !from_link;
                 if app.gpu().is_none() {
                     return Err(NO_WEBGPU.into());
                 }

@@ -171,6 +171,14 @@ try {
     `dragging turns the manifold: ${angles(first)} → ${angles(dragged)}, `
     + `${(100 * changed(home, turned)).toFixed(1)}% of pixels changed`);
 
+  // The page's link opens the same picture in another page.
+  const again = await open('#' + dragged.link.split('#')[1]);
+  await settled(again.page);
+  const reopened = await picture(again.page);
+  check(changed(turned, reopened) < 0.01,
+    `the page's link opens the same picture elsewhere (${(100 * changed(turned, reopened)).toFixed(2)}% of pixels differ)`);
+  await again.page.close();
+
   // Typing a formula changes the picture.
   await type(page, 'x^2 + y^2 + z^2 + w^2 - 0.7');
   const typed = await settled(page, first.generation);
