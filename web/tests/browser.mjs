@@ -3,9 +3,11 @@
 //   node web/tests/browser.mjs [--measure]
 //
 // Serves web/dist (built by web/build.sh) on 127.0.0.1 and checks, from the page's pixels
-// and console: the default scene draws a shaded picture; a share link draws its own formula;
-// typing a formula changes the picture; a mistyped one keeps the last picture and shows the
-// error; no example scene logs an error. With --measure it also prints the wasm's size, load
+// and console: the default scene draws a shaded picture; dragging turns it; the page's link
+// opens the same picture in another page; typing a formula changes the picture; a mistyped
+// one keeps the last picture and shows the error; the longest formulas parse; a share link
+// draws its own formula, and a wrong one opens with its errors; no example scene logs an
+// error; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
 
 import { chromium } from 'playwright-core';
