@@ -194,21 +194,26 @@ fn gpu_frame(
     let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    // (Brute force reads no tile lists.)
-    if !uniforms.brute_force() {
-        caster.set_tiles(
-            gpu,
-            Some(&TileLists::build_within(
-                hierarchy,
-                camera,
-                gpu.tile_entry_budget(),
-            )),
-        );
-    }
+    bin_view(gpu, &mut caster, hierarchy, camera, uniforms);
     let (rgba, gpu_ms) = caster.render_rgba_timed(gpu, uniforms)?;
     times.frame_ms = ms(t);
     times.gpu_ms = gpu_ms;
     Ok((rgba, gpu.adapter.clone()))
+}
+
+/// Gives `caster` the tile lists of `camera`'s whole view, for one offscreen frame drawn
+/// with `uniforms` (brute force reads none).
+pub fn bin_view(
+    gpu: &Gpu,
+    caster: &mut RayCaster,
+    hierarchy: &Hierarchy,
+    camera: &Camera,
+    uniforms: &Uniforms,
+) {
+    if !uniforms.brute_force() {
+        let lists = TileLists::build_within(hierarchy, camera, gpu.tile_entry_budget());
+        caster.set_tiles(gpu, Some(&lists));
+    }
 }
 
 fn ms(t: Instant) -> f64 {

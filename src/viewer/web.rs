@@ -281,7 +281,7 @@ impl PngDownload {
         session: &super::Session,
         [width, height]: [u32; 2],
     ) -> Result<Self, String> {
-        use crate::render::{Camera, FrameOptions, RayCaster, Target, TileLists, Uniforms};
+        use crate::render::{Camera, FrameOptions, RayCaster, Target, Uniforms};
         let (Some(hierarchy), Some(shader)) = (&session.hierarchy, &session.shader) else {
             return Err("no picture yet: wait for the tree to be built".into());
         };
@@ -297,11 +297,7 @@ impl PngDownload {
             &session.tree_params,
             FrameOptions::default(),
         );
-        // (Brute force reads no tile lists.)
-        if !uniforms.brute_force() {
-            let lists = TileLists::build_within(hierarchy, &camera, gpu.tile_entry_budget());
-            caster.set_tiles(gpu, Some(&lists));
-        }
+        crate::render::pipeline::bin_view(gpu, &mut caster, hierarchy, &camera, &uniforms);
         let pending = caster
             .start_rgba(gpu, &uniforms)
             .map_err(|e| e.to_string())?;
