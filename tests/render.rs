@@ -1253,16 +1253,16 @@ fn the_slice_s_place_is_marked_in_the_projection_as_on_the_cpu() {
 #[test]
 fn a_frame_read_back_without_waiting_is_the_frame_read_back_at_once() {
     // The web page's PNG export cannot wait for the GPU: it starts the read-back and polls.
-    use fourfold::render::{RayCaster, TileLists};
+    use fourfold::render::RayCaster;
+    use fourfold::render::pipeline::bin_view;
     let gpu = gpu();
     for (name, scene) in example_scenes_named(&["glome", "tiger"]) {
         let scene = small(&scene);
         let (params, shader, h) = caster_inputs(&scene);
         let camera = Camera::new(&scene.domain, &scene.view, 96, 64);
-        let mut caster = RayCaster::new(&gpu, &shader, &h).unwrap();
-        let lists = TileLists::build_within(&h, &camera, gpu.tile_entry_budget());
-        caster.set_tiles(&gpu, Some(&lists));
         let uniforms = frame_uniforms(&scene, &camera, &h, &params, None);
+        let mut caster = RayCaster::new(&gpu, &shader, &h).unwrap();
+        bin_view(&gpu, &mut caster, &h, &camera, &uniforms);
         let at_once = caster.render_rgba(&gpu, &uniforms).unwrap();
         let pending = caster.start_rgba(&gpu, &uniforms).unwrap();
         assert_eq!(pending.size(), [96, 64]);

@@ -17,7 +17,6 @@ use super::framing;
 use super::gpu::{Gpu, RayCaster};
 use super::pipeline::take_cut_pixels;
 use super::prepare::Prepared;
-use super::tiles::TileLists;
 use super::uniforms::{FrameOptions, Uniforms};
 
 /// The most frames an animation may have.
@@ -507,14 +506,7 @@ pub fn draw(
         );
         let mut rgba = match &mut caster {
             Some((gpu, caster)) => {
-                if !uniforms.brute_force() {
-                    let lists = TileLists::build_within(
-                        &prepared.hierarchy,
-                        &camera,
-                        gpu.tile_entry_budget(),
-                    );
-                    caster.set_tiles(gpu, Some(&lists));
-                }
+                super::pipeline::bin_view(gpu, caster, &prepared.hierarchy, &camera, &uniforms);
                 caster
                     .render_rgba(gpu, &uniforms)
                     .map_err(|e| e.to_string())?
