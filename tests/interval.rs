@@ -3,7 +3,7 @@
 mod common;
 
 use fourfold::CompiledFormula;
-use fourfold::eval::{Box4, Interval, IntervalEvaluator, PointEvaluator};
+use fourfold::eval::{BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES, PointEvaluator};
 use proptest::prelude::*;
 
 /// Random formulas over x, y, z, w, two parameters and every operation of the language.
@@ -83,6 +83,102 @@ proptest! {
                     "output {k} of {text}: {v} at {p:?} not in {}", enclosure[k]
                 );
             }
+        }
+    }
+}
+
+/// An interval of any scale: huge, tiny, negative, straddling zero, a point, unbounded.
+fn any_scale_interval() -> impl Strategy<Value = Interval> {
+    let scale = prop::sample::select(vec![1e-300, 1e-8, 1.0, 4.0, 1e3, 1e6, 1e15, 1e300]);
+    let width = prop::sample::select(vec![0.0, 1e-12, 1e-3, 0.5, 1.0, 3.0]);
+    prop_oneof![
+        8 => (scale, -1.0f64..1.0, width).prop_map(|(s, u, w)| Interval::new(s * u, s * u + s * w)),
+        1 => Just(Interval::new(f64::NEG_INFINITY, 1.0)),
+        1 => Just(Interval::new(0.0, f64::INFINITY)),
+    ]
+}
+
+fn any_scale_box() -> impl Strategy<Value = Box4> {
+    [
+        any_scale_interval(),
+        any_scale_interval(),
+        any_scale_interval(),
+        any_scale_interval(),
+    ]
+}
+
+/// An interval around a multiple of π/2 (where sin and cos turn and the quadrant flips),
+/// anywhere up to 2^21 (past the reduced range, into the libm path), or wide.
+fn trig_interval() -> impl Strategy<Value = Interval> {
+    let near_turn = (
+        -700_000i64..700_000,
+        -4i64..=4,
+        prop::sample::select(vec![0.0, 1e-15, 1e-9, 0.01, 1.0]),
+    )
+        .prop_map(|(n, ulps, w)| {
+            let p = n as f64 * std::f64::consts::FRAC_PI_2;
+            let lo = f64::from_bits((p.to_bits() as i64 + ulps) as u64);
+            Interval::new(lo, lo + w * (1.0 + lo.abs()))
+        });
+    let anywhere = (
+        -2.2e6f64..2.2e6,
+        prop::sample::select(vec![0.0, 1e-6, 0.3, 2.0, 7.0]),
+    )
+        .prop_map(|(lo, w)| Interval::new(lo, lo + w));
+    prop_oneof![
+        near_turn,
+        anywhere,
+        (-8.0f64..8.0).prop_map(Interval::point)
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 600, ..ProptestConfig::default() })]
+
+    /// The batch evaluator (16 boxes a pass, branch-free lane loops) gives bit for bit the
+    /// one-box evaluator's enclosures, and the same continuity verdicts, over every scale.
+    #[test]
+    fn batches_equal_one_box_at_a_time(
+        text in formula_text(),
+        boxes in prop::collection::vec(any_scale_box(), 1..=LANES),
+        a in -2.0f64..2.0,
+    ) {
+        let formula = CompiledFormula::compile(&text).unwrap();
+        let params = vec![a; formula.params.len()];
+        let tape = &formula.tape_all;
+        let mut batch = BatchEvaluator::new();
+        batch.eval(tape, &boxes, &params);
+        let mut one = IntervalEvaluator::new();
+        let mut expected = [Interval::EMPTY; 5];
+        for (lane, bx) in boxes.iter().enumerate() {
+            one.eval_into(tape, bx, &params, &mut expected);
+            for (k, e) in expected.iter().enumerate() {
+                let got = batch.output(tape, k, lane);
+                prop_assert!(
+                    got.lo().to_bits() == e.lo().to_bits() && got.hi().to_bits() == e.hi().to_bits(),
+                    "output {k} of {text} over {bx:?}: batch {got}, one box {e}"
+                );
+            }
+            prop_assert_eq!(batch.continuous(tape, lane), one.continuous_on_last_box(tape));
+        }
+    }
+
+    /// sin and cos hold the platform's values (within an ulp of the true ones, far inside the
+    /// widening) at the ends, the middle and random points of the interval.
+    #[test]
+    fn sin_and_cos_hold_their_values(
+        x in trig_interval(),
+        samples in prop::collection::vec(0.0f64..=1.0, 6),
+    ) {
+        let (s, c) = (x.sin(), x.cos());
+        for t in samples.into_iter().chain([0.0, 0.5, 1.0]) {
+            let p = (x.lo() + t * x.width()).min(x.hi());
+            prop_assert!(s.contains(p.sin()), "sin {p} = {} not in {s} (argument {x})", p.sin());
+            prop_assert!(c.contains(p.cos()), "cos {p} = {} not in {c} (argument {x})", p.cos());
+        }
+        // Tight: a point's enclosure is a few units of 1e-15 wide.
+        if x.width() == 0.0 && x.lo().abs() < 1e6 {
+            prop_assert!(s.width() < 1e-14 && c.width() < 1e-14, "{s} {c}");
         }
     }
 }

@@ -14,6 +14,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+use super::trig;
+
 /// How many ulps a library function's bounds are widened.
 pub const LIB_ULPS: u32 = 2;
 
@@ -50,13 +52,13 @@ fn up(x: f64) -> f64 {
 
 /// `a < b ? a : b`: one `minsd`, unlike `f64::min`, which handles NaN. A NaN `a` gives `b`.
 #[inline]
-fn lesser(a: f64, b: f64) -> f64 {
+pub(crate) fn lesser(a: f64, b: f64) -> f64 {
     if a < b { a } else { b }
 }
 
 /// `a > b ? a : b`; a NaN `a` gives `b`.
 #[inline]
-fn greater(a: f64, b: f64) -> f64 {
+pub(crate) fn greater(a: f64, b: f64) -> f64 {
     if a > b { a } else { b }
 }
 
@@ -147,12 +149,18 @@ impl Interval {
         Self::new(v, v)
     }
 
+    /// The interval with these bounds, unchecked: for bounds taken from an interval.
     #[inline]
-    pub fn lo(self) -> f64 {
+    pub(crate) const fn from_bounds(lo: f64, hi: f64) -> Self {
+        Self { lo, hi }
+    }
+
+    #[inline]
+    pub const fn lo(self) -> f64 {
         self.lo
     }
     #[inline]
-    pub fn hi(self) -> f64 {
+    pub const fn hi(self) -> f64 {
         self.hi
     }
     #[inline]
@@ -218,9 +226,7 @@ impl Interval {
 
     #[inline]
     pub fn neg(self) -> Self {
-        if self.is_empty() {
-            return self;
-        }
+        // EMPTY, [+∞, −∞], negates to itself.
         Self {
             lo: -self.hi,
             hi: -self.lo,
@@ -229,28 +235,41 @@ impl Interval {
 
     #[inline]
     pub fn mul(self, b: Self) -> Self {
+        if self.is_finite() & b.is_finite() {
+            return self.mul_finite(b);
+        }
+        self.mul_unbounded(b)
+    }
+
+    /// Both bounds finite (so not empty either).
+    #[inline]
+    pub(crate) fn is_finite(self) -> bool {
+        (self.lo.abs() < f64::INFINITY) & (self.hi.abs() < f64::INFINITY)
+    }
+
+    /// The product of two intervals with finite bounds (the usual case): four plain products
+    /// and min/max with no branch, so that a loop of them vectorizes; no 0·∞ can occur.
+    #[inline]
+    pub(crate) fn mul_finite(self, b: Self) -> Self {
+        let a = self;
+        let (p1, p2, p3, p4) = (a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi);
+        let lo = lesser(lesser(p1, p2), lesser(p3, p4));
+        let hi = greater(greater(p1, p2), greater(p3, p4));
+        // Products of two non-negative (or two non-positive) intervals stay ≥ 0.
+        let floor = if ((a.lo >= 0.0) & (b.lo >= 0.0)) | ((a.hi <= 0.0) & (b.hi <= 0.0)) {
+            0.0
+        } else {
+            f64::NEG_INFINITY
+        };
+        Self::new(greater(down(lo), floor), up(hi))
+    }
+
+    /// The product where a bound is infinite or an operand empty: by sign cases, with 0·∞ = 0.
+    fn mul_unbounded(self, b: Self) -> Self {
         if self.is_empty() || b.is_empty() {
             return Self::EMPTY;
         }
         let a = self;
-        // Finite bounds (the usual case, and a well-predicted branch): four plain products and
-        // branch-free min/max; no 0·∞ can occur.
-        if (a.lo.abs() < f64::INFINITY)
-            & (a.hi.abs() < f64::INFINITY)
-            & (b.lo.abs() < f64::INFINITY)
-            & (b.hi.abs() < f64::INFINITY)
-        {
-            let (p1, p2, p3, p4) = (a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi);
-            let lo = lesser(lesser(p1, p2), lesser(p3, p4));
-            let hi = greater(greater(p1, p2), greater(p3, p4));
-            // Products of two non-negative (or two non-positive) intervals stay ≥ 0.
-            let floor = if ((a.lo >= 0.0) & (b.lo >= 0.0)) | ((a.hi <= 0.0) & (b.hi <= 0.0)) {
-                0.0
-            } else {
-                f64::NEG_INFINITY
-            };
-            return Self::new(greater(down(lo), floor), up(hi));
-        }
         // Sign cases: two products unless both straddle zero.
         let (lo, hi) = if a.lo >= 0.0 {
             if b.lo >= 0.0 {
@@ -281,7 +300,32 @@ impl Interval {
         Self::new(down(lo), up(hi))
     }
 
+    #[inline]
     pub fn div(self, b: Self) -> Self {
+        if Self::divides_finite(self, b) {
+            return self.div_finite(b);
+        }
+        self.div_general(b)
+    }
+
+    /// Whether `div_finite` applies: finite bounds and a divisor away from 0.
+    #[inline]
+    pub(crate) fn divides_finite(a: Self, b: Self) -> bool {
+        a.is_finite() & b.is_finite() & !b.contains_zero()
+    }
+
+    /// The quotient by a divisor away from 0, all bounds finite (the usual case): four plain
+    /// quotients and min/max with no branch, as in `mul_finite`.
+    #[inline]
+    pub(crate) fn div_finite(self, b: Self) -> Self {
+        let a = self;
+        let (q1, q2, q3, q4) = (a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi);
+        let lo = lesser(lesser(q1, q2), lesser(q3, q4));
+        let hi = greater(greater(q1, q2), greater(q3, q4));
+        Self::new(down(lo), up(hi))
+    }
+
+    fn div_general(self, b: Self) -> Self {
         if self.is_empty() || b.is_empty() || (b.lo == 0.0 && b.hi == 0.0) {
             return Self::EMPTY;
         }
@@ -346,9 +390,6 @@ impl Interval {
     /// x², never negative; the same as `powi(2)`.
     #[inline]
     pub fn square(self) -> Self {
-        if self.is_empty() {
-            return self;
-        }
         // Branch-free: the squares of the ends, and 0 when the interval straddles 0.
         let (a, b) = (self.lo * self.lo, self.hi * self.hi);
         let lo = if (self.lo < 0.0) & (self.hi > 0.0) {
@@ -356,7 +397,8 @@ impl Interval {
         } else {
             lesser(a, b)
         };
-        Self::new(greater(down(lo), 0.0), up(greater(a, b)))
+        let square = Self::new(greater(down(lo), 0.0), up(greater(a, b)));
+        if self.is_empty() { Self::EMPTY } else { square }
     }
 
     /// x^n for an integer n; tight (never negative) for even n.
@@ -392,12 +434,12 @@ impl Interval {
         }
     }
 
+    /// Branch-free: a negative `hi` (the argument wholly outside the domain) or an empty
+    /// argument make `hi` NaN, and the result empty.
+    #[inline]
     pub fn sqrt(self) -> Self {
-        let d = self.intersect(0.0, f64::INFINITY);
-        if d.is_empty() {
-            return d;
-        }
-        Self::new(down(d.lo.sqrt()).max(0.0), up(d.hi.sqrt()))
+        let lo = greater(self.lo, 0.0).sqrt();
+        Self::new(greater(down(lo), 0.0), up(self.hi.sqrt()))
     }
 
     pub fn cbrt(self) -> Self {
@@ -427,7 +469,16 @@ impl Interval {
     }
 
     /// cos, with its maxima at 2kπ and minima at π + 2kπ found by quadrant.
+    #[inline]
     pub fn cos(self) -> Self {
+        if trig::reducible(self) {
+            return trig::cos(self);
+        }
+        self.cos_libm()
+    }
+
+    /// cos through the platform's libm, for arguments [`trig`] does not reduce.
+    fn cos_libm(self) -> Self {
         if self.is_empty() {
             return self;
         }
@@ -448,7 +499,16 @@ impl Interval {
         Self::new(lo.max(-1.0), hi.min(1.0))
     }
 
+    #[inline]
     pub fn sin(self) -> Self {
+        if trig::reducible(self) {
+            return trig::sin(self);
+        }
+        self.sin_libm()
+    }
+
+    /// sin through the platform's libm, for arguments [`trig`] does not reduce.
+    fn sin_libm(self) -> Self {
         if self.is_empty() {
             return self;
         }

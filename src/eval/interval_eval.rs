@@ -30,21 +30,8 @@ impl IntervalEvaluator {
             params,
             Interval::EMPTY,
         );
-        for (i, op) in tape.ops().iter().enumerate().skip(start) {
-            let v = match *op {
-                Op::Const(c) => Interval::point(c),
-                Op::Var(a) => bx[a as usize & 3],
-                Op::Param(i) => Interval::point(params.get(i as usize).copied().unwrap_or(1.0)),
-                Op::Add(a, b) => slots[a as usize].add(slots[b as usize]),
-                Op::Sub(a, b) => slots[a as usize].sub(slots[b as usize]),
-                Op::Mul(a, b) => slots[a as usize].mul(slots[b as usize]),
-                Op::Neg(a) => slots[a as usize].neg(),
-                Op::Square(a) => slots[a as usize].square(),
-                Op::Powi(a, n) => slots[a as usize].powi(n),
-                Op::Unary(op, a) => unary(op, slots[a as usize]),
-                Op::Binary(op, a, b) => binary(op, slots[a as usize], slots[b as usize]),
-            };
-            slots[i] = v;
+        for (i, &op) in tape.ops().iter().enumerate().skip(start) {
+            slots[i] = apply!(op, bx, params, |k| slots[k as usize]);
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
             *o = slots[slot as usize];
@@ -60,29 +47,7 @@ impl IntervalEvaluator {
     /// enclosures of its partial derivatives over the box bound its slope there (the mean
     /// value inequality holds for a continuous, piecewise differentiable function).
     pub fn continuous_on_last_box(&self, tape: &Tape) -> bool {
-        let s = |i: u32| self.slots[i as usize];
-        let away_from_zero = |a: Interval| !a.contains_zero();
-        tape.ops().iter().enumerate().all(|(i, op)| {
-            let v = self.slots[i];
-            if v.is_empty() || !v.lo().is_finite() || !v.hi().is_finite() {
-                return false;
-            }
-            match *op {
-                Op::Powi(a, n) => n >= 0 || away_from_zero(s(a)),
-                Op::Unary(UnaryOp::Sqrt, a) => s(a).lo() >= 0.0,
-                Op::Unary(UnaryOp::Ln, a) => s(a).lo() > 0.0,
-                Op::Unary(UnaryOp::Asin | UnaryOp::Acos, a) => {
-                    s(a).lo() >= -1.0 && s(a).hi() <= 1.0
-                }
-                Op::Unary(UnaryOp::Sign | UnaryOp::Step, a) => away_from_zero(s(a)),
-                Op::Binary(BinaryOp::Div, _, b) => away_from_zero(s(b)),
-                Op::Binary(BinaryOp::Pow, a, _) => s(a).lo() > 0.0,
-                Op::Binary(BinaryOp::Atan2, y, x) => {
-                    s(x).lo() > 0.0 || s(y).lo() > 0.0 || s(y).hi() < 0.0
-                }
-                _ => true,
-            }
-        })
+        continuous(tape, |i| self.slots[i as usize])
     }
 
     /// The first output of `tape` over `bx`.
@@ -91,6 +56,55 @@ impl IntervalEvaluator {
         self.eval_into(tape, bx, params, &mut out);
         out[0]
     }
+}
+
+/// The value of instruction `$op` over the box `$bx`, where `|$k| $read` reads slot `$k`. A
+/// macro, not a function taking a closure, which made the one-box loop 30% slower.
+macro_rules! apply {
+    ($op:expr, $bx:expr, $params:expr, |$k:ident| $read:expr) => {{
+        use $crate::eval::{Interval, Op};
+        let slot = |$k: u32| $read;
+        match $op {
+            Op::Const(c) => Interval::point(c),
+            Op::Var(a) => $bx[a as usize & 3],
+            Op::Param(i) => Interval::point($params.get(i as usize).copied().unwrap_or(1.0)),
+            Op::Add(a, b) => slot(a).add(slot(b)),
+            Op::Sub(a, b) => slot(a).sub(slot(b)),
+            Op::Mul(a, b) => slot(a).mul(slot(b)),
+            Op::Neg(a) => slot(a).neg(),
+            Op::Square(a) => slot(a).square(),
+            Op::Powi(a, n) => slot(a).powi(n),
+            Op::Unary(op, a) => $crate::eval::interval_eval::unary(op, slot(a)),
+            Op::Binary(op, a, b) => $crate::eval::interval_eval::binary(op, slot(a), slot(b)),
+        }
+    }};
+}
+pub(crate) use apply;
+
+/// See [`IntervalEvaluator::continuous_on_last_box`]; `slot` reads the evaluated slots.
+pub(crate) fn continuous(tape: &Tape, slot: impl Fn(u32) -> Interval) -> bool {
+    let away_from_zero = |a: Interval| !a.contains_zero();
+    tape.ops().iter().enumerate().all(|(i, op)| {
+        let v = slot(i as u32);
+        if v.is_empty() || !v.lo().is_finite() || !v.hi().is_finite() {
+            return false;
+        }
+        match *op {
+            Op::Powi(a, n) => n >= 0 || away_from_zero(slot(a)),
+            Op::Unary(UnaryOp::Sqrt, a) => slot(a).lo() >= 0.0,
+            Op::Unary(UnaryOp::Ln, a) => slot(a).lo() > 0.0,
+            Op::Unary(UnaryOp::Asin | UnaryOp::Acos, a) => {
+                slot(a).lo() >= -1.0 && slot(a).hi() <= 1.0
+            }
+            Op::Unary(UnaryOp::Sign | UnaryOp::Step, a) => away_from_zero(slot(a)),
+            Op::Binary(BinaryOp::Div, _, b) => away_from_zero(slot(b)),
+            Op::Binary(BinaryOp::Pow, a, _) => slot(a).lo() > 0.0,
+            Op::Binary(BinaryOp::Atan2, y, x) => {
+                slot(x).lo() > 0.0 || slot(y).lo() > 0.0 || slot(y).hi() < 0.0
+            }
+            _ => true,
+        }
+    })
 }
 
 /// The interval extension of a unary operation.
