@@ -11,7 +11,7 @@ use web_time::{Duration, Instant};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::eval::{Box4, Interval, IntervalEvaluator};
+use crate::eval::{BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES};
 use crate::formula::CompiledFormula;
 
 /// The criteria and limits of a build.
@@ -396,17 +396,10 @@ fn contains_manifold(f: Interval) -> bool {
 /// tighter on small boxes where terms of F cancel: the chapter's scene keeps 23 912 leaves
 /// at level 4 instead of 30 376, and refined uniformly to level 6, 814 304 instead of
 /// 2 556 768 (the other example scenes' natural extensions are tight already).
-fn mean_value_may_vanish(
-    eval: &mut IntervalEvaluator,
-    formula: &CompiledFormula,
-    params: &[f64],
-    bx: &Box4,
-    gradient: &[Interval],
-) -> bool {
-    let c: [f64; 4] = std::array::from_fn(|k| bx[k].midpoint());
-    let mut mv = eval.eval(&formula.tape_f, &c.map(Interval::point), params);
+fn mean_value_may_vanish(f_at_centre: Interval, bx: &Box4, gradient: &[Interval]) -> bool {
+    let mut mv = f_at_centre;
     for k in 0..4 {
-        mv = mv.add(gradient[k].mul(bx[k].sub(Interval::point(c[k]))));
+        mv = mv.add(gradient[k].mul(bx[k].sub(Interval::point(bx[k].midpoint()))));
     }
     // (An empty enclosure, F undefined somewhere, proves nothing.)
     mv.is_empty() || mv.contains_zero()
@@ -436,6 +429,34 @@ impl Geometry {
             let b = self.lo[i] + self.size[i] * (f64::from(c[i] + 1) / cells);
             Interval::new(a, b)
         })
+    }
+}
+
+/// A child whose F□ holds 0, while `Refinement::children` decides on it.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    /// Its index among its parent's children.
+    child: usize,
+    bx: Box4,
+    /// F is continuous on it, and the mean-value form is to be tried.
+    continuous: bool,
+    /// ∂F/∂x_k□ over it, when the gradient is evaluated.
+    gradient: [Interval; 4],
+    critical: bool,
+    /// The mean-value form proved 0 ∉ F(B).
+    discarded: bool,
+}
+
+impl Default for Candidate {
+    fn default() -> Self {
+        Self {
+            child: 0,
+            bx: [Interval::EMPTY; 4],
+            continuous: false,
+            gradient: [Interval::ENTIRE; 4],
+            critical: false,
+            discarded: false,
+        }
     }
 }
 
@@ -478,45 +499,76 @@ impl Refinement<'_> {
         let (formula, params) = (self.formula, self.params);
         let groups: Vec<Refined> = refine
             .par_chunks(64)
-            .map_init(IntervalEvaluator::new, |eval, parents| {
+            .map_init(BatchEvaluator::new, |eval, parents| {
                 if self.cancel.load(Ordering::Relaxed) {
                     return Err(BuildError::Cancelled);
                 }
-                let mut all = [Interval::EMPTY; 5];
                 let (mut evaluations, mut pruned) = (0u64, 0u64);
                 let mut kept = Vec::with_capacity(parents.len() * 4);
                 for &p in parents {
                     let c = self.parents[p as usize].coords;
-                    for k in 0..16u16 {
-                        let child = std::array::from_fn(|i| 2 * c[i] + ((k >> i) & 1));
-                        let bx = self.geometry.box_at(self.level + 1, child);
-                        evaluations += 1;
-                        if !contains_manifold(eval.eval(&formula.tape_f, &bx, params)) {
-                            continue;
+                    let coords: [[u16; 4]; LANES] = std::array::from_fn(|k| {
+                        std::array::from_fn(|i| 2 * c[i] + ((k as u16 >> i) & 1))
+                    });
+                    let boxes = coords.map(|child| self.geometry.box_at(self.level + 1, child));
+                    eval.eval(&formula.tape_f, &boxes, params);
+                    evaluations += LANES as u64;
+                    // The children whose F□ holds 0, in order (`n` of them), and whether F is
+                    // continuous on each (read now: the next evaluation replaces F's).
+                    let mut candidates = [Candidate::default(); LANES];
+                    let mut n = 0;
+                    for (k, bx) in boxes.iter().enumerate() {
+                        if contains_manifold(eval.output(&formula.tape_f, 0, k)) {
+                            candidates[n] = Candidate {
+                                child: k,
+                                bx: *bx,
+                                continuous: mean_value && eval.continuous(&formula.tape_f, k),
+                                ..Candidate::default()
+                            };
+                            n += 1;
                         }
-                        // (Before the next evaluation: it reads the one of F just made.)
-                        let continuous = mean_value && eval.continuous_on_last_box(&formula.tape_f);
-                        let mut critical = false;
-                        if gradient {
-                            eval.eval_into(&formula.tape_all, &bx, params, &mut all);
-                            evaluations += 1;
-                            critical = all[1..].iter().all(|g| g.contains_zero());
+                    }
+                    let candidates = &mut candidates[..n];
+                    if candidates.is_empty() {
+                        continue;
+                    }
+                    if gradient {
+                        let bxs: [Box4; LANES] =
+                            std::array::from_fn(|j| candidates[j.min(n - 1)].bx);
+                        eval.eval(&formula.tape_all, &bxs[..n], params);
+                        evaluations += n as u64;
+                        for (lane, c) in candidates.iter_mut().enumerate() {
+                            c.gradient = std::array::from_fn(|k| {
+                                eval.output(&formula.tape_all, k + 1, lane)
+                            });
+                            c.critical = c.gradient.iter().all(|g| g.contains_zero());
                         }
-                        if continuous {
-                            evaluations += 1;
-                            if !mean_value_may_vanish(eval, formula, params, &bx, &all[1..]) {
-                                pruned += 1;
-                                continue;
+                    }
+                    if candidates.iter().any(|c| c.continuous) {
+                        let centres: [Box4; LANES] = std::array::from_fn(|j| {
+                            candidates[j.min(n - 1)]
+                                .bx
+                                .map(|a| Interval::point(a.midpoint()))
+                        });
+                        eval.eval(&formula.tape_f, &centres[..n], params);
+                        for (lane, c) in candidates.iter_mut().enumerate() {
+                            if c.continuous {
+                                evaluations += 1;
+                                let f_at_centre = eval.output(&formula.tape_f, 0, lane);
+                                if !mean_value_may_vanish(f_at_centre, &c.bx, &c.gradient) {
+                                    pruned += 1;
+                                    c.discarded = true;
+                                }
                             }
                         }
-                        kept.push(TreeBox {
-                            coords: child,
-                            parent: p,
-                            first_child: 0,
-                            child_count: 0,
-                            critical,
-                        });
                     }
+                    kept.extend(candidates.iter().filter(|c| !c.discarded).map(|c| TreeBox {
+                        coords: coords[c.child],
+                        parent: p,
+                        first_child: 0,
+                        child_count: 0,
+                        critical: c.critical,
+                    }));
                 }
                 Ok(Refined {
                     kept,
