@@ -132,7 +132,7 @@ impl BatchEvaluator {
                 Op::Mul(a, b) => guarded(
                     out,
                     (s(a), s(b)),
-                    |x, y| x.is_finite() & y.is_finite(),
+                    Interval::multiplies_finite,
                     Interval::mul_finite,
                     Interval::mul,
                 ),

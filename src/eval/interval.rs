@@ -235,15 +235,21 @@ impl Interval {
 
     #[inline]
     pub fn mul(self, b: Self) -> Self {
-        if self.is_finite() & b.is_finite() {
+        if Self::multiplies_finite(self, b) {
             return self.mul_finite(b);
         }
         self.mul_unbounded(b)
     }
 
+    /// Whether `mul_finite` applies: every bound finite (so neither operand empty).
+    #[inline]
+    pub(crate) fn multiplies_finite(a: Self, b: Self) -> bool {
+        a.is_finite() & b.is_finite()
+    }
+
     /// Both bounds finite (so not empty either).
     #[inline]
-    pub(crate) fn is_finite(self) -> bool {
+    fn is_finite(self) -> bool {
         (self.lo.abs() < f64::INFINITY) & (self.hi.abs() < f64::INFINITY)
     }
 
