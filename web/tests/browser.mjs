@@ -282,7 +282,8 @@ try {
       console.log(`  ${name}: ${runs.map((r) => r.edit_latency_ms.toFixed(0)).join(', ')} ms; best: `
         + `${t.compile.toFixed(1)} + ${t.codegen.toFixed(1)} + ${t.tree.toFixed(0)} + ${t.pipeline.toFixed(0)} → `
         + `${t.ready.toFixed(0)}, first frame at ${best.edit_latency_ms.toFixed(0)} ms; `
-        + `UI frames ${best.ui_frame_ms.toFixed(0)} ms`);
+        + `UI frames ${best.ui_frame_ms.toFixed(0)} ms; tree in each run `
+        + `${runs.map((r) => r.edit_stages_ms.tree.toFixed(0)).join(', ')} ms`);
     }
   }
   await shared.page.close();
