@@ -7,7 +7,7 @@
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::interval::Interval;
-use super::interval_eval::{Box4, apply, continuous};
+use super::interval_eval::{Box4, apply, continuous, unary};
 use super::tape::{Op, PrefixKey, Tape, prepare_slots};
 use super::trig;
 
@@ -146,20 +146,16 @@ impl BatchEvaluator {
                 Op::Neg(a) => map(out, s(a), Interval::neg),
                 Op::Square(a) => map(out, s(a), Interval::square),
                 Op::Unary(UnaryOp::Sqrt, a) => map(out, s(a), Interval::sqrt),
-                Op::Unary(UnaryOp::Sin, a) => guarded(
-                    out,
-                    (s(a), s(a)),
-                    |x, _| trig::reducible(x),
-                    |x, _| trig::sin(x),
-                    |x, _| x.sin(),
-                ),
-                Op::Unary(UnaryOp::Cos, a) => guarded(
-                    out,
-                    (s(a), s(a)),
-                    |x, _| trig::reducible(x),
-                    |x, _| trig::cos(x),
-                    |x, _| x.cos(),
-                ),
+                Op::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) => {
+                    let shift = i64::from(op == UnaryOp::Cos);
+                    guarded(
+                        out,
+                        (s(a), s(a)),
+                        |x, _| trig::reducible(x),
+                        |x, _| trig::shifted_sin(x, shift),
+                        |x, _| unary(op, x),
+                    )
+                }
                 Op::Var(axis) => {
                     for l in 0..LANES {
                         out.set(l, boxes[l.min(last)][axis as usize & 3]);

@@ -83,9 +83,10 @@ fn sin_of(k: i64, r: f64) -> f64 {
     if k & 2 == 0 { v } else { -v }
 }
 
-/// Encloses sin(x + shift·π/2) over `a` (reducible): sin for shift 0, cos for shift 1.
+/// Encloses sin(x + shift·π/2) over `a`, which must be [`reducible`]: sin for shift 0, cos
+/// for shift 1.
 #[inline(always)]
-fn shifted_sin(a: Interval, shift: i64) -> Interval {
+pub(crate) fn shifted_sin(a: Interval, shift: i64) -> Interval {
     let (kl, rl) = reduce(a.lo());
     let (kh, rh) = reduce(a.hi());
     let (vl, vh) = (sin_of(kl + shift, rl), sin_of(kh + shift, rh));
