@@ -2,8 +2,9 @@
 //!
 //! A box at level L is identified by integer coordinates in [0, 2^L)⁴, so boxes are exact
 //! and a node costs a few bytes. Each level's boxes are evaluated in parallel (rayon) with
-//! the rigorous interval evaluator. Breadth-first order makes the node budget fair: a level
-//! is refined completely or not at all, so no corner of the domain starves the others.
+//! the rigorous interval evaluator, a box's 16 children in one batch. Breadth-first order
+//! makes the node budget fair: a level is refined completely or not at all, so no corner of
+//! the domain starves the others.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use web_time::{Duration, Instant};
@@ -485,8 +486,9 @@ struct Refinement<'a> {
 const MEAN_VALUE_SAMPLE: usize = 64;
 
 impl Refinement<'_> {
-    /// Evaluates the 16 children of each box in `refine` (indices in `parents`). A child
-    /// is kept if F□ holds 0 (docs/method.md §2): the natural interval extension, and with
+    /// Evaluates the 16 children of each box in `refine` (indices in `parents`), as one
+    /// batch per evaluation: F over all 16, then F and ∇F over those kept, then F at the
+    /// centres of those the mean-value form is tried on. A child is kept if F□ holds 0 (docs/method.md §2): the natural interval extension, and with
     /// `mean_value` (which needs `gradient`), where F is continuous on the box, the
     /// mean-value form too (see `mean_value_may_vanish`). With `gradient` the topological
     /// criterion is set on the kept ones.
