@@ -398,12 +398,18 @@ fn contains_manifold(f: Interval) -> bool {
 /// at level 4 instead of 30 376, and refined uniformly to level 6, 814 304 instead of
 /// 2 556 768 (the other example scenes' natural extensions are tight already).
 fn mean_value_may_vanish(f_at_centre: Interval, bx: &Box4, gradient: &[Interval]) -> bool {
+    let c = centre(bx);
     let mut mv = f_at_centre;
     for k in 0..4 {
-        mv = mv.add(gradient[k].mul(bx[k].sub(Interval::point(bx[k].midpoint()))));
+        mv = mv.add(gradient[k].mul(bx[k].sub(c[k])));
     }
     // (An empty enclosure, F undefined somewhere, proves nothing.)
     mv.is_empty() || mv.contains_zero()
+}
+
+/// The point box at the centre of `bx`, where `mean_value_may_vanish` expands F.
+fn centre(bx: &Box4) -> Box4 {
+    bx.map(|a| Interval::point(a.midpoint()))
 }
 
 /// Box geometry: integer coordinates at a level → intervals of the domain.
@@ -547,11 +553,8 @@ impl Refinement<'_> {
                         }
                     }
                     if candidates.iter().any(|c| c.continuous) {
-                        let centres: [Box4; LANES] = std::array::from_fn(|j| {
-                            candidates[j.min(n - 1)]
-                                .bx
-                                .map(|a| Interval::point(a.midpoint()))
-                        });
+                        let centres: [Box4; LANES] =
+                            std::array::from_fn(|j| centre(&candidates[j.min(n - 1)].bx));
                         eval.eval(&formula.tape_f, &centres[..n], params);
                         for (lane, c) in candidates.iter_mut().enumerate() {
                             if c.continuous {
