@@ -11,7 +11,7 @@ use crate::render::animation::{
 };
 use crate::render::framing::fit_scene;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
-use crate::scene::{Color, ColorBy, Domain, Sampling, Scene, Speaker};
+use crate::scene::{Color, ColorBy, Domain, Sampling, Scene, Speaker, Undecided};
 use crate::tree::BuildSettings;
 
 #[derive(Debug, Parser)]
@@ -152,6 +152,17 @@ pub struct RenderArgs {
     /// boxes: the same picture, faster on some scenes and shallow trees.
     #[arg(long)]
     pub brute_force: bool,
+    /// Certify every pixel (docs/method.md §5.9): prove it shows M (hit) or not (empty),
+    /// or mark it undecided, and print the counts.
+    #[arg(long)]
+    pub certified: bool,
+    /// Certified pixels: the most cells of a pixel's observer plane to enclose F over, 1 to
+    /// 8192 (the scene's, else 256); more decide more pixels, slower.
+    #[arg(long, allow_hyphen_values = true)]
+    pub cert_budget: Option<u32>,
+    /// How undecided certified pixels are drawn: marker (magenta) or hatch (magenta stripes).
+    #[arg(long)]
+    pub undecided: Option<String>,
     /// No highlight near the faces of the domain.
     #[arg(long)]
     pub no_border: bool,
@@ -554,6 +565,7 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
         (args.steps, &mut r.steps),
         (args.bisection_iters, &mut r.bisection_iters),
         (args.seed, &mut r.seed),
+        (args.cert_budget, &mut r.cert_budget),
     ];
     for (flag, field) in counts {
         if let Some(v) = flag {
@@ -579,6 +591,18 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
             }
         };
     }
+    if let Some(style) = &args.undecided {
+        r.undecided = match style.as_str() {
+            "marker" => Undecided::Marker,
+            "hatch" => Undecided::Hatch,
+            other => {
+                return Err(Failure::usage(format!(
+                    "--undecided {other}: use marker or hatch"
+                )));
+            }
+        };
+    }
+    r.certified |= args.certified;
     r.brute_force |= args.brute_force;
     r.silhouette.enabled &= !args.no_silhouette;
     r.border.enabled &= !args.no_border;
@@ -635,6 +659,7 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
     let mut picture = picture.map_err(|e| Failure::runtime(e.to_string()))?;
     picture.times.parse_ms = parse_ms;
     let cut = picture.cut_pixels.len();
+    let verdicts = picture.verdict_counts();
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)
         .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;
     image
@@ -676,6 +701,22 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
             "\ncolour by the hidden direction: n2 = {lo:.3} (dark blue) to {hi:.3} (yellow), \
              from the domain's centre"
         ));
+    }
+    if let Some(counts) = verdicts {
+        out.push_str(&format!(
+            "\ncertified pixels (budget {} cells): {counts}",
+            scene.render.cert_budget
+        ));
+        if counts.undecided > 0 {
+            out.push_str(&format!(
+                "\n{} undecided pixels drawn {}; a larger --cert-budget decides more",
+                counts.undecided,
+                match scene.render.undecided {
+                    Undecided::Marker => "magenta where no ray found a hit",
+                    Undecided::Hatch => "with magenta stripes where no ray found a hit",
+                }
+            ));
+        }
     }
     if picture.tree.nodes == 0 {
         out.push_str("\nno surface in this domain: the picture shows only the background");

@@ -134,6 +134,13 @@ pub const FLAG_HIDDEN: u32 = 128;
 /// Mark the hits within `Root::section_half` of `Root::section_offset` along n2 (where a
 /// slice cuts), in the projection.
 pub const FLAG_MARK: u32 = 256;
+/// Certify every pixel (docs/method.md §5.9): the shader's certified pipeline reads
+/// `March::cert_budget` and the two flags below.
+pub const FLAG_CERTIFIED: u32 = 512;
+/// Draw undecided pixels hatched (stripes of the marker colour) rather than filled.
+pub const FLAG_HATCH: u32 = 1024;
+/// F is continuous on the whole domain (`Hierarchy::continuous`).
+pub const FLAG_CONTINUOUS: u32 = 2048;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;
@@ -229,7 +236,9 @@ pub struct Tiling {
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct March {
     pub finest: u32,
-    pub unused: [u32; 3],
+    /// Certified pixels: the most cells of its observer plane a pixel evaluates F over.
+    pub cert_budget: u32,
+    pub unused: [u32; 2],
 }
 
 /// With `FLAG_HIDDEN`: the coordinates along n2 (from the domain's centre) that the colour

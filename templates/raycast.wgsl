@@ -132,6 +132,8 @@ override SAMPLING: u32 = 2u;
 // SECTION: 0 the whole observer plane, 1 a slab of it, 2 a slice (at 3, the default, as
 // flags 32 and 64 say).
 override SECTION: u32 = 3u;
+// CERTIFY: 1 classifies every pixel rigorously (certify, docs/method.md §5.9), 0 does not.
+override CERTIFY: u32 = 0u;
 
 const MAX_HITS: u32 = 16u;
 const LEAF: u32 = 256u;
@@ -159,6 +161,8 @@ fn ff_param(i: u32) -> f32 {
 //@FOURFOLD_GRAD@
 
 //@FOURFOLD_F_GRAD@
+
+//@FOURFOLD_INTERVAL@
 
 fn pcg(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;
@@ -416,6 +420,8 @@ struct Tracer {
     k_max: u32,
     hits: Hits,
     k: u32, // the ray being marched (for insert_hit)
+    plane: vec4<f32>, // the pixel's origin in its observer plane (o but for a slice)
+    aim: vec2<f32>, // the ray aimed through a certified root (ray AIMED), in (n1, n2)
 }
 
 // F and dF/dt at o + t d (for brute force, MODE 0, F alone: it steps over nothing).
@@ -704,6 +710,286 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     return near;
 }
 
+// Certified pixels (docs/method.md §5.9). Each pixel's observer plane, within its boxes (the
+// tile list's, or the walk's marched boxes), is covered by cells (s, t ranges along n1, n2
+// from the pixel's origin); F is enclosed over each cell's box with the rigorous interval
+// arithmetic of ff_f_box. A cell whose enclosure excludes 0 holds no root; another is
+// sampled (its centre, rigorously signed) and split in two, depth first. Two samples of
+// opposite sign, where F is continuous on the segment between them, prove a root: HIT.
+// No cell left: EMPTY. Budget (march.y cells) or stack spent first: UNDECIDED.
+const CERT_EMPTY: u32 = 0u;
+const CERT_HIT: u32 = 1u;
+const CERT_UNDECIDED: u32 = 2u;
+const CERT_STACK: u32 = 24u;
+// The ray index of a hit found along the ray aimed through a certified root.
+const AIMED: u32 = 0xffffffffu;
+// Undecided pixels: filled with this colour, or hatched with it (flag 1024).
+const UNDECIDED_COLOR = vec3<f32>(1.0, 0.0, 1.0);
+
+struct Box {
+    lo: vec4<f32>,
+    hi: vec4<f32>,
+}
+
+struct Cert {
+    budget: u32,
+    hit: bool,
+    undecided: bool,
+    pos: bool,
+    neg: bool,
+    // (s, t) of a point where F > 0 and one where F < 0, on a segment where F is continuous.
+    a: vec2<f32>,
+    b: vec2<f32>,
+}
+
+// The box around the points o + s n1 + t n2, s in S and t in T, its bounds rounded outward.
+fn plane_box(o: vec4<f32>, s: vec2<f32>, t: vec2<f32>) -> Box {
+    let a = s.x * u.n1;
+    let b = s.y * u.n1;
+    let c = t.x * u.n2;
+    let d = t.y * u.n2;
+    var x: Box;
+    x.lo = iv_down4(iv_down4(o + iv_down4(min(a, b))) + iv_down4(min(c, d)));
+    x.hi = iv_up4(iv_up4(o + iv_up4(max(a, b))) + iv_up4(max(c, d)));
+    return x;
+}
+
+// Bounds on n . e over the box of e in [lo, hi], rounded outward.
+fn plane_range(n: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
+    let p = n * lo;
+    let q = n * hi;
+    let l = iv_down4(min(p, q));
+    let h = iv_up4(max(p, q));
+    return vec2<f32>(iv_down(iv_down(iv_down(l.x + l.y) + l.z) + l.w), iv_up(iv_up(iv_up(h.x + h.y) + h.z) + h.w));
+}
+
+// The sign of F at the plane's point (s, t), proved (1 or -1) or not (0); 0 too where the
+// point may lie outside [lo, hi].
+fn cert_sign(o: vec4<f32>, p: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> i32 {
+    let x = plane_box(o, p.xx, p.yy);
+    if (any(x.lo < lo) || any(x.hi > hi)) {
+        return 0;
+    }
+    let f = ff_f_box(x.lo, x.hi);
+    if (iv_is_empty(f)) {
+        return 0;
+    }
+    return select(select(0, -1, f.y < 0.0), 1, f.x > 0.0);
+}
+
+// Records a proved sign at p; a pair of opposite signs is a hit.
+fn cert_note(cert: ptr<function, Cert>, sign: i32, p: vec2<f32>) {
+    if (sign > 0 && !(*cert).pos) {
+        (*cert).pos = true;
+        (*cert).a = p;
+    }
+    if (sign < 0 && !(*cert).neg) {
+        (*cert).neg = true;
+        (*cert).b = p;
+    }
+    (*cert).hit = (*cert).pos && (*cert).neg;
+}
+
+// Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi].
+fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>) {
+    let lo = iv_down4(blo);
+    let hi = iv_up4(bhi);
+    let rel_lo = iv_down4(lo - o);
+    let rel_hi = iv_up4(hi - o);
+    var s = plane_range(u.n1, rel_lo, rel_hi);
+    var t = plane_range(u.n2, rel_lo, rel_hi);
+    // n1 and n2 are orthonormal only to f32's rounding: widen for it (generously).
+    let m = 1e-5 * (max(abs(s.x), abs(s.y)) + max(abs(t.x), abs(t.y))) + 1e-30;
+    s = s + vec2<f32>(-m, m);
+    t = t + vec2<f32>(-m, m);
+    if (slice_on()) {
+        if (u.root.z < t.x || u.root.z > t.y) {
+            return;
+        }
+        t = vec2<f32>(u.root.z);
+    } else if (slab_on()) {
+        t = vec2<f32>(max(t.x, u.root.z - u.root.w), min(t.y, u.root.z + u.root.w));
+        if (t.x > t.y) {
+            return;
+        }
+    }
+    // Where a sample counts pixel-wide: in the domain, where F is continuous (flag 2048).
+    let global = (u.control.z & 2048u) != 0u;
+    let inner_lo = iv_up4(u.domain_lo);
+    let inner_hi = iv_down4(u.domain_hi);
+    var stack: array<vec4<f32>, CERT_STACK>;
+    stack[0] = vec4<f32>(s, t);
+    var top = 1u;
+    loop {
+        if (top == 0u || (*cert).hit) {
+            break;
+        }
+        if ((*cert).budget == 0u) {
+            (*cert).undecided = true;
+            break;
+        }
+        top = top - 1u;
+        let c = stack[top];
+        let x = plane_box(o, c.xy, c.zw);
+        let xlo = max(x.lo, lo);
+        let xhi = min(x.hi, hi);
+        if (any(xlo > xhi)) {
+            continue;
+        }
+        (*cert).budget = (*cert).budget - 1u;
+        iv_jump = false;
+        let f = ff_f_box(xlo, xhi);
+        if (iv_is_empty(f) || f.x > 0.0 || f.y < 0.0) {
+            continue;
+        }
+        let mid = vec2<f32>(0.5 * (c.x + c.y), 0.5 * (c.z + c.w));
+        if (global) {
+            cert_note(cert, cert_sign(o, mid, inner_lo, inner_hi), mid);
+        } else if (!iv_jump) {
+            // F is continuous on this cell's box only: its own samples must show both signs.
+            var local: Cert;
+            cert_note(&local, cert_sign(o, mid, xlo, xhi), mid);
+            cert_note(&local, cert_sign(o, c.xz, xlo, xhi), c.xz);
+            cert_note(&local, cert_sign(o, c.yw, xlo, xhi), c.yw);
+            if (local.hit) {
+                (*cert).hit = true;
+                (*cert).a = local.a;
+                (*cert).b = local.b;
+            }
+        }
+        if ((*cert).hit) {
+            break;
+        }
+        // Split the longer side (a slice's cells are segments along n1).
+        let along_s = c.y - c.x >= c.w - c.z;
+        let cut = select(mid.y, mid.x, along_s);
+        let ends = select(c.zw, c.xy, along_s);
+        if (cut <= ends.x || cut >= ends.y || top + 2u > CERT_STACK) {
+            // Too small for f32 to split, or too deep: this part stays undecided.
+            (*cert).undecided = true;
+            continue;
+        }
+        stack[top] = select(vec4<f32>(c.xy, c.z, cut), vec4<f32>(c.x, cut, c.zw), along_s);
+        stack[top + 1u] = select(vec4<f32>(c.xy, cut, c.w), vec4<f32>(cut, c.y, c.zw), along_s);
+        top = top + 2u;
+    }
+}
+
+// The plane's point where F changes sign between the certificate's two samples, by
+// bisection in f32 (for shading: the sign change itself is already proved).
+fn cert_root(o: vec4<f32>, cert: Cert) -> vec2<f32> {
+    var pa = cert.a;
+    var pb = cert.b;
+    for (var i = 0u; i < 24u; i = i + 1u) {
+        let m = 0.5 * (pa + pb);
+        let positive = ff_f(o + m.x * u.n1 + m.y * u.n2) > 0.0;
+        pa = select(pa, m, positive);
+        pb = select(m, pb, positive);
+    }
+    return 0.5 * (pa + pb);
+}
+
+// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes; for a hit
+// the rays found nothing for, aims a ray through the proved root and marches it through
+// the same boxes, so its hits are shaded as the others are (the root itself if the march
+// misses it).
+fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
+    let o = (*tr).plane;
+    var cert: Cert;
+    cert.budget = u.march.y;
+    if (MODE == 1u) {
+        let tile = px / max(u.tiling.x, 1u);
+        let t = tile.x + tile.y * u.tiling.y;
+        let end = tiles[t + 1u];
+        var c = tiles[t];
+        loop {
+            if (c >= end || cert.hit || cert.budget == 0u) {
+                break;
+            }
+            let i = tiles[u.tiling.w + c];
+            let half = level_half(boxes[i].level);
+            certify_box(&cert, o, boxes[i].center - half, boxes[i].center + half);
+            c = c + 1u;
+        }
+    } else if (MODE == 2u) {
+        var i = 0u;
+        loop {
+            if (i >= u.counts.x || cert.hit || cert.budget == 0u) {
+                break;
+            }
+            let node = nodes[i];
+            let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
+            let half = level_half(node.info);
+            let rel = c - o;
+            let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, sphere_radius(half));
+            let boxed = (node.info & MARCHED) != 0u;
+            if (meets && boxed) {
+                certify_box(&cert, o, c - half, c + half);
+            }
+            i = select(node.skip, i + 1u, meets && !boxed);
+        }
+    } else {
+        certify_box(&cert, o, u.domain_lo, u.domain_hi);
+    }
+    if (!cert.hit) {
+        return select(CERT_EMPTY, CERT_UNDECIDED, cert.undecided);
+    }
+    if ((*tr).hits.count == 0u) {
+        let h = cert_root(o, cert);
+        (*tr).k = AIMED;
+        if (slice_on()) {
+            // The slice's ray runs along n1 from reach behind the plane's origin.
+            (*tr).aim = vec2<f32>(1.0, 0.0);
+            insert_hit(tr, h.x + 0.5 * length(u.domain_hi - u.domain_lo));
+        } else {
+            let len = length(h);
+            (*tr).aim = select(vec2<f32>(1.0, 0.0), h / len, len > 0.0);
+            if (MODE == 1u) {
+                trace_aimed(tr, px);
+            }
+            if ((*tr).hits.count == 0u) {
+                insert_hit(tr, len);
+            }
+        }
+    }
+    return CERT_HIT;
+}
+
+// Marches the ray aimed at `(*tr).aim` through the pixel's tile list (as trace_box
+// marches a pencil's ray).
+fn trace_aimed(tr: ptr<function, Tracer>, px: vec2<u32>) {
+    let tile = px / max(u.tiling.x, 1u);
+    let t = tile.x + tile.y * u.tiling.y;
+    let end = tiles[t + 1u];
+    let dir = (*tr).aim;
+    let d = dir.x * u.n1 + dir.y * u.n2;
+    var c = tiles[t];
+    loop {
+        if (c >= end) {
+            break;
+        }
+        let i = tiles[u.tiling.w + c];
+        let half = level_half(boxes[i].level);
+        let center = boxes[i].center;
+        var span = clip_to_box((*tr).o, d, center - half, center + half);
+        if (slab_on()) {
+            span = clip_to_slab(span, dir.y);
+        }
+        if (span.x < span.y && span.x < (*tr).hits.far) {
+            march_ray(tr, d, span.x, span.y, max(box_steps(boxes[i].level), 1u), dot(abs(d), boxes[i].slope), bend_in_plane(boxes[i].form, dir));
+        }
+        c = c + 1u;
+    }
+}
+
+// What an undecided pixel with no hit shows: the marker colour, or (flag 1024) stripes of
+// it over the background.
+fn undecided_color(px: vec2<u32>) -> vec3<f32> {
+    let stripe = ((px.x + px.y) / 3u) % 2u == 0u;
+    let hatch = (u.control.z & 1024u) != 0u;
+    return select(UNDECIDED_COLOR, u.background.rgb, hatch && !stripe);
+}
+
 // The settings the pixel's code reads most, handed from vs_main to the fragment shaders as
 // flat (per triangle) values: llvmpipe reads a flat input for a group of pixels in one
 // load, where it reads a storage buffer's word lane by lane (see `u`). fs_main puts them
@@ -769,6 +1055,7 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     var tr: Tracer;
     tr.shift = vec2<f32>(s * (pos.x - 0.5 * w), s * (0.5 * h - pos.y));
     tr.o = u.center + tr.shift.x * u.v1 + tr.shift.y * u.v2;
+    tr.plane = tr.o;
     if (slice_on()) {
         // The slice's line, from where it enters the sphere around the domain.
         let reach = 0.5 * length(u.domain_hi - u.domain_lo);
@@ -829,6 +1116,11 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
             }
         }
     }
+    // Alpha 255 - 2 verdict - cut: the certified verdict (0 without CERTIFY) and the cut flag.
+    var verdict = CERT_EMPTY;
+    if (CERTIFY == 1u) {
+        verdict = certify(&tr, px);
+    }
     // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
     // once when the iteration cap is spent; the pixel is then marked with alpha 254/255 so
     // that the caller can tell the user (the picture may miss parts of M).
@@ -841,10 +1133,11 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
             break;
         }
     }
-    let alpha = select(254.0 / 255.0, 1.0, probe >= rounds);
+    let alpha = f32(255u - 2u * verdict - select(1u, 0u, probe >= rounds)) / 255.0;
     let count = tr.hits.count;
     if (count == 0u) {
-        return vec4<f32>(u.background.rgb, alpha);
+        let empty = select(u.background.rgb, undecided_color(px), verdict == CERT_UNDECIDED);
+        return vec4<f32>(empty, alpha);
     }
     // Blend the hits farthest first (count >= 1; tested at the end: see "The pixel's work").
     let n = u.size.z;
@@ -853,7 +1146,8 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     loop {
         let idx = count - 1u - j;
         let hit = hit_at(tr.hits, idx);
-        let dir = select(ray_dir2(hit.y, n, tr.pixel_seed, tr.offset), vec2<f32>(1.0, 0.0), slice_on());
+        var dir = select(ray_dir2(hit.y, n, tr.pixel_seed, tr.offset), vec2<f32>(1.0, 0.0), slice_on());
+        dir = select(dir, tr.aim, hit.y == AIMED);
         let d = dir.x * u.n1 + dir.y * u.n2;
         let c = shade(tr.o + bitcast<f32>(hit.x) * d, d);
         if (j == 0u) {

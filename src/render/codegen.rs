@@ -23,6 +23,9 @@ pub const TEMPLATE: &str = include_str!("../../templates/raycast.wgsl");
 const F_MARKER: &str = "//@FOURFOLD_F@";
 const GRAD_MARKER: &str = "//@FOURFOLD_GRAD@";
 const F_GRAD_MARKER: &str = "//@FOURFOLD_F_GRAD@";
+const INTERVAL_MARKER: &str = "//@FOURFOLD_INTERVAL@";
+/// Rigorous interval arithmetic in WGSL (certified pixels), spliced in before `ff_f_box`.
+pub const INTERVAL_LIBRARY: &str = include_str!("../../templates/interval.wgsl");
 
 /// The most parameters a shader can read (the uniform holds 16 × vec4).
 pub const MAX_PARAMS: usize = 64;
@@ -61,10 +64,12 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
             v[0], v[1], v[2], v[3], v[4]
         )
     });
+    let interval = format!("{INTERVAL_LIBRARY}\n{}", interval_function(&formula.tape_f));
     let source = TEMPLATE
         .replace(F_MARKER, &f)
         .replace(GRAD_MARKER, &grad)
-        .replace(F_GRAD_MARKER, &f_grad);
+        .replace(F_GRAD_MARKER, &f_grad)
+        .replace(INTERVAL_MARKER, &interval);
     let module = validate(&source)?;
     Ok(Shader { source, module })
 }
@@ -96,6 +101,124 @@ fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> St
     let _ = writeln!(body, "    return {};", result(&outputs));
     body.push('}');
     body
+}
+
+/// `ff_f_box(lo, hi)`: an enclosure of F over the box [lo, hi] with the operations of
+/// `templates/interval.wgsl`, one `let` per tape instruction (see docs/method.md §5.9).
+fn interval_function(tape: &Tape) -> String {
+    let mut body = String::new();
+    let _ = writeln!(
+        body,
+        "fn ff_f_box(lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {{"
+    );
+    for (i, instr) in tape.instrs().iter().enumerate() {
+        if let Instr::Powi(a, n) = *instr {
+            interval_powi_lets(&mut body, i, a, n);
+        } else {
+            let _ = writeln!(body, "    let s{i} = {};", interval_expression(*instr));
+        }
+    }
+    let _ = writeln!(body, "    return s{};", tape.outputs()[0]);
+    body.push('}');
+    body
+}
+
+/// An interval holding the real number `v`: its nearest f32 stepped an ulp either way, or
+/// a half-line beyond the interval library's largest bound.
+fn interval_constant(v: f64) -> String {
+    const LARGE: f64 = 2305843009213693952.0; // IV_LARGE, 2^61
+    if v.is_nan() {
+        "IV_EMPTY".into()
+    } else if v > LARGE {
+        "vec2<f32>(IV_LARGE, IV_BIG)".into()
+    } else if v < -LARGE {
+        "vec2<f32>(-IV_BIG, -IV_LARGE)".into()
+    } else {
+        format!("iv_around({})", literal(v))
+    }
+}
+
+fn interval_expression(instr: Instr) -> String {
+    let s = |i: u32| format!("s{i}");
+    match instr {
+        Instr::Const(v) => interval_constant(v),
+        Instr::Var(a) => {
+            let c = ["x", "y", "z", "w"][a as usize & 3];
+            format!("vec2<f32>(lo.{c}, hi.{c})")
+        }
+        Instr::Param(i) => format!("iv_around(ff_param({i}u))"),
+        Instr::Powi(..) => unreachable!("integer powers are written by interval_powi_lets"),
+        Instr::Unary(op, a) => {
+            let name = match op {
+                UnaryOp::Neg => "iv_neg",
+                UnaryOp::Abs => "iv_abs",
+                UnaryOp::Sqrt => "iv_sqrt",
+                UnaryOp::Cbrt => "iv_cbrt",
+                UnaryOp::Exp => "iv_exp",
+                UnaryOp::Ln => "iv_ln",
+                UnaryOp::Sin => "iv_sin",
+                UnaryOp::Cos => "iv_cos",
+                UnaryOp::Tan => "iv_tan",
+                UnaryOp::Asin => "iv_asin",
+                UnaryOp::Acos => "iv_acos",
+                UnaryOp::Atan => "iv_atan",
+                UnaryOp::Sinh => "iv_sinh",
+                UnaryOp::Cosh => "iv_cosh",
+                UnaryOp::Tanh => "iv_tanh",
+                UnaryOp::Sign => "iv_sign",
+                UnaryOp::Step => "iv_step",
+            };
+            format!("{name}({})", s(a))
+        }
+        Instr::Binary(op, a, b) => {
+            let name = match op {
+                BinaryOp::Add => "iv_add",
+                BinaryOp::Sub => "iv_sub",
+                BinaryOp::Mul => "iv_mul",
+                BinaryOp::Div => "iv_div",
+                BinaryOp::Pow => "iv_pow",
+                BinaryOp::Min => "iv_min",
+                BinaryOp::Max => "iv_max",
+                BinaryOp::Atan2 => "iv_atan2",
+            };
+            format!("{name}({}, {})", s(a), s(b))
+        }
+    }
+}
+
+/// `let s{i} = s{a}^n` in intervals: square and multiply (squares through `iv_sqr`, never
+/// negative), and 1 / x^|n| for a negative n.
+fn interval_powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
+    let mut result: Option<String> = None;
+    let mut square = format!("s{a}");
+    let mut bits = n.unsigned_abs();
+    let mut j = 0;
+    while bits > 0 {
+        if bits & 1 == 1 {
+            result = Some(match result {
+                None => square.clone(),
+                Some(r) => {
+                    let next = format!("s{i}_m{j}");
+                    let _ = writeln!(body, "    let {next} = iv_mul({r}, {square});");
+                    next
+                }
+            });
+        }
+        bits >>= 1;
+        if bits > 0 {
+            let next = format!("s{i}_q{j}");
+            let _ = writeln!(body, "    let {next} = iv_sqr({square});");
+            square = next;
+        }
+        j += 1;
+    }
+    let positive = result.unwrap_or_else(|| "vec2<f32>(1.0)".into());
+    let value = if n < 0 {
+        format!("iv_div(vec2<f32>(1.0), {positive})")
+    } else {
+        positive
+    };
+    let _ = writeln!(body, "    let s{i} = {value};");
 }
 
 /// A finite f32 literal.

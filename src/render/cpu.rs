@@ -8,14 +8,22 @@ use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
 use crate::tree::{Curvature, Hierarchy};
 
+use super::certify::{Certifier, Verdict};
 use super::march::{march_steps, slope_along};
 
 use super::uniforms::{
     FLAG_BORDER, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
-    FLAG_SLICE, Uniforms,
+    FLAG_CERTIFIED, FLAG_HATCH, FLAG_SLICE, Uniforms,
 };
 
 type V4 = [f32; 4];
+
+/// The ray index of a hit along the ray aimed through a certified root (the shader's
+/// `AIMED`).
+const AIMED: u32 = u32::MAX;
+
+/// Undecided pixels' colour (as the shader's `UNDECIDED_COLOR`).
+const UNDECIDED_COLOR: [f32; 3] = [1.0, 0.0, 1.0];
 
 /// The colour of the hits where a slice cuts (as the shader's `MARK_COLOR`).
 const MARK_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
@@ -108,6 +116,18 @@ struct Pixel<'a> {
     offset: f32,
     hits: Vec<(f32, u32)>,
     k_max: usize,
+    /// The direction of ray AIMED in (n1, n2).
+    aim: [f32; 2],
+}
+
+/// A box the pixel marches, as `trace_box` takes it.
+#[derive(Clone, Copy)]
+struct Marched {
+    lo: V4,
+    hi: V4,
+    steps: u32,
+    slope: V4,
+    curvature: Curvature,
 }
 
 impl Pixel<'_> {
@@ -150,8 +170,24 @@ impl Pixel<'_> {
         if self.slice() {
             return self.u.n1;
         }
-        let d = self.dir2(k);
+        let d = if k == AIMED { self.aim } else { self.dir2(k) };
         add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
+    }
+
+    /// The plane's point where F changes sign between `a` (F > 0) and `b` (F < 0), by 24
+    /// bisections in f32 (as the shader's `cert_root`: for shading; the root is proved).
+    fn root_between(&mut self, o: V4, a: [f64; 2], b: [f64; 2]) -> [f32; 2] {
+        let (mut pa, mut pb) = (a.map(|v| v as f32), b.map(|v| v as f32));
+        let point = |m: [f32; 2]| add(o, add(scale(self.u.n1, m[0]), scale(self.u.n2, m[1])));
+        for _ in 0..24 {
+            let m = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+            if self.f(point(m)) > 0.0 {
+                pa = m;
+            } else {
+                pb = m;
+            }
+        }
+        [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]
     }
 
     fn slice(&self) -> bool {
@@ -247,9 +283,23 @@ impl Pixel<'_> {
 
     /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
     /// bound) and `curvature` F's second derivatives.
-    fn trace_box(&mut self, o: V4, lo: V4, hi: V4, steps: u32, slope: V4, curvature: Curvature) {
+    fn trace_box(&mut self, o: V4, b: &Marched) {
         let rays = if self.slice() { 1 } else { self.u.size.rays };
         for k in 0..rays {
+            self.trace_ray(o, b, k);
+        }
+    }
+
+    /// Marches ray k (or AIMED) over its span in the box `b`.
+    fn trace_ray(&mut self, o: V4, b: &Marched, k: u32) {
+        let Marched {
+            lo,
+            hi,
+            steps,
+            slope,
+            curvature,
+        } = *b;
+        {
             let d = self.direction(k);
             let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
             for i in 0..4 {
@@ -260,7 +310,8 @@ impl Pixel<'_> {
                 t1 = t1.min(ta.max(tb));
             }
             if self.u.control.flags & FLAG_SLAB != 0 {
-                (t0, t1) = clip_to_slab(self.u, (t0, t1), self.dir2(k)[1]);
+                let b = if k == AIMED { self.aim[1] } else { self.dir2(k)[1] };
+                (t0, t1) = clip_to_slab(self.u, (t0, t1), b);
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
                 let along = slope_along(slope, d.map(f64::from));
@@ -351,7 +402,8 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
     }
 }
 
-/// Renders like the GPU would, returning tightly packed RGBA8 rows.
+/// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
+/// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
 pub fn render_rgba(
     formula: &CompiledFormula,
     params: &[f64],
@@ -362,11 +414,13 @@ pub fn render_rgba(
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
         .map(|py| {
+            let mut certifier = Certifier::new(formula, params, u);
             let mut row = Vec::with_capacity(width as usize * 4);
             for px in 0..width {
-                let c = render_pixel(formula, params, hierarchy, u, px, py);
+                let (c, verdict) =
+                    render_pixel(formula, params, hierarchy, u, &mut certifier, px, py);
                 row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
-                row.push(255);
+                row.push(verdict.alpha());
             }
             row
         })
@@ -374,28 +428,75 @@ pub fn render_rgba(
     rows.concat()
 }
 
+/// The boxes pixel `o`'s rays march: a walk of the hierarchy's marched boxes whose sphere
+/// meets its observer plane (the shader's MODE 2), or the domain for brute force.
+fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
+    if u.brute_force() {
+        return vec![Marched {
+            lo: u.domain_lo,
+            hi: u.domain_hi,
+            steps: u.counts.brute_steps,
+            slope: [f32::INFINITY; 4],
+            curvature: Curvature::NONE,
+        }];
+    }
+    let mut boxes = Vec::new();
+    let mut i = 0usize;
+    let n = u.counts.nodes as usize;
+    while i < n {
+        let node = &h.nodes[i];
+        let level = &u.levels[node.level() as usize];
+        let rel = sub(node.center, o);
+        let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
+        if a * a + b * b > level.radius * level.radius {
+            i = node.skip as usize;
+            continue;
+        }
+        // As the shader's `visit`: the boxes of the cut are marched whole.
+        if node.is_marched() {
+            boxes.push(Marched {
+                lo: sub(node.center, level.half),
+                hi: add(node.center, level.half),
+                steps: if node.is_leaf() {
+                    u.control.steps
+                } else {
+                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
+                },
+                slope: h.slope(i),
+                curvature: h.curvature(i),
+            });
+            i = node.skip as usize;
+            continue;
+        }
+        i += 1;
+    }
+    boxes
+}
+
 fn render_pixel(
     formula: &CompiledFormula,
     params: &[f64],
     h: &Hierarchy,
     u: &Uniforms,
+    certifier: &mut Certifier<'_>,
     px: u32,
     py: u32,
-) -> [f32; 3] {
+) -> ([f32; 3], Verdict) {
     let (w, hgt) = (u.size.width as f32, u.size.height as f32);
     let s = u.misc.pixel_size;
     let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
-    let mut o = add(
+    let plane = add(
         u.center,
         add(
             scale(u.v1, s * (fx - 0.5 * w)),
             scale(u.v2, s * (0.5 * hgt - fy)),
         ),
     );
+    let mut o = plane;
+    // As the shader: the slice's line, from where it enters the sphere around the domain.
+    let extent = sub(u.domain_hi, u.domain_lo);
+    let reach = 0.5 * dot(extent, extent).sqrt();
     if u.control.flags & FLAG_SLICE != 0 {
-        // As the shader: the slice's line, from where it enters the sphere around the domain.
-        let extent = sub(u.domain_hi, u.domain_lo);
-        let reach = 0.5 * dot(extent, extent).sqrt();
         o = sub(
             add(o, scale(u.n2, u.root.section_offset)),
             scale(u.n1, reach),
@@ -414,46 +515,45 @@ fn render_pixel(
         offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
         hits: Vec::with_capacity(16),
         k_max: u.size.hits.clamp(1, 16) as usize,
+        aim: [1.0, 0.0],
     };
-    if u.brute_force() {
-        pixel.trace_box(
-            o,
-            u.domain_lo,
-            u.domain_hi,
-            u.counts.brute_steps,
-            [f32::INFINITY; 4],
-            Curvature::NONE,
-        );
-    } else {
-        let mut i = 0usize;
-        let n = u.counts.nodes as usize;
-        while i < n {
-            let node = &h.nodes[i];
-            let level = &u.levels[node.level() as usize];
-            let rel = sub(node.center, o);
-            let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
-            if a * a + b * b > level.radius * level.radius {
-                i = node.skip as usize;
-                continue;
-            }
-            // As the shader's `visit`: the boxes of the cut are marched whole.
-            if node.is_marched() {
-                let lo = sub(node.center, level.half);
-                let hi = add(node.center, level.half);
-                let steps = if node.is_leaf() {
-                    u.control.steps
+    let boxes = boxes_of(h, u, o);
+    for b in &boxes {
+        pixel.trace_box(o, b);
+    }
+    let mut verdict = Verdict::Empty;
+    if u.control.flags & FLAG_CERTIFIED != 0 {
+        let bounds: Vec<(V4, V4)> = boxes.iter().map(|b| (b.lo, b.hi)).collect();
+        let outcome = certifier.pixel(plane, &bounds);
+        verdict = outcome.verdict;
+        if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
+            // As the shader's `certify`: aim a ray through the proved root.
+            let root = pixel.root_between(plane, a, b);
+            if pixel.slice() {
+                pixel.insert(root[0] + reach, AIMED);
+            } else {
+                let len = (root[0] * root[0] + root[1] * root[1]).sqrt();
+                pixel.aim = if len > 0.0 {
+                    [root[0] / len, root[1] / len]
                 } else {
-                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
+                    [1.0, 0.0]
                 };
-                pixel.trace_box(o, lo, hi, steps, h.slope(i), h.curvature(i));
-                i = node.skip as usize;
-                continue;
+                for b in &boxes {
+                    pixel.trace_ray(o, b, AIMED);
+                }
+                if pixel.hits.is_empty() {
+                    pixel.insert(len, AIMED);
+                }
             }
-            i += 1;
         }
     }
     if pixel.hits.is_empty() {
-        return [u.background[0], u.background[1], u.background[2]];
+        let color = if verdict == Verdict::Undecided {
+            undecided_color(u, px, py)
+        } else {
+            [u.background[0], u.background[1], u.background[2]]
+        };
+        return (color, verdict);
     }
     let alpha = u.misc.alpha;
     let hits = pixel.hits.clone();
@@ -467,5 +567,16 @@ fn render_pixel(
             std::array::from_fn(|i| color[i] * (1.0 - alpha) + c[i] * alpha)
         };
     }
-    color
+    (color, verdict)
+}
+
+/// An undecided pixel with no hit: the marker colour, or its stripes over the background
+/// (as the shader's `undecided_color`).
+fn undecided_color(u: &Uniforms, px: u32, py: u32) -> [f32; 3] {
+    let stripe = ((px + py) / 3) % 2 == 0;
+    if u.control.flags & FLAG_HATCH != 0 && !stripe {
+        [u.background[0], u.background[1], u.background[2]]
+    } else {
+        UNDECIDED_COLOR
+    }
 }

@@ -15,7 +15,7 @@ use crate::tree::Hierarchy;
 
 use super::codegen::Shader;
 use super::tiles::TileLists;
-use super::uniforms::{FLAG_RANDOM, FLAG_SLAB, FLAG_SLICE, Tiling, Uniforms};
+use super::uniforms::{FLAG_CERTIFIED, FLAG_RANDOM, FLAG_SLAB, FLAG_SLICE, Tiling, Uniforms};
 
 /// Storage buffers the ray caster's shader reads (bindings 0-4).
 pub const STORAGE_BUFFERS: u32 = 5;
@@ -273,6 +273,7 @@ impl RayCaster {
             slots: slot_tier(settings.hits),
             random: settings.sampling == crate::scene::Sampling::Random,
             section: 0,
+            certified: false,
         };
         let pipeline = build_pipeline(device, &module, &pipeline_layout, target, variant);
         if let Some(error) = scope_error(scope) {
@@ -865,10 +866,12 @@ struct Variant {
     /// SECTION: the whole observer plane (0), a slab of it (1) or a slice (2), so that a
     /// whole plane's frame runs no slab or slice code.
     section: u8,
+    /// CERTIFY: classify every pixel rigorously (docs/method.md §5.9).
+    certified: bool,
 }
 
 impl Variant {
-    const COUNT: usize = 3 * SLOT_TIERS.len() * 2 * 3;
+    const COUNT: usize = 3 * SLOT_TIERS.len() * 2 * 3 * 2;
 
     /// The variant that draws with `uniforms` in `mode`.
     fn of(mode: Mode, uniforms: &Uniforms) -> Self {
@@ -881,12 +884,14 @@ impl Variant {
             } else {
                 u8::from(uniforms.control.flags & FLAG_SLAB != 0)
             },
+            certified: uniforms.control.flags & FLAG_CERTIFIED != 0,
         }
     }
 
     fn index(self) -> usize {
         let sampled = (self.mode as usize * SLOT_TIERS.len() + self.slots) * 2;
-        (sampled + usize::from(self.random)) * 3 + usize::from(self.section)
+        let sectioned = (sampled + usize::from(self.random)) * 3 + usize::from(self.section);
+        sectioned * 2 + usize::from(self.certified)
     }
 }
 
@@ -909,6 +914,7 @@ fn build_pipeline(
             ("SLOTS", f64::from(SLOT_TIERS[variant.slots])),
             ("SAMPLING", f64::from(u32::from(variant.random))),
             ("SECTION", f64::from(variant.section)),
+            ("CERTIFY", f64::from(u32::from(variant.certified))),
         ],
     )
 }

@@ -3,6 +3,7 @@
 
 pub mod animation;
 pub mod camera;
+pub mod certify;
 pub mod codegen;
 pub mod cpu;
 pub mod framing;

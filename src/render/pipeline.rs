@@ -8,6 +8,7 @@ use crate::scene::Scene;
 use crate::tree::{Hierarchy, TreeStats};
 
 use super::camera::Camera;
+use super::certify::{Verdict, VerdictCounts, take_marks};
 use super::codegen;
 use super::gpu::{Gpu, RayCaster};
 use super::prepare::Prepared;
@@ -45,20 +46,23 @@ pub struct Picture {
     pub marched: Option<String>,
     /// Pixels (row-major indices) whose work the GPU driver cut short (llvmpipe stops a
     /// shader invocation's loops after 65535 iterations): they may miss parts of M. The
-    /// shader flags them with alpha 254; `rgba` has alpha 255 everywhere.
+    /// shader flags them in alpha (see `certify::take_marks`); `rgba` has alpha 255
+    /// everywhere.
     pub cut_pixels: Vec<usize>,
+    /// With `[render] certified`: each pixel's verdict, row-major (docs/method.md §5.9).
+    pub verdicts: Option<Vec<Verdict>>,
 }
 
-/// The pixels the shader flagged (alpha 254), made opaque.
-pub fn take_cut_pixels(rgba: &mut [u8]) -> Vec<usize> {
-    let mut cut = Vec::new();
-    for (i, p) in rgba.chunks_mut(4).enumerate() {
-        if p[3] != 255 {
-            cut.push(i);
-            p[3] = 255;
-        }
+impl Picture {
+    /// With `[render] certified`: how many pixels got each verdict.
+    pub fn verdict_counts(&self) -> Option<VerdictCounts> {
+        self.verdicts.as_deref().map(VerdictCounts::of)
     }
-    cut
+}
+
+/// The pixels the shader flagged as cut short, with alpha made opaque.
+pub fn take_cut_pixels(rgba: &mut [u8]) -> Vec<usize> {
+    take_marks(rgba).0
 }
 
 /// What can stop a picture, with a message for the user.
@@ -157,7 +161,8 @@ pub fn render_prepared(
             gpu_frame(&gpu, &shader, hierarchy, &camera, &uniforms, &mut times)?
         }
     };
-    let cut_pixels = take_cut_pixels(&mut rgba);
+    let (cut_pixels, verdicts) = take_marks(&mut rgba);
+    let verdicts = scene.render.certified.then_some(verdicts);
     let marched =
         (!uniforms.brute_force() && !hierarchy.is_empty()).then(|| hierarchy.march_summary());
     Ok(Picture {
@@ -165,6 +170,7 @@ pub fn render_prepared(
         height,
         rgba,
         cut_pixels,
+        verdicts,
         adapter,
         times,
         tree: tree.stats.clone(),

@@ -4,11 +4,11 @@
 use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
-    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK,
-    FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Hidden, LEVEL_SLOTS, March, Misc, Root,
-    Shading, Size, Tiling, Uniforms,
+    Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_CERTIFIED, FLAG_CONTINUOUS, FLAG_HATCH,
+    FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE,
+    Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
 };
-use crate::scene::{ColorBy, RenderSettings, Sampling};
+use crate::scene::{ColorBy, RenderSettings, Sampling, Undecided};
 use crate::tree::{Hierarchy, LevelInfo};
 
 use super::camera::{Camera, Section};
@@ -87,6 +87,15 @@ impl Uniforms {
         }
         if render.sampling == Sampling::Random {
             flags |= FLAG_RANDOM;
+        }
+        if render.certified {
+            flags |= FLAG_CERTIFIED;
+        }
+        if render.undecided == Undecided::Hatch {
+            flags |= FLAG_HATCH;
+        }
+        if hierarchy.continuous {
+            flags |= FLAG_CONTINUOUS;
         }
         let mut hidden = Hidden::zeroed();
         if render.color_by == ColorBy::Hidden {
@@ -184,7 +193,8 @@ impl Uniforms {
             half0: hierarchy.base_half,
             march: March {
                 finest,
-                unused: [0; 3],
+                cert_budget: render.cert_budget,
+                unused: [0; 2],
             },
             hidden,
             levels,

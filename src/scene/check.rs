@@ -2,7 +2,7 @@
 //! problem names the key it is about, and each reader says it in its own words (the file
 //! points at the key's line, the command line names the flag that set it).
 
-use super::{MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Scene};
+use super::{MAX_CERT_BUDGET, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Scene};
 
 /// A scene value that is not allowed.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,11 +94,12 @@ pub fn flag_of(key: &str) -> String {
 }
 
 /// The ranges of the counted settings: key, least, most.
-const COUNTS: [(&str, u32, u32); 4] = [
+const COUNTS: [(&str, u32, u32); 5] = [
     ("render.rays", 1, MAX_RAYS),
     ("render.hits", 1, MAX_HITS),
     ("render.steps", 1, MAX_STEPS),
     ("render.bisection_iters", 1, MAX_STEPS),
+    ("render.cert_budget", 1, MAX_CERT_BUDGET),
 ];
 
 impl Scene {
@@ -176,7 +177,7 @@ impl Scene {
             ));
         }
         let r = &self.render;
-        let counts = [r.rays, r.hits, r.steps, r.bisection_iters];
+        let counts = [r.rays, r.hits, r.steps, r.bisection_iters, r.cert_budget];
         for ((key, lo, hi), value) in COUNTS.into_iter().zip(counts) {
             if !(lo..=hi).contains(&value) {
                 return Err(Invalid::range(key, value, format!("between {lo} and {hi}")));

@@ -322,6 +322,11 @@ pub struct Highlight {
     pub color: Color,
 }
 
+/// Certified pixels' default budget of cells per pixel.
+pub const DEFAULT_CERT_BUDGET: u32 = 256;
+/// The largest budget: within llvmpipe's 65 535 loop iterations per pixel, with the rays'.
+pub const MAX_CERT_BUDGET: u32 = 8192;
+
 /// How the ray caster runs and shades (docs/method.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -352,6 +357,26 @@ pub struct RenderSettings {
     /// What gives a hit its colour: the surface colour, or its place along the hidden n2.
     #[serde(alias = "colour_by")]
     pub color_by: ColorBy,
+    /// Certify every pixel: prove it hit (F changes sign on its observer plane), empty (F
+    /// has no zero there), or leave it undecided once `cert_budget` cells are spent
+    /// (docs/method.md §5.9).
+    pub certified: bool,
+    /// Certified pixels: the most cells of a pixel's observer plane F is enclosed over.
+    pub cert_budget: u32,
+    /// How certified pixels that stay undecided are drawn.
+    pub undecided: Undecided,
+}
+
+/// How an undecided pixel (certified mode) is drawn where no ray found a hit: never as the
+/// background.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Undecided {
+    /// Filled with magenta (#ff00ff).
+    #[default]
+    Marker,
+    /// Magenta diagonal stripes over the background.
+    Hatch,
 }
 
 /// What gives a hit its colour before lighting.
@@ -391,6 +416,9 @@ impl Default for RenderSettings {
             seed: 1,
             brute_force: false,
             color_by: ColorBy::Surface,
+            certified: false,
+            cert_budget: DEFAULT_CERT_BUDGET,
+            undecided: Undecided::Marker,
         }
     }
 }

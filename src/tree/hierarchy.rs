@@ -85,6 +85,10 @@ pub struct Hierarchy {
     /// `cover[k]` its boxes' ancestors k levels up (not above their marched box), for
     /// views too small to gain from finer ones (see [`Hierarchy::cover_within`]).
     pub cover: Vec<Vec<CoverBox>>,
+    /// Whether F is continuous on the whole domain (by interval evaluation over it; false
+    /// without a formula): then a sign change between any two points of the domain proves
+    /// a root between them (certified pixels, docs/method.md §5.9).
+    pub continuous: bool,
 }
 
 /// A box of the tree that lies in a marched box (see [`Hierarchy::cover`]).
@@ -251,6 +255,11 @@ impl Hierarchy {
             slopes: Vec::new(),
             curvature: Vec::new(),
             cover: Vec::new(),
+            continuous: formula.is_some_and(|(f, params)| {
+                let mut eval = IntervalEvaluator::new();
+                eval.eval(&f.tape_f, &tree.domain, params);
+                eval.continuous_on_last_box(&f.tape_f)
+            }),
         };
         if tree.is_empty() {
             return hierarchy;

@@ -1,0 +1,393 @@
+// fourfold's rigorous interval arithmetic in WGSL: the enclosures behind certified pixels
+// (docs/method.md §5.9, with the error model of each operation and the WGSL spec's
+// sections it rests on). fourfold splices this into the ray caster, followed by the
+// generated `ff_f_box`, which runs F's tape over a box with these operations.
+//
+// An interval is a vec2<f32> (lo, hi). WGSL has no rounding modes and its + - * may round
+// either way, so every computed bound is stepped outward by the operation's error through
+// its bits (`iv_down`, `iv_up`): integer operations that no compiler may fold into the
+// float arithmetic. Bounds are kept within ±IV_BIG, and ±IV_BIG itself stands for ±inf
+// (a WGSL implementation may assume no infinity or NaN ever occurs, so none is made);
+// an empty interval (F undefined on the whole box: sqrt or ln of negatives) is lo > hi.
+
+const IV_BIG: f32 = 4611686018427387904.0; // 2^62: a product of two finite bounds stays finite
+const IV_LARGE: f32 = 2305843009213693952.0; // 2^61: the largest finite bound kept
+const IV_TINY: f32 = 2.35098870164457501594e-38; // 2^-125: below it, subnormals may flush
+const IV_EMPTY: vec2<f32> = vec2<f32>(4611686018427387904.0, -4611686018427387904.0);
+const IV_WHOLE: vec2<f32> = vec2<f32>(-4611686018427387904.0, 4611686018427387904.0);
+
+// Set once an operation may make F discontinuous or unbounded on the box (division by an
+// interval holding 0, a bound at ±inf, ...): a sign change there proves no root.
+var<private> iv_jump: bool;
+
+// x stepped n ulps toward -inf; a bound within ±2^-125 (a subnormal or 0, which an
+// implementation may flush to 0) becomes -2^-125.
+fn iv_down_n(x: f32, n: u32) -> f32 {
+    let b = bitcast<u32>(x);
+    let stepped = bitcast<f32>(select(b + n, b - n, x > 0.0));
+    return select(stepped, -IV_TINY, abs(x) < IV_TINY);
+}
+
+fn iv_up_n(x: f32, n: u32) -> f32 {
+    return -iv_down_n(-x, n);
+}
+
+fn iv_down(x: f32) -> f32 {
+    return iv_down_n(x, 1u);
+}
+
+fn iv_up(x: f32) -> f32 {
+    return iv_up_n(x, 1u);
+}
+
+fn iv_down4(x: vec4<f32>) -> vec4<f32> {
+    let b = bitcast<vec4<u32>>(x);
+    let stepped = bitcast<vec4<f32>>(select(b + 1u, b - 1u, x > vec4<f32>(0.0)));
+    return select(stepped, vec4<f32>(-IV_TINY), abs(x) < vec4<f32>(IV_TINY));
+}
+
+fn iv_up4(x: vec4<f32>) -> vec4<f32> {
+    return -iv_down4(-x);
+}
+
+fn iv_is_empty(a: vec2<f32>) -> bool {
+    return a.x > a.y;
+}
+
+// Whether a bound is at ±inf (the interval is unbounded on that side).
+fn iv_unbounded(a: vec2<f32>) -> bool {
+    return a.x <= -IV_BIG || a.y >= IV_BIG;
+}
+
+// The bounds brought back within ±IV_LARGE (widening only), with ±IV_BIG for ±inf; an
+// unbounded result sets iv_jump (F's continuity is then not known).
+fn iv_keep(lo: f32, hi: f32) -> vec2<f32> {
+    let r = vec2<f32>(clamp(lo, -IV_BIG, IV_LARGE), clamp(hi, -IV_LARGE, IV_BIG));
+    iv_jump = iv_jump || iv_unbounded(r);
+    return r;
+}
+
+// A value known only to f32's rounding to nearest (a parameter): within half an ulp.
+fn iv_around(x: f32) -> vec2<f32> {
+    return vec2<f32>(iv_down(x), iv_up(x));
+}
+
+fn iv_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    let lo = select(iv_down(a.x + b.x), -IV_BIG, a.x <= -IV_BIG || b.x <= -IV_BIG);
+    let hi = select(iv_up(a.y + b.y), IV_BIG, a.y >= IV_BIG || b.y >= IV_BIG);
+    return iv_keep(lo, hi);
+}
+
+fn iv_neg(a: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(-a.y, -a.x);
+}
+
+fn iv_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    return iv_add(a, iv_neg(b));
+}
+
+fn iv_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    if (iv_unbounded(a) || iv_unbounded(b)) {
+        return iv_keep(-IV_BIG, IV_BIG);
+    }
+    let p = vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
+    let lo = min(min(p.x, p.y), min(p.z, p.w));
+    let hi = max(max(p.x, p.y), max(p.z, p.w));
+    return iv_keep(iv_down(lo), iv_up(hi));
+}
+
+fn iv_abs(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || a.x >= 0.0) {
+        return a;
+    }
+    if (a.y <= 0.0) {
+        return iv_neg(a);
+    }
+    return vec2<f32>(0.0, max(-a.x, a.y));
+}
+
+fn iv_sqr(a: vec2<f32>) -> vec2<f32> {
+    let m = iv_abs(a);
+    if (iv_is_empty(m)) {
+        return IV_EMPTY;
+    }
+    // |a| beyond 2^31 squares beyond 2^62: +inf.
+    let hi = select(iv_up(m.y * m.y), IV_BIG, m.y > 2147483648.0);
+    return iv_keep(max(iv_down(m.x * m.x), 0.0), hi);
+}
+
+// 1/|b| may reach 2^62 at most: a divisor within ±2^-62 of 0 gives the whole line.
+const IV_DIV_FLOOR: f32 = 2.16840434497100886801e-19; // 2^-62
+
+fn iv_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    if (b.x <= IV_DIV_FLOOR && b.y >= -IV_DIV_FLOOR) {
+        iv_jump = true;
+        return iv_keep(-IV_BIG, IV_BIG);
+    }
+    if (iv_unbounded(a) || iv_unbounded(b)) {
+        return iv_keep(-IV_BIG, IV_BIG);
+    }
+    // x / y is within 2.5 ulps for |y| in [2^-126, 2^126] (WGSL §15.7.4).
+    let q = vec4<f32>(a.x / b.x, a.x / b.y, a.y / b.x, a.y / b.y);
+    let lo = min(min(q.x, q.y), min(q.z, q.w));
+    let hi = max(max(q.x, q.y), max(q.z, q.w));
+    return iv_keep(iv_down_n(lo, 3u), iv_up_n(hi, 3u));
+}
+
+fn iv_min(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    return min(a, b);
+}
+
+fn iv_max(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    return max(a, b);
+}
+
+// sqrt over the part of a that is >= 0. WGSL's sqrt is inherited from 1 / inverseSqrt
+// (2 ulps, then 2.5): 6 ulps; below 2^-100 the bound is taken as 0 or 2^-50.
+fn iv_sqrt(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || a.y < 0.0) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || a.x < 0.0;
+    let small = 7.88860905221011805412e-31; // 2^-100
+    let lo = select(max(iv_down_n(sqrt(a.x), 6u), 0.0), 0.0, a.x < small);
+    let hi = select(select(iv_up_n(sqrt(a.y), 6u), IV_BIG, a.y >= IV_BIG), 8.88178419700125232339e-16, a.y < small);
+    return iv_keep(lo, hi);
+}
+
+// exp, monotone: within 3 + 2|x| ulps (WGSL §15.7.4); e^x for x > 42 is beyond 2^60
+// (+inf here), for x < -87 below 2^-125 (0 is a lower bound).
+fn iv_exp(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    let lo_ok = a.x > -87.0;
+    let lo = select(0.0, max(iv_down_n(exp(max(a.x, -87.0)), 3u + u32(2.0 * abs(max(a.x, -87.0))) + 1u), 0.0), lo_ok);
+    let hi_x = clamp(a.y, -80.0, 42.0);
+    let hi = select(iv_up_n(exp(hi_x), 3u + u32(2.0 * abs(hi_x)) + 1u), IV_BIG, a.y > 42.0);
+    return iv_keep(lo, hi);
+}
+
+// The natural log of one bound x > 0: log is within 3 ulps outside [0.5, 2] and has an
+// absolute error below 2^-21 inside (WGSL §15.7.4).
+fn iv_ln_bound(x: f32, up: bool) -> f32 {
+    let v = log(x);
+    let near_one = x >= 0.5 && x <= 2.0;
+    let slack = 9.5367431640625e-7; // 2^-20
+    let dn = select(iv_down_n(v, 3u), iv_down(v - slack), near_one);
+    let un = select(iv_up_n(v, 3u), iv_up(v + slack), near_one);
+    return select(dn, un, up);
+}
+
+// ln over the part of a that is > 0; a bound below 2^-120 gives -inf.
+fn iv_ln(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || a.y <= 0.0) {
+        return IV_EMPTY;
+    }
+    let floor = 7.52316384526264005100e-37; // 2^-120
+    iv_jump = iv_jump || a.x <= floor;
+    let lo = select(iv_ln_bound(max(a.x, floor), false), -IV_BIG, a.x <= floor);
+    let hi = iv_ln_bound(max(a.y, floor), true);
+    return iv_keep(lo, hi);
+}
+
+const IV_TAU: f32 = 6.28318530717958647692;
+const IV_PI: f32 = 3.14159265358979323846;
+
+// x - k 2pi for the k that brings it into [-pi, pi], for |x| < 2^12: within |x| 2^-20 + 4e-6
+// of the exact value (the rounded 2pi, the product, the difference, and the clamp to the
+// f32 below pi), which sin's slack adds.
+fn iv_turn(x: f32) -> f32 {
+    let pi_down = 3.14159250259399414062;
+    return clamp(x - round(x / IV_TAU) * IV_TAU, -pi_down, pi_down);
+}
+
+// Whether [lo, hi] (lo in [-pi - 1e-3, pi + 1e-3], hi - lo < 2pi) holds c + 2pi k for some k.
+fn iv_holds(lo: f32, hi: f32, c: f32) -> bool {
+    return (lo <= c && c <= hi) || (lo <= c + IV_TAU && c + IV_TAU <= hi) || (lo <= c - IV_TAU && c - IV_TAU <= hi);
+}
+
+// sin: WGSL's sin has an absolute error of 2^-11 on [-pi, pi] and none promised outside
+// (§15.7.4), so each bound is first turned into it (the turn's own error, at most
+// |x| 2^-20 + 4e-6 for |x| < 2^12, is added to the slack); wider or farther intervals give
+// [-1, 1]. The extremes are found on the turned interval, with a margin of 2e-3.
+fn iv_sin(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    let far = max(abs(a.x), abs(a.y));
+    if (a.y - a.x >= IV_TAU - 0.01 || far >= 4096.0) {
+        return vec2<f32>(-1.0, 1.0);
+    }
+    let slack = 4.8828125e-4 + far * 9.5367431640625e-7 + 4e-6;
+    let ra = iv_turn(a.x);
+    let width = iv_up_n(a.y - a.x, 2u);
+    let rb = iv_turn(a.y);
+    let sa = sin(ra);
+    let sb = sin(rb);
+    var lo = min(sa, sb) - slack;
+    var hi = max(sa, sb) + slack;
+    let m = 2e-3;
+    if (iv_holds(ra - m, ra + width + m, 0.5 * IV_PI)) {
+        hi = 1.0;
+    }
+    if (iv_holds(ra - m, ra + width + m, -0.5 * IV_PI)) {
+        lo = -1.0;
+    }
+    return vec2<f32>(max(iv_down(lo), -1.0), min(iv_up(hi), 1.0));
+}
+
+// cos x = sin(x + pi/2), with pi/2 as an interval.
+fn iv_cos(a: vec2<f32>) -> vec2<f32> {
+    return iv_sin(iv_add(a, vec2<f32>(1.57079625129699707031, 1.57079637050628662109)));
+}
+
+fn iv_tan(a: vec2<f32>) -> vec2<f32> {
+    return iv_div(iv_sin(a), iv_cos(a));
+}
+
+// sign and step are monotone: their values at the bounds, exact.
+fn iv_sign(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || (a.x <= 0.0 && a.y >= 0.0);
+    return sign(a);
+}
+
+fn iv_step(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || (a.x <= 0.0 && a.y >= 0.0);
+    let s = select(select(vec2<f32>(0.0), vec2<f32>(1.0), a > vec2<f32>(0.0)), vec2<f32>(0.5), a == vec2<f32>(0.0));
+    return s;
+}
+
+// The functions below are compositions of those above, so they are as rigorous, if wider
+// than the CPU's. sinh x = (e^x - e^-x) / 2, cosh x = (e^x + e^-x) / 2 (x and -x move the
+// two terms the same way for sinh; cosh takes |x|), tanh x = 1 - 2 / (e^2x + 1).
+fn iv_sinh(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    let lo = iv_mul(iv_sub(iv_exp(vec2<f32>(a.x)), iv_exp(vec2<f32>(-a.x))), vec2<f32>(0.5));
+    let hi = iv_mul(iv_sub(iv_exp(vec2<f32>(a.y)), iv_exp(vec2<f32>(-a.y))), vec2<f32>(0.5));
+    return vec2<f32>(lo.x, hi.y);
+}
+
+fn iv_cosh(a: vec2<f32>) -> vec2<f32> {
+    let m = iv_abs(a);
+    if (iv_is_empty(m)) {
+        return IV_EMPTY;
+    }
+    let lo = iv_mul(iv_add(iv_exp(vec2<f32>(m.x)), iv_exp(vec2<f32>(-m.x))), vec2<f32>(0.5));
+    let hi = iv_mul(iv_add(iv_exp(vec2<f32>(m.y)), iv_exp(vec2<f32>(-m.y))), vec2<f32>(0.5));
+    return vec2<f32>(max(lo.x, 1.0), hi.y);
+}
+
+fn iv_tanh(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    let jump = iv_jump;
+    let e = iv_exp(iv_mul(a, vec2<f32>(2.0)));
+    let r = iv_sub(vec2<f32>(1.0), iv_div(vec2<f32>(2.0), iv_add(e, vec2<f32>(1.0))));
+    // An unbounded e^2x only means tanh is near 1: it stays continuous.
+    iv_jump = jump;
+    return vec2<f32>(max(r.x, -1.0), min(r.y, 1.0));
+}
+
+// cbrt x = sign(x) e^(ln|x| / 3), monotone: applied to each bound.
+fn iv_cbrt_bound(x: f32, up: bool) -> f32 {
+    let m = iv_exp(iv_div(iv_ln(vec2<f32>(abs(x))), vec2<f32>(3.0)));
+    let v = select(select(m.x, m.y, up), select(-m.y, -m.x, up), x < 0.0);
+    return select(v, 0.0, x == 0.0);
+}
+
+fn iv_cbrt(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    let jump = iv_jump;
+    let r = vec2<f32>(iv_cbrt_bound(a.x, false), iv_cbrt_bound(a.y, true));
+    iv_jump = jump || iv_unbounded(r);
+    return r;
+}
+
+// a^b = e^(b ln a) over the part of a that is > 0 (a = 0 adds 0 or 1 where they belong).
+fn iv_pow(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b) || a.y < 0.0) {
+        return IV_EMPTY;
+    }
+    if (a.x <= 0.0) {
+        iv_jump = true;
+    }
+    var r = IV_EMPTY;
+    if (a.y > 0.0) {
+        r = iv_exp(iv_mul(b, iv_ln(a)));
+    }
+    if (a.x <= 0.0) {
+        if (b.y > 0.0) {
+            r = vec2<f32>(min(r.x, 0.0), max(r.y, 0.0));
+        }
+        if (b.x <= 0.0 && b.y >= 0.0) {
+            r = vec2<f32>(min(r.x, 1.0), max(r.y, 1.0));
+        }
+        if (b.x < 0.0) {
+            r = vec2<f32>(r.x, IV_BIG);
+        }
+    }
+    return r;
+}
+
+// atan, asin, acos and atan2: their WGSL accuracies are large or inherited from other
+// functions, so their ranges are taken whole (pi/2 rounded up): valid, and wide.
+const IV_HALF_PI_UP: f32 = 1.57079637050628662109;
+const IV_PI_UP: f32 = 3.14159274101257324219;
+
+fn iv_atan(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a)) {
+        return IV_EMPTY;
+    }
+    return vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP);
+}
+
+fn iv_asin(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || a.x > 1.0 || a.y < -1.0) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || a.x < -1.0 || a.y > 1.0;
+    return vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP);
+}
+
+fn iv_acos(a: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || a.x > 1.0 || a.y < -1.0) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || a.x < -1.0 || a.y > 1.0;
+    return vec2<f32>(0.0, IV_PI_UP);
+}
+
+fn iv_atan2(y: vec2<f32>, x: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(y) || iv_is_empty(x)) {
+        return IV_EMPTY;
+    }
+    iv_jump = iv_jump || !(x.x > 0.0 || y.x > 0.0 || y.y < 0.0);
+    return vec2<f32>(-IV_PI_UP, IV_PI_UP);
+}
