@@ -282,6 +282,9 @@ pub struct Uniforms {
     pub half0: [f32; 4],
     pub march: March,
     pub hidden: Hidden,
+    /// The certifying tile lists bound (WGSL `cert_tiling`, as `tiling`; see
+    /// `RayCaster::set_cert_tiles`).
+    pub cert_tiling: Tiling,
     pub levels: [LevelInfo; LEVEL_SLOTS],
     /// The formula's parameters, four to a vec4 (at most 64).
     pub params: [[f32; 4]; 16],

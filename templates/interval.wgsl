@@ -16,6 +16,15 @@ const IV_TINY: f32 = 2.35098870164457501594e-38; // 2^-125: below it, subnormals
 const IV_EMPTY: vec2<f32> = vec2<f32>(4611686018427387904.0, -4611686018427387904.0);
 const IV_WHOLE: vec2<f32> = vec2<f32>(-4611686018427387904.0, 4611686018427387904.0);
 
+// Enclosures of F and of its gradient over a box (ff_f_grad_box).
+struct IvFGrad {
+    f: vec2<f32>,
+    gx: vec2<f32>,
+    gy: vec2<f32>,
+    gz: vec2<f32>,
+    gw: vec2<f32>,
+}
+
 // Set once an operation may make F discontinuous or unbounded on the box (division by an
 // interval holding 0, a bound at ±inf, ...): a sign change there proves no root.
 var<private> iv_jump: bool;
@@ -76,8 +85,12 @@ fn iv_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     if (iv_is_empty(a) || iv_is_empty(b)) {
         return IV_EMPTY;
     }
-    let lo = select(iv_down(a.x + b.x), -IV_BIG, a.x <= -IV_BIG || b.x <= -IV_BIG);
-    let hi = select(iv_up(a.y + b.y), IV_BIG, a.y >= IV_BIG || b.y >= IV_BIG);
+    var lo = select(iv_down(a.x + b.x), -IV_BIG, a.x <= -IV_BIG || b.x <= -IV_BIG);
+    var hi = select(iv_up(a.y + b.y), IV_BIG, a.y >= IV_BIG || b.y >= IV_BIG);
+    // (A sum of terms >= 0 is >= 0: stepping a zero sum down would put sqrt(x^2 + y^2) at
+    // the edge of its domain.)
+    lo = select(lo, max(lo, 0.0), a.x >= 0.0 && b.x >= 0.0);
+    hi = select(hi, min(hi, 0.0), a.y <= 0.0 && b.y <= 0.0);
     return iv_keep(lo, hi);
 }
 
@@ -100,6 +113,15 @@ fn iv_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let lo = min(min(p.x, p.y), min(p.z, p.w));
     let hi = max(max(p.x, p.y), max(p.z, p.w));
     return iv_keep(iv_down(lo), iv_up(hi));
+}
+
+// The set of values both a and b hold (empty if none).
+fn iv_meet(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    if (iv_is_empty(a) || iv_is_empty(b)) {
+        return IV_EMPTY;
+    }
+    let r = vec2<f32>(max(a.x, b.x), min(a.y, b.y));
+    return select(r, IV_EMPTY, r.x > r.y);
 }
 
 fn iv_abs(a: vec2<f32>) -> vec2<f32> {

@@ -10,6 +10,8 @@
 //   binding 4: storage  array<NodeBounds>     per node, bounds on |dF/dx|..|dF/dw| and on F's
 //                                             second derivatives in its box (+-inf: none;
 //                                             see march_ray and plane_curvature)
+//   binding 5: storage  array<u32>            certifying tile lists, as binding 2 (or two words)
+//   binding 6: storage  array<BoxRecord>      the boxes they index, as binding 3 (or one)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers; it reads
 // binding 0 too, and hands some settings to the fragment stage as flat values, see Flat);
 // fs_main returns the pixel's colour (target format rgba8unorm); fs_background the
@@ -56,6 +58,7 @@ struct Uniforms {
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
     march: vec4<u32>,     // the finest level (see box_steps), unused x3
     hidden: vec4<f32>,    // the n2 coordinates the colour map's ends stand for (flag 128), unused x2
+    cert_tiling: vec4<u32>, // as tiling, for the certifying lists (bindings 5 and 6)
     levels: array<LevelInfo, 16>,
     params: array<vec4<f32>, 16>,
 }
@@ -123,6 +126,10 @@ var<private> u: Uniforms;
 @group(0) @binding(2) var<storage, read> tiles: array<u32>;
 @group(0) @binding(3) var<storage, read> boxes: array<BoxRecord>;
 @group(0) @binding(4) var<storage, read> bounds: array<NodeBounds>;
+// The certifying lists (CERTIFY): as bindings 2 and 3, for the tree's finer boxes (the
+// cover: at most 32 768 boxes) instead of the marched ones. See certify.
+@group(0) @binding(5) var<storage, read> cert_tiles: array<u32>;
+@group(0) @binding(6) var<storage, read> cert_boxes: array<BoxRecord>;
 
 override MODE: u32 = 1u;
 // Pipeline constant SLOTS: the hit slots kept and read, 4, 8 or 16 (at least K, u.size.w;
@@ -422,6 +429,10 @@ struct Tracer {
     k: u32, // the ray being marched (for insert_hit)
     plane: vec4<f32>, // the pixel's origin in its observer plane (o but for a slice)
     aim: vec2<f32>, // the ray aimed through a certified root (ray AIMED), in (n1, n2)
+    // CERTIFY: the first sign change a ray found, as its two ends' (s, t) in the observer
+    // plane (its sign change is then proved, or not, by certify), and whether there is one.
+    bracket: vec4<f32>,
+    bracketed: bool,
 }
 
 // F and dF/dt at o + t d (for brute force, MODE 0, F alone: it steps over nothing).
@@ -495,6 +506,12 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         }
         if (!found) {
             break;
+        }
+        if (CERTIFY == 1u && !(*tr).bracketed) {
+            let pa = (*tr).o + ta * d - (*tr).plane;
+            let pb = (*tr).o + tb * d - (*tr).plane;
+            (*tr).bracket = vec4<f32>(dot(pa, u.n1), dot(pa, u.n2), dot(pb, u.n1), dot(pb, u.n2));
+            (*tr).bracketed = true;
         }
         // Bisect [ta, tb] (Algorithm 3.1): stop at a tiny |F| or after the set iterations;
         // the last midpoint is the root (the middle of the step with no iterations). Once
@@ -763,6 +780,19 @@ fn plane_range(n: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
     return vec2<f32>(iv_down(iv_down(iv_down(l.x + l.y) + l.z) + l.w), iv_up(iv_up(iv_up(h.x + h.y) + h.z) + h.w));
 }
 
+// Whether an enclosure of F proves F != 0 (an empty one: F is undefined there).
+fn excludes_zero(f: vec2<f32>) -> bool {
+    return iv_is_empty(f) || f.x > 0.0 || f.y < 0.0;
+}
+
+// The sign an enclosure of F proves: 1, -1, or 0 (none).
+fn proved_sign(f: vec2<f32>) -> i32 {
+    if (iv_is_empty(f)) {
+        return 0;
+    }
+    return select(select(0, -1, f.y < 0.0), 1, f.x > 0.0);
+}
+
 // The sign of F at the plane's point (s, t), proved (1 or -1) or not (0); 0 too where the
 // point may lie outside [lo, hi].
 fn cert_sign(o: vec4<f32>, p: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> i32 {
@@ -770,11 +800,19 @@ fn cert_sign(o: vec4<f32>, p: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> i32 {
     if (any(x.lo < lo) || any(x.hi > hi)) {
         return 0;
     }
-    let f = ff_f_box(x.lo, x.hi);
-    if (iv_is_empty(f)) {
-        return 0;
-    }
-    return select(select(0, -1, f.y < 0.0), 1, f.x > 0.0);
+    return proved_sign(ff_f_box(x.lo, x.hi));
+}
+
+// An enclosure of grad F . n (F's slope along n) from the gradient's enclosures.
+fn plane_slope(fg: IvFGrad, n: vec4<f32>) -> vec2<f32> {
+    let x = iv_add(iv_mul(fg.gx, vec2<f32>(n.x)), iv_mul(fg.gy, vec2<f32>(n.y)));
+    let y = iv_add(iv_mul(fg.gz, vec2<f32>(n.z)), iv_mul(fg.gw, vec2<f32>(n.w)));
+    return iv_add(x, y);
+}
+
+// The sign still missing: 1, -1, or 0 (both, or neither, missing).
+fn cert_wanted(cert: Cert) -> i32 {
+    return select(select(0, -1, cert.pos && !cert.neg), 1, cert.neg && !cert.pos);
 }
 
 // Records a proved sign at p; a pair of opposite signs is a hit.
@@ -790,10 +828,48 @@ fn cert_note(cert: ptr<function, Cert>, sign: i32, p: vec2<f32>) {
     (*cert).hit = (*cert).pos && (*cert).neg;
 }
 
-// Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi].
+// The part of the cell (s in c.xy, t in c.zw) where o + s n1 + t n2 may lie in the box
+// [o + lo, o + hi], bounded (empty: s.x > s.y): each of the box's four ranges, n1_i s +
+// n2_i t in [lo_i, hi_i], narrows s given t and t given s, twice over. Every range is
+// moved outward by 1e-5 of the magnitudes involved (reach bounds |s| and |t|), far beyond
+// f32's rounding here; directions within 1e-3 of a range's plane are not used to narrow.
+fn shrink_cell(c: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>, reach: f32) -> vec4<f32> {
+    let slack = 1e-5 * (reach * (abs(u.n1) + abs(u.n2)) + abs(lo) + abs(hi)) + vec4<f32>(1e-30);
+    let lo_s = lo - slack;
+    let hi_s = hi + slack;
+    var s = c.xy;
+    var t = c.zw;
+    for (var round = 0u; round < 2u; round = round + 1u) {
+        s = narrow(s, u.n1, u.n2, t, lo_s, hi_s);
+        t = narrow(t, u.n2, u.n1, s, lo_s, hi_s);
+    }
+    let e = 1e-5 * reach + 1e-30;
+    return vec4<f32>(max(c.x, s.x - e), min(c.y, s.y + e), max(c.z, t.x - e), min(c.w, t.y + e));
+}
+
+// The range a takes where a n + b m (b in `other`) lies in [lo, hi], per coordinate,
+// intersected with `range`.
+fn narrow(range: vec2<f32>, n: vec4<f32>, m: vec4<f32>, other: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
+    let q_lo = lo - max(m * other.x, m * other.y);
+    let q_hi = hi - min(m * other.x, m * other.y);
+    let usable = abs(n) > vec4<f32>(1e-3);
+    let safe = select(vec4<f32>(1.0), n, usable);
+    let a = q_lo / safe;
+    let b = q_hi / safe;
+    let low = select(vec4<f32>(-IV_BIG), min(a, b), usable);
+    let high = select(vec4<f32>(IV_BIG), max(a, b), usable);
+    return vec2<f32>(max(range.x, max(max(low.x, low.y), max(low.z, low.w))), min(range.y, min(min(high.x, high.y), min(high.z, high.w))));
+}
+
+// Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi]
+// and the domain.
 fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>) {
-    let lo = iv_down4(blo);
-    let hi = iv_up4(bhi);
+    // The box within the domain (boxes are padded beyond it; both rounded outward).
+    let lo = max(iv_down4(blo), iv_down4(u.domain_lo));
+    let hi = min(iv_up4(bhi), iv_up4(u.domain_hi));
+    if (any(lo > hi)) {
+        return;
+    }
     let rel_lo = iv_down4(lo - o);
     let rel_hi = iv_up4(hi - o);
     var s = plane_range(u.n1, rel_lo, rel_hi);
@@ -813,6 +889,9 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
             return;
         }
     }
+    // The plane meets the box where o + s n1 + t n2 lies within each of its four ranges:
+    // cells are cut down to where they may meet it (shrink_cell).
+    let reach = max(max(abs(s.x), abs(s.y)), max(abs(t.x), abs(t.y)));
     // Where a sample counts pixel-wide: in the domain, where F is continuous (flag 2048).
     let global = (u.control.z & 2048u) != 0u;
     let inner_lo = iv_up4(u.domain_lo);
@@ -829,7 +908,10 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
             break;
         }
         top = top - 1u;
-        let c = stack[top];
+        let c = shrink_cell(stack[top], rel_lo, rel_hi, reach);
+        if (c.x > c.y || c.z > c.w) {
+            continue;
+        }
         let x = plane_box(o, c.xy, c.zw);
         let xlo = max(x.lo, lo);
         let xhi = min(x.hi, hi);
@@ -838,24 +920,75 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         }
         (*cert).budget = (*cert).budget - 1u;
         iv_jump = false;
-        let f = ff_f_box(xlo, xhi);
-        if (iv_is_empty(f) || f.x > 0.0 || f.y < 0.0) {
+        let fg = ff_f_grad_box(xlo, xhi);
+        let steady = !iv_jump;
+        if (excludes_zero(fg.f)) {
             continue;
         }
         let mid = vec2<f32>(0.5 * (c.x + c.y), 0.5 * (c.z + c.w));
-        if (global) {
-            cert_note(cert, cert_sign(o, mid, inner_lo, inner_hi), mid);
-        } else if (!iv_jump) {
-            // F is continuous on this cell's box only: its own samples must show both signs.
-            var local: Cert;
-            cert_note(&local, cert_sign(o, mid, xlo, xhi), mid);
-            cert_note(&local, cert_sign(o, c.xz, xlo, xhi), c.xz);
-            cert_note(&local, cert_sign(o, c.yw, xlo, xhi), c.yw);
-            if (local.hit) {
-                (*cert).hit = true;
-                (*cert).a = local.a;
-                (*cert).b = local.b;
+        // F's slope along n1 and n2 over the cell, estimated (where bounded).
+        var slope = vec2<f32>(0.0);
+        var excluded = false;
+        var guess = vec2<f32>(0.0);
+        var guessing = false;
+        var local: Cert;
+        // The samples, from one place (a compiler inlines F at each call): 0 the centre, 1
+        // where F more likely has the sign still missing (see below), 2 and 3 two corners
+        // (where F is continuous on this cell's box only, its own samples must show both
+        // signs). Each counts only where it surely lies in the box.
+        for (var k = 0u; k < 4u; k = k + 1u) {
+            let used = select(select(!global && steady, guessing, k == 1u), true, k == 0u);
+            if (!used) {
+                continue;
             }
+            let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), mid, k == 0u);
+            let x = plane_box(o, p.xx, p.yy);
+            if (any(x.lo < lo) || any(x.hi > hi)) {
+                continue;
+            }
+            let f = ff_f_box(x.lo, x.hi);
+            let in_domain = all(x.lo >= inner_lo) && all(x.hi <= inner_hi);
+            let in_cell = all(x.lo >= xlo) && all(x.hi <= xhi);
+            if (k == 0u && steady) {
+                // The mean-value form over the cell, F(c) + grad F . (p - c) with p - c in
+                // the plane (the segment from the centre to any point of the cell in the
+                // box lies in both): far narrower than F's own enclosure near a root.
+                let g1 = plane_slope(fg, u.n1);
+                let g2 = plane_slope(fg, u.n2);
+                let ds = iv_sub(c.xy, vec2<f32>(mid.x));
+                let dt = iv_sub(c.zw, vec2<f32>(mid.y));
+                let mv = iv_add(f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
+                if (excludes_zero(iv_meet(fg.f, mv))) {
+                    excluded = true;
+                    break;
+                }
+                let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
+                slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
+            }
+            if (global && in_domain) {
+                cert_note(cert, proved_sign(f), p);
+            }
+            if (!global && steady && k != 1u && in_cell) {
+                cert_note(&local, proved_sign(f), p);
+            }
+            if (k == 0u && global && in_domain) {
+                // Twice the Newton step of the linear model towards 0, within the cell,
+                // towards the sign still missing (with neither found, the sign opposite to
+                // F's at the centre).
+                let v = 0.5 * (f.x + f.y);
+                let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
+                let norm = dot(slope, slope);
+                guessing = !iv_is_empty(f) && want * v < 0.0 && norm > 0.0 && norm < IV_LARGE && abs(v) < IV_LARGE;
+                guess = clamp(mid - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
+            }
+        }
+        if (excluded) {
+            continue;
+        }
+        if (local.hit) {
+            (*cert).hit = true;
+            (*cert).a = local.a;
+            (*cert).b = local.b;
         }
         if ((*cert).hit) {
             break;
@@ -869,8 +1002,13 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
             (*cert).undecided = true;
             continue;
         }
-        stack[top] = select(vec4<f32>(c.xy, c.z, cut), vec4<f32>(c.x, cut, c.zw), along_s);
-        stack[top + 1u] = select(vec4<f32>(c.xy, cut, c.w), vec4<f32>(cut, c.y, c.zw), along_s);
+        // The half where F more likely has the sign still missing is searched first
+        // (pushed last).
+        let lower = select(vec4<f32>(c.xy, c.z, cut), vec4<f32>(c.x, cut, c.zw), along_s);
+        let upper = select(vec4<f32>(c.xy, cut, c.w), vec4<f32>(cut, c.y, c.zw), along_s);
+        let swap = f32(cert_wanted(*cert)) * select(slope.y, slope.x, along_s) < 0.0;
+        stack[top] = select(lower, upper, swap);
+        stack[top + 1u] = select(upper, lower, swap);
         top = top + 2u;
     }
 }
@@ -889,29 +1027,45 @@ fn cert_root(o: vec4<f32>, cert: Cert) -> vec2<f32> {
     return 0.5 * (pa + pb);
 }
 
-// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes; for a hit
-// the rays found nothing for, aims a ray through the proved root and marches it through
-// the same boxes, so its hits are shaded as the others are (the root itself if the march
-// misses it).
+// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes: the
+// certifying lists' where bound, else the walk's marched boxes, or for brute force the
+// domain. For a hit the rays found nothing for, aims a ray through the proved root and
+// marches it through the tile's boxes, so its hits are shaded as the others are (the root
+// itself if the march misses it).
 fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     let o = (*tr).plane;
     var cert: Cert;
     cert.budget = u.march.y;
-    if (MODE == 1u) {
-        let tile = px / max(u.tiling.x, 1u);
-        let t = tile.x + tile.y * u.tiling.y;
-        let end = tiles[t + 1u];
-        var c = tiles[t];
+    if ((*tr).bracketed && (u.control.z & 2048u) != 0u) {
+        // A ray's sign change, proved at its two ends (in the domain) where it can be: no
+        // search needed.
+        let inner_lo = iv_up4(u.domain_lo);
+        let inner_hi = iv_down4(u.domain_hi);
+        for (var k = 0u; k < 2u; k = k + 1u) {
+            let p = select((*tr).bracket.zw, (*tr).bracket.xy, k == 0u);
+            cert_note(&cert, cert_sign(o, p, inner_lo, inner_hi), p);
+        }
+    }
+    // (Each search below stops at once after a hit.)
+    if (MODE == 1u && u.cert_tiling.z != 0u) {
+        let tile = px / max(u.cert_tiling.x, 1u);
+        let t = tile.x + tile.y * u.cert_tiling.y;
+        let end = cert_tiles[t + 1u];
+        var c = cert_tiles[t];
         loop {
             if (c >= end || cert.hit || cert.budget == 0u) {
                 break;
             }
-            let i = tiles[u.tiling.w + c];
-            let half = level_half(boxes[i].level);
-            certify_box(&cert, o, boxes[i].center - half, boxes[i].center + half);
+            let i = cert_tiles[u.cert_tiling.w + c];
+            let half = level_half(cert_boxes[i].level);
+            // (The tile's boxes that cannot meet this pixel's plane, as visit_box tests.)
+            let view = cert_boxes[i].view;
+            if (meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half))) {
+                certify_box(&cert, o, cert_boxes[i].center - half, cert_boxes[i].center + half);
+            }
             c = c + 1u;
         }
-    } else if (MODE == 2u) {
+    } else if (MODE != 0u) {
         var i = 0u;
         loop {
             if (i >= u.counts.x || cert.hit || cert.budget == 0u) {

@@ -506,14 +506,20 @@ pub fn draw(
         );
         let mut rgba = match &mut caster {
             Some((gpu, caster)) => {
-                super::pipeline::bin_view(gpu, caster, &prepared.hierarchy, &camera, &uniforms);
+                let certifying = uniforms.certified().then(|| prepared.certifying());
+                let hierarchy = &prepared.hierarchy;
+                super::pipeline::bin_view(gpu, caster, hierarchy, certifying, &camera, &uniforms);
                 caster
                     .render_rgba(gpu, &uniforms)
                     .map_err(|e| e.to_string())?
             }
-            None => {
-                super::cpu::render_rgba(formula, &prepared.params, &prepared.hierarchy, &uniforms)
-            }
+            None => super::cpu::render_rgba(
+                formula,
+                &prepared.params,
+                &prepared.hierarchy,
+                uniforms.certified().then(|| prepared.certifying()),
+                &uniforms,
+            ),
         };
         take_cut_pixels(&mut rgba);
         frame(k, rgba)?;

@@ -64,7 +64,14 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
             v[0], v[1], v[2], v[3], v[4]
         )
     });
-    let interval = format!("{INTERVAL_LIBRARY}\n{}", interval_function(&formula.tape_f));
+    let interval = format!(
+        "{INTERVAL_LIBRARY}\n{}\n\n{}",
+        interval_function("ff_f_box", "vec2<f32>", &formula.tape_f, |v| v[0].clone()),
+        interval_function("ff_f_grad_box", "IvFGrad", &formula.tape_all, |v| format!(
+            "IvFGrad({}, {}, {}, {}, {})",
+            v[0], v[1], v[2], v[3], v[4]
+        ))
+    );
     let source = TEMPLATE
         .replace(F_MARKER, &f)
         .replace(GRAD_MARKER, &grad)
@@ -103,13 +110,18 @@ fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> St
     body
 }
 
-/// `ff_f_box(lo, hi)`: an enclosure of F over the box [lo, hi] with the operations of
-/// `templates/interval.wgsl`, one `let` per tape instruction (see docs/method.md §5.9).
-fn interval_function(tape: &Tape) -> String {
+/// `name(lo, hi)`: enclosures of `tape`'s outputs over the box [lo, hi] with the operations
+/// of `templates/interval.wgsl`, one `let` per tape instruction (see docs/method.md §5.9).
+fn interval_function(
+    name: &str,
+    ret: &str,
+    tape: &Tape,
+    result: impl Fn(&[String]) -> String,
+) -> String {
     let mut body = String::new();
     let _ = writeln!(
         body,
-        "fn ff_f_box(lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {{"
+        "fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret} {{"
     );
     for (i, instr) in tape.instrs().iter().enumerate() {
         if let Instr::Powi(a, n) = *instr {
@@ -118,7 +130,8 @@ fn interval_function(tape: &Tape) -> String {
             let _ = writeln!(body, "    let s{i} = {};", interval_expression(*instr));
         }
     }
-    let _ = writeln!(body, "    return s{};", tape.outputs()[0]);
+    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
+    let _ = writeln!(body, "    return {};", result(&outputs));
     body.push('}');
     body
 }

@@ -118,6 +118,10 @@ struct Pixel<'a> {
     k_max: usize,
     /// The direction of ray AIMED in (n1, n2).
     aim: [f32; 2],
+    /// With certification: the pixel's origin in its observer plane, and the first sign
+    /// change a ray found as its two ends' (s, t) there (as the shader's `bracket`).
+    plane: V4,
+    bracket: Option<([f64; 2], [f64; 2])>,
 }
 
 /// A box the pixel marches, as `trace_box` takes it.
@@ -251,6 +255,13 @@ impl Pixel<'_> {
             let tb = t0 + s as f32 * dt;
             let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
             if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
+                if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
+                    let at = |t: f32| {
+                        let p = sub(add(o, scale(d, t)), self.plane);
+                        [f64::from(dot(p, self.u.n1)), f64::from(dot(p, self.u.n2))]
+                    };
+                    self.bracket = Some((at(ta), at(tb)));
+                }
                 let (mut lo, mut hi) = (ta, tb);
                 // F(lo) stays on fa's side of 0 (as the shader: its sign is not carried).
                 let neg_lo = fa < 0.0;
@@ -408,8 +419,10 @@ pub fn render_rgba(
     formula: &CompiledFormula,
     params: &[f64],
     hierarchy: &Hierarchy,
+    certifying: Option<&Hierarchy>,
     u: &Uniforms,
 ) -> Vec<u8> {
+    let certifying = certifying.unwrap_or(hierarchy);
     let (width, height) = (u.size.width, u.size.height);
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
@@ -417,8 +430,15 @@ pub fn render_rgba(
             let mut certifier = Certifier::new(formula, params, u);
             let mut row = Vec::with_capacity(width as usize * 4);
             for px in 0..width {
-                let (c, verdict) =
-                    render_pixel(formula, params, hierarchy, u, &mut certifier, px, py);
+                let pixel = (px, py);
+                let (c, verdict) = render_pixel(
+                    formula,
+                    params,
+                    [hierarchy, certifying],
+                    u,
+                    &mut certifier,
+                    pixel,
+                );
                 row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
                 row.push(verdict.alpha());
             }
@@ -428,8 +448,9 @@ pub fn render_rgba(
     rows.concat()
 }
 
-/// The boxes pixel `o`'s rays march: a walk of the hierarchy's marched boxes whose sphere
-/// meets its observer plane (the shader's MODE 2), or the domain for brute force.
+/// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
+/// covers): a walk of the hierarchy's marched boxes whose sphere meets its observer plane
+/// (the shader's MODE 2), or the domain for brute force.
 fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
     if u.brute_force() {
         return vec![Marched {
@@ -442,8 +463,7 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
     }
     let mut boxes = Vec::new();
     let mut i = 0usize;
-    let n = u.counts.nodes as usize;
-    while i < n {
+    while i < h.nodes.len() {
         let node = &h.nodes[i];
         let level = &u.levels[node.level() as usize];
         let rel = sub(node.center, o);
@@ -473,14 +493,15 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
     boxes
 }
 
+/// A pixel's colour and verdict; `h` holds the hierarchy the rays march and the one the
+/// certified search covers.
 fn render_pixel(
     formula: &CompiledFormula,
     params: &[f64],
-    h: &Hierarchy,
+    h: [&Hierarchy; 2],
     u: &Uniforms,
     certifier: &mut Certifier<'_>,
-    px: u32,
-    py: u32,
+    (px, py): (u32, u32),
 ) -> ([f32; 3], Verdict) {
     let (w, hgt) = (u.size.width as f32, u.size.height as f32);
     let s = u.misc.pixel_size;
@@ -516,15 +537,24 @@ fn render_pixel(
         hits: Vec::with_capacity(16),
         k_max: u.size.hits.clamp(1, 16) as usize,
         aim: [1.0, 0.0],
+        plane,
+        bracket: None,
     };
-    let boxes = boxes_of(h, u, o);
+    let boxes = boxes_of(h[0], u, o);
     for b in &boxes {
         pixel.trace_box(o, b);
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        let bounds: Vec<(V4, V4)> = boxes.iter().map(|b| (b.lo, b.hi)).collect();
-        let outcome = certifier.pixel(plane, &bounds);
+        let bounds: Vec<(V4, V4)> = boxes_of(h[1], u, plane)
+            .iter()
+            .map(|b| (b.lo, b.hi))
+            .collect();
+        if std::env::var("FF_DBG").ok() != Some(format!("{px},{py}")) && std::env::var("FF_DBG").is_ok() { return ([0.0;3], Verdict::Empty); }
+        let outcome = certifier.pixel(plane, &bounds, pixel.bracket);
+        if std::env::var("FF_DBG").is_ok() {
+            eprintln!("cpu px {px} {py}: boxes {} outcome {:?}", bounds.len(), outcome);
+        }
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.

@@ -18,7 +18,7 @@ use super::tiles::TileLists;
 use super::uniforms::{FLAG_CERTIFIED, FLAG_RANDOM, FLAG_SLAB, FLAG_SLICE, Tiling, Uniforms};
 
 /// Storage buffers the ray caster's shader reads (bindings 0-4).
-pub const STORAGE_BUFFERS: u32 = 5;
+pub const STORAGE_BUFFERS: u32 = 7;
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -230,6 +230,11 @@ pub struct RayCaster {
     boxes: wgpu::Buffer,
     /// `Uniforms::tiling` for the tile lists bound (zero: walk the hierarchy).
     tiling: Tiling,
+    /// The certifying tile lists and their box records (certified pixels), and their
+    /// `Uniforms::cert_tiling` (zero: none bound).
+    cert_tiles: wgpu::Buffer,
+    cert_boxes: wgpu::Buffer,
+    cert_tiling: Tiling,
     bind_group: wgpu::BindGroup,
     /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
     /// background elsewhere.
@@ -291,10 +296,20 @@ impl RayCaster {
         let (nodes, bounds) = node_buffers(gpu, hierarchy)?;
         let tiles = view_buffer(gpu, 0);
         let boxes = view_buffer(gpu, 0);
+        let cert_tiles = view_buffer(gpu, 0);
+        let cert_boxes = view_buffer(gpu, 0);
         let bind_group = bind_group(
             device,
             &layout,
-            [&uniforms, &nodes, &tiles, &boxes, &bounds],
+            [
+                &uniforms,
+                &nodes,
+                &tiles,
+                &boxes,
+                &bounds,
+                &cert_tiles,
+                &cert_boxes,
+            ],
         );
         Ok(Self {
             target,
@@ -308,6 +323,9 @@ impl RayCaster {
             tiles,
             boxes,
             tiling: Tiling::zeroed(),
+            cert_tiles,
+            cert_boxes,
+            cert_tiling: Tiling::zeroed(),
             bind_group,
             rects: Default::default(),
             background: Default::default(),
@@ -320,6 +338,7 @@ impl RayCaster {
         self.rebind(gpu);
         // Old tile lists index the old hierarchy.
         self.set_tiles(gpu, None);
+        self.set_cert_tiles(gpu, None);
         Ok(())
     }
 
@@ -328,26 +347,31 @@ impl RayCaster {
     /// are rewritten in place (a new view costs no allocation) and grow when too small;
     /// a pass already submitted keeps what it read.
     pub fn set_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        let lists = lists.filter(|l| {
-            (l.data.len() as u64) * 4 <= limit
-                && std::mem::size_of_val(l.boxes.as_slice()) as u64 <= limit
-                && !l.data.is_empty()
-        });
-        let Some(l) = lists else {
+        let Some(l) = usable(gpu, lists) else {
             // The walk reads neither buffer, and draws the whole target.
             self.tiling = Tiling::zeroed();
             return;
         };
-        self.tiling = Tiling {
-            tile: l.tile,
-            tiles_per_row: l.tiles_x,
-            bound: 1,
-            entries_start: l.tiles_x * l.tiles_y + 1,
-        };
+        self.tiling = tiling_of(l);
         self.rects = l.rects();
         let grew_tiles = write_or_grow(gpu, &mut self.tiles, bytemuck::cast_slice(&l.data));
         let grew_boxes = write_or_grow(gpu, &mut self.boxes, bytemuck::cast_slice(&l.boxes));
+        if grew_tiles || grew_boxes {
+            self.rebind(gpu);
+        }
+    }
+
+    /// Binds the certifying lists of one view: the tile lists of
+    /// `Prepared::certifying`'s boxes, which certified pixels search (or none: they search
+    /// the marched boxes instead). As [`RayCaster::set_tiles`].
+    pub fn set_cert_tiles(&mut self, gpu: &Gpu, lists: Option<&TileLists>) {
+        let Some(l) = usable(gpu, lists) else {
+            self.cert_tiling = Tiling::zeroed();
+            return;
+        };
+        self.cert_tiling = tiling_of(l);
+        let grew_tiles = write_or_grow(gpu, &mut self.cert_tiles, bytemuck::cast_slice(&l.data));
+        let grew_boxes = write_or_grow(gpu, &mut self.cert_boxes, bytemuck::cast_slice(&l.boxes));
         if grew_tiles || grew_boxes {
             self.rebind(gpu);
         }
@@ -364,6 +388,8 @@ impl RayCaster {
                 &self.tiles,
                 &self.boxes,
                 &self.bounds,
+                &self.cert_tiles,
+                &self.cert_boxes,
             ],
         );
     }
@@ -400,6 +426,7 @@ impl RayCaster {
     ) {
         let mut uniforms = *uniforms;
         uniforms.tiling = self.tiling;
+        uniforms.cert_tiling = self.cert_tiling;
         gpu.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         let mode = if uniforms.brute_force() {
@@ -757,7 +784,7 @@ impl Timer {
 }
 
 /// `read` of the contents of a mappable buffer, once the GPU has finished writing it.
-fn read_back<T>(
+pub(crate) fn read_back<T>(
     gpu: &Gpu,
     buffer: &wgpu::Buffer,
     read: impl FnOnce(&[u8]) -> T,
@@ -1012,11 +1039,32 @@ fn write_or_grow(gpu: &Gpu, buffer: &mut wgpu::Buffer, data: &[u8]) -> bool {
     grow
 }
 
-/// Bindings 0 to 4: uniforms, hierarchy, tile lists, box records, node bounds.
+/// Tile lists that fit the device's storage-buffer limit (and hold anything).
+fn usable<'a>(gpu: &Gpu, lists: Option<&'a TileLists>) -> Option<&'a TileLists> {
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    lists.filter(|l| {
+        (l.data.len() as u64) * 4 <= limit
+            && std::mem::size_of_val(l.boxes.as_slice()) as u64 <= limit
+            && !l.data.is_empty()
+    })
+}
+
+/// `Uniforms::tiling` for bound lists.
+fn tiling_of(l: &TileLists) -> Tiling {
+    Tiling {
+        tile: l.tile,
+        tiles_per_row: l.tiles_x,
+        bound: 1,
+        entries_start: l.tiles_x * l.tiles_y + 1,
+    }
+}
+
+/// Bindings 0 to 6: uniforms, hierarchy, tile lists, box records, node bounds, certifying
+/// tile lists and their box records.
 fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    buffers: [&wgpu::Buffer; 5],
+    buffers: [&wgpu::Buffer; STORAGE_BUFFERS as usize],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = buffers
         .iter()

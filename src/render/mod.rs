@@ -11,6 +11,7 @@ pub mod gpu;
 pub mod march;
 pub mod pipeline;
 pub mod prepare;
+pub mod probe;
 pub mod tiles;
 pub mod uniforms;
 

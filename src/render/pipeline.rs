@@ -144,6 +144,7 @@ pub fn render_prepared(
         hierarchy,
         ..
     } = prepared;
+    let certifying = uniforms.certified().then(|| prepared.certifying());
     let t = Instant::now();
     let shader = codegen::generate(formula)?;
     times.codegen_ms = ms(t);
@@ -151,14 +152,14 @@ pub fn render_prepared(
     let (mut rgba, adapter) = match device {
         Device::Cpu => {
             let t = Instant::now();
-            let rgba = super::cpu::render_rgba(formula, params, hierarchy, &uniforms);
+            let rgba = super::cpu::render_rgba(formula, params, hierarchy, certifying, &uniforms);
             times.frame_ms = ms(t);
             (rgba, "CPU reference renderer".to_string())
         }
-        Device::Gpu(gpu) => gpu_frame(gpu, &shader, hierarchy, &camera, &uniforms, &mut times)?,
+        Device::Gpu(gpu) => gpu_frame(gpu, &shader, prepared, &camera, &uniforms, &mut times)?,
         Device::NewGpu => {
             let gpu = Gpu::new()?;
-            gpu_frame(&gpu, &shader, hierarchy, &camera, &uniforms, &mut times)?
+            gpu_frame(&gpu, &shader, prepared, &camera, &uniforms, &mut times)?
         }
     };
     let (cut_pixels, verdicts) = take_marks(&mut rgba);
@@ -191,16 +192,17 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 fn gpu_frame(
     gpu: &Gpu,
     shader: &codegen::Shader,
-    hierarchy: &Hierarchy,
+    prepared: &Prepared,
     camera: &Camera,
     uniforms: &Uniforms,
     times: &mut StageTimes,
 ) -> Result<(Vec<u8>, String), RenderError> {
     let t = Instant::now();
-    let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
+    let mut caster = RayCaster::new(gpu, shader, &prepared.hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    bin_view(gpu, &mut caster, hierarchy, camera, uniforms);
+    let certifying = uniforms.certified().then(|| prepared.certifying());
+    bin_view(gpu, &mut caster, &prepared.hierarchy, certifying, camera, uniforms);
     let (rgba, gpu_ms) = caster.render_rgba_timed(gpu, uniforms)?;
     times.frame_ms = ms(t);
     times.gpu_ms = gpu_ms;
@@ -208,17 +210,24 @@ fn gpu_frame(
 }
 
 /// Gives `caster` the tile lists of `camera`'s whole view, for one offscreen frame drawn
-/// with `uniforms` (brute force reads none).
+/// with `uniforms` (brute force reads none), and for a certified frame the lists of
+/// `certifying` (`Prepared::certifying`; without it, certified pixels search the marched
+/// boxes).
 pub fn bin_view(
     gpu: &Gpu,
     caster: &mut RayCaster,
     hierarchy: &Hierarchy,
+    certifying: Option<&Hierarchy>,
     camera: &Camera,
     uniforms: &Uniforms,
 ) {
     if !uniforms.brute_force() {
-        let lists = TileLists::build_within(hierarchy, camera, gpu.tile_entry_budget());
+        let budget = gpu.tile_entry_budget();
+        let lists = TileLists::build_within(hierarchy, camera, budget);
         caster.set_tiles(gpu, Some(&lists));
+        let certifying = certifying.filter(|_| uniforms.certified());
+        let lists = certifying.map(|c| TileLists::build_within(c, camera, budget));
+        caster.set_cert_tiles(gpu, lists.as_ref());
     }
 }
 

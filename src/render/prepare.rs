@@ -2,6 +2,7 @@
 //! tests: a compiled formula and a scene → the parameter values, the 16-tree and the sphere
 //! hierarchy the ray caster marches; then, per view, the camera and the frame's settings.
 
+use std::sync::OnceLock;
 use std::sync::atomic::AtomicBool;
 
 use web_time::{Duration, Instant};
@@ -22,6 +23,9 @@ pub struct Prepared {
     pub hierarchy: Hierarchy,
     /// Milliseconds for the tree and the hierarchy.
     pub build_ms: f64,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`), made when first
+    /// asked for.
+    certifying: OnceLock<Hierarchy>,
 }
 
 impl Prepared {
@@ -62,7 +66,14 @@ impl Prepared {
             tree,
             hierarchy,
             build_ms: started.elapsed().as_secs_f64() * 1e3,
+            certifying: OnceLock::new(),
         })
+    }
+
+    /// The boxes certified pixels search: the tree's, finer than the ray caster's cut.
+    pub fn certifying(&self) -> &Hierarchy {
+        self.certifying
+            .get_or_init(|| Hierarchy::for_certifying(&self.tree))
     }
 
     /// The same preparation in steps of about `budget` each (see [`PrepareSteps`]).
@@ -132,6 +143,7 @@ impl PrepareSteps {
                     tree,
                     hierarchy,
                     build_ms,
+                    certifying: OnceLock::new(),
                 }));
             }
             if started.elapsed() >= budget {

@@ -61,6 +61,11 @@ impl Uniforms {
         self.control.flags & FLAG_BRUTE_FORCE != 0
     }
 
+    /// Whether the frame certifies every pixel (docs/method.md §5.9).
+    pub fn certified(&self) -> bool {
+        self.control.flags & FLAG_CERTIFIED != 0
+    }
+
     pub fn new(
         camera: &Camera,
         render: &RenderSettings,
@@ -197,6 +202,7 @@ impl Uniforms {
                 unused: [0; 2],
             },
             hidden,
+            cert_tiling: Tiling::zeroed(),
             levels,
             params: packed,
         }

@@ -217,6 +217,14 @@ impl Hierarchy {
         Self::flatten(tree, default_march_level(tree), None)
     }
 
+    /// The boxes certified pixels search (docs/method.md §5.9): `tree` flattened down to the
+    /// deepest level with at most [`MARCH_BOXES`] boxes, each box there (and each leaf
+    /// above) marched whole. Finer than the ray caster's cut, which is often the root box.
+    pub fn for_certifying(tree: &Tree16) -> Self {
+        let deepest = tree.levels.len().saturating_sub(1);
+        Self::flatten(tree, deepest_within_budget(tree, deepest) as u32, None)
+    }
+
     /// Flattens `tree` down to `march_level` (clamped to the finest level; the finest level
     /// keeps every node and marches the leaves themselves). No slope bounds.
     pub fn from_tree_at(tree: &Tree16, march_level: u32) -> Self {

@@ -64,7 +64,8 @@ struct JobResult {
     formula: Arc<CompiledFormula>,
     shader: Arc<Shader>,
     params: Vec<f64>,
-    tree: Result<(Hierarchy, TreeStats), String>,
+    /// The ray caster's hierarchy, the one certified pixels search, and the tree's stats.
+    tree: Result<(Hierarchy, Hierarchy, TreeStats), String>,
     caster: Option<Result<RayCaster, String>>,
     tree_ms: f64,
     pipeline_ms: f64,
@@ -136,6 +137,8 @@ pub struct Session {
     pub picture_generation: u64,
     pub caster: Option<RayCaster>,
     pub hierarchy: Option<Arc<Hierarchy>>,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`).
+    pub certifying: Option<Arc<Hierarchy>>,
     /// The boxes the ray caster marches, in words (worked out once per tree, for the
     /// status line).
     pub marched: Option<String>,
@@ -168,6 +171,7 @@ impl Session {
             picture_generation: 0,
             caster: None,
             hierarchy: None,
+            certifying: None,
             marched: None,
             job: None,
             generation: 0,
@@ -380,7 +384,7 @@ impl Session {
         if result.generation != job.generation {
             return false;
         }
-        let (hierarchy, stats) = match result.tree {
+        let (hierarchy, certifying, stats) = match result.tree {
             Ok(t) => t,
             Err(e) => {
                 self.error = Some(e);
@@ -416,6 +420,7 @@ impl Session {
         self.tree_params = result.params;
         self.marched = Some(hierarchy.march_summary());
         self.hierarchy = Some(Arc::new(hierarchy));
+        self.certifying = Some(Arc::new(certifying));
         self.stats = Some(stats);
         self.times = EditTimes {
             compile_ms: job.compile_ms,
@@ -510,12 +515,19 @@ impl JobInputs {
     /// The result of a build: the tree, and the ray caster where one is to be made.
     fn finish(&self, prepared: Result<Prepared, BuildError>) -> JobResult {
         let (tree, params, tree_ms) = match prepared {
-            Ok(p) => (Ok((p.hierarchy, p.tree.stats)), p.params, p.build_ms),
+            Ok(p) => {
+                let certifying = Hierarchy::for_certifying(&p.tree);
+                (
+                    Ok((p.hierarchy, certifying, p.tree.stats)),
+                    p.params,
+                    p.build_ms,
+                )
+            }
             Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
         };
         let t = Instant::now();
         let caster = match (&self.gpu, &tree) {
-            (Some(gpu), Ok((hierarchy, _))) if self.make_pipeline => Some(
+            (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => Some(
                 RayCaster::with_target(gpu, &self.shader, hierarchy, VIEW_TARGET)
                     .map_err(|e| e.to_string())
                     .and_then(|mut caster| {

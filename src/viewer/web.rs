@@ -297,7 +297,8 @@ impl PngDownload {
             &session.tree_params,
             FrameOptions::default(),
         );
-        crate::render::pipeline::bin_view(gpu, &mut caster, hierarchy, &camera, &uniforms);
+        let certifying = session.certifying.as_deref();
+        crate::render::pipeline::bin_view(gpu, &mut caster, hierarchy, certifying, &camera, &uniforms);
         let pending = caster
             .start_rgba(gpu, &uniforms)
             .map_err(|e| e.to_string())?;

@@ -1,0 +1,142 @@
+//! The shader's interval enclosures run on the GPU over given boxes, outside any frame: how
+//! the tests check them against F's values (docs/method.md §5.9).
+
+use bytemuck::Zeroable;
+use wgpu::util::DeviceExt;
+
+use crate::formula::CompiledFormula;
+
+use super::codegen;
+use super::gpu::{Gpu, GpuError, read_back, scope_error};
+use super::uniforms::Uniforms;
+
+/// What the shader encloses over one box: F (`ff_f_box`) and whether it flagged a possible
+/// jump, then F and its gradient (`ff_f_grad_box`); each an interval [lo, hi] (lo > hi:
+/// empty; ±2^62: unbounded on that side).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Enclosures {
+    pub f: [f32; 2],
+    pub jump: bool,
+    pub f_grad: [[f32; 2]; 5],
+}
+
+/// The compute entry point appended to the ray caster's shader: one box per invocation,
+/// four vec4 out.
+const PROBE: &str = r#"
+@group(0) @binding(7) var<storage, read> probe_boxes: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read_write> probe_out: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if (2u * i + 1u >= arrayLength(&probe_boxes)) {
+        return;
+    }
+    u = settings;
+    iv_jump = false;
+    let f = ff_f_box(probe_boxes[2u * i], probe_boxes[2u * i + 1u]);
+    let jump = select(0.0, 1.0, iv_jump);
+    let fg = ff_f_grad_box(probe_boxes[2u * i], probe_boxes[2u * i + 1u]);
+    probe_out[4u * i] = vec4<f32>(f, jump, 0.0);
+    probe_out[4u * i + 1u] = vec4<f32>(fg.f, fg.gx);
+    probe_out[4u * i + 2u] = vec4<f32>(fg.gy, fg.gz);
+    probe_out[4u * i + 3u] = vec4<f32>(fg.gw, 0.0, 0.0);
+}
+"#;
+
+/// Encloses `formula` (with parameter values `params`) over each box [lo, hi] on the GPU.
+pub fn enclose(
+    gpu: &Gpu,
+    formula: &CompiledFormula,
+    params: &[f64],
+    boxes: &[([f32; 4], [f32; 4])],
+) -> Result<Vec<Enclosures>, GpuError> {
+    let shader = codegen::generate(formula).map_err(|e| GpuError::Pipeline(e.to_string()))?;
+    let source = format!("{}\n{PROBE}", shader.source);
+    let device = &gpu.device;
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("fourfold interval probe"),
+        source: wgpu::ShaderSource::Wgsl(source.as_str().into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("fourfold interval probe"),
+        layout: None,
+        module: &module,
+        entry_point: Some("cs_probe"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let mut settings = Uniforms::zeroed();
+    settings.counts.nan_bits = f32::NAN.to_bits();
+    for (i, p) in params.iter().take(64).enumerate() {
+        settings.params[i / 4][i % 4] = *p as f32;
+    }
+    let settings = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("fourfold probe settings"),
+        contents: bytemuck::bytes_of(&settings),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let flat: Vec<[f32; 4]> = boxes.iter().flat_map(|&(lo, hi)| [lo, hi]).collect();
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("fourfold probe boxes"),
+        contents: bytemuck::cast_slice(&flat),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let out_bytes = (boxes.len().max(1) * 4 * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("fourfold probe out"),
+        size: out_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("fourfold probe readback"),
+        size: out_bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("fourfold probe bindings"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: settings.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 8,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups((boxes.len() as u32).div_ceil(64).max(1), 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, out_bytes);
+    gpu.queue.submit([encoder.finish()]);
+    if let Some(error) = scope_error(scope) {
+        return Err(GpuError::Pipeline(error.to_string()));
+    }
+    let values: Vec<[f32; 4]> = read_back(gpu, &readback, |data| bytemuck::cast_slice(data).to_vec())?;
+    Ok(boxes
+        .iter()
+        .enumerate()
+        .map(|(i, _)| {
+            let [a, b, c, d] = [values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]];
+            Enclosures {
+                f: [a[0], a[1]],
+                jump: a[2] != 0.0,
+                f_grad: [[b[0], b[1]], [b[2], b[3]], [c[0], c[1]], [c[2], c[3]], [d[0], d[1]]],
+            }
+        })
+        .collect())
+}
