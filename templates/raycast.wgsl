@@ -1053,7 +1053,7 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
         let end = cert_tiles[t + 1u];
         var c = cert_tiles[t];
         loop {
-            if (c >= end || cert.hit || cert.budget == 0u) {
+            if (c >= end || cert.hit || (cert.budget == 0u && cert.undecided)) {
                 break;
             }
             let i = cert_tiles[u.cert_tiling.w + c];
@@ -1068,7 +1068,7 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     } else if (MODE != 0u) {
         var i = 0u;
         loop {
-            if (i >= u.counts.x || cert.hit || cert.budget == 0u) {
+            if (i >= u.counts.x || cert.hit || (cert.budget == 0u && cert.undecided)) {
                 break;
             }
             let node = nodes[i];

@@ -28,6 +28,16 @@ fn scene(flags: &[&str]) -> Result<Scene, Failure> {
 }
 
 #[test]
+fn certified_flags_set_the_scene_s_keys() {
+    let s = scene(&["--certified", "--cert-budget", "64", "--undecided", "hatch"]).unwrap();
+    assert!(s.render.certified);
+    assert_eq!(s.render.cert_budget, 64);
+    assert_eq!(s.render.undecided, fourfold::scene::Undecided::Hatch);
+    let plain = scene(&[]).unwrap();
+    assert!(!plain.render.certified);
+}
+
+#[test]
 fn render_flags_override_the_scene_file() {
     let file = Scene::load(std::path::Path::new(SCENE)).unwrap();
     let plain = scene(&[]).unwrap();
@@ -119,6 +129,14 @@ fn bad_render_flags_are_usage_errors_that_name_the_flag() {
             "--min-level 6 is above --max-level 5",
         ),
         (&["--background", "zz"], "--background"),
+        (
+            &["--certified", "--cert-budget", "0"],
+            "--cert-budget 0: between 1 and 8192",
+        ),
+        (
+            &["--undecided", "grey"],
+            "--undecided grey: use marker or hatch",
+        ),
     ];
     for (flags, expected) in cases {
         let failure = scene(flags).expect_err(&format!("{flags:?} was accepted"));

@@ -157,12 +157,11 @@ impl<'a> Certifier<'a> {
             }
         }
         for &(lo, hi) in boxes {
-            if search.budget == 0 || search.hit().is_some() {
+            if (search.budget == 0 && search.undecided) || search.hit().is_some() {
                 break;
             }
             self.certify_box(&mut search, o, lo, hi);
         }
-        if std::env::var("FF_DBG").is_ok() { eprintln!("budget left {}", search.budget); }
         if let Some(bracket) = search.hit() {
             return Outcome {
                 verdict: Verdict::Hit,
@@ -217,7 +216,8 @@ impl<'a> Certifier<'a> {
         }
         // As the shader: cells are cut down to where the plane may meet the box.
         let reach = magnitude(s).max(magnitude(t));
-        let rel: [Interval; 4] = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
+        let rel: [Interval; 4] =
+            std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
         let global = u.control.flags & FLAG_CONTINUOUS != 0;
         let mut stack: Vec<Cell> = Vec::with_capacity(CERT_STACK);
         stack.push((s, t));
@@ -264,7 +264,8 @@ impl<'a> Certifier<'a> {
                     if !meet(fg[0], mv).contains_zero() {
                         continue;
                     }
-                    slope = [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
+                    slope =
+                        [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
                 }
                 if global && inside(&cp, &domain) {
                     search.note(proved_sign(fc), mid);
@@ -289,7 +290,6 @@ impl<'a> Certifier<'a> {
                 return;
             }
             // Split the longer side (a slice's cells are segments along n1).
-            if std::env::var("FF_DBG").is_ok() { eprintln!("cell {cs} {ct} f {} pos {:?} neg {:?}", fg[0], search.pos, search.neg); }
             let along_s = cs.width() >= ct.width();
             let (side, cut) = if along_s { (cs, mid[0]) } else { (ct, mid[1]) };
             if !(side.lo() < cut && cut < side.hi()) || stack.len() + 2 > CERT_STACK {
@@ -298,10 +298,7 @@ impl<'a> Certifier<'a> {
             }
             // The half where F more likely has the sign still missing is searched first
             // (pushed last).
-            let (mut a, mut b) = (
-                Interval::new(side.lo(), cut),
-                Interval::new(cut, side.hi()),
-            );
+            let (mut a, mut b) = (Interval::new(side.lo(), cut), Interval::new(cut, side.hi()));
             let g = if along_s { slope[0] } else { slope[1] };
             if f64::from(search.wanted()) * g < 0.0 {
                 (a, b) = (b, a);
@@ -399,7 +396,13 @@ impl Search {
     /// neither found, the sign opposite to F's at the centre): from the centre, with F's
     /// value `fc` there and its estimated slope, twice the Newton step of the linear
     /// model towards 0, kept within the cell.
-    fn guess(&self, fc: Interval, mid: [f64; 2], slope: [f64; 2], (s, t): Cell) -> Option<[f64; 2]> {
+    fn guess(
+        &self,
+        fc: Interval,
+        mid: [f64; 2],
+        slope: [f64; 2],
+        (s, t): Cell,
+    ) -> Option<[f64; 2]> {
         let f = fc.midpoint();
         let want = match self.wanted() {
             0 if self.pos.is_none() && self.neg.is_none() => -f.signum(),

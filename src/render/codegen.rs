@@ -119,10 +119,7 @@ fn interval_function(
     result: impl Fn(&[String]) -> String,
 ) -> String {
     let mut body = String::new();
-    let _ = writeln!(
-        body,
-        "fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret} {{"
-    );
+    let _ = writeln!(body, "fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret} {{");
     for (i, instr) in tape.instrs().iter().enumerate() {
         if let Instr::Powi(a, n) = *instr {
             interval_powi_lets(&mut body, i, a, n);

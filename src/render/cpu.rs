@@ -12,8 +12,8 @@ use super::certify::{Certifier, Verdict};
 use super::march::{march_steps, slope_along};
 
 use super::uniforms::{
-    FLAG_BORDER, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
-    FLAG_CERTIFIED, FLAG_HATCH, FLAG_SLICE, Uniforms,
+    FLAG_BORDER, FLAG_CERTIFIED, FLAG_HATCH, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM,
+    FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE, Uniforms,
 };
 
 type V4 = [f32; 4];
@@ -321,7 +321,11 @@ impl Pixel<'_> {
                 t1 = t1.min(ta.max(tb));
             }
             if self.u.control.flags & FLAG_SLAB != 0 {
-                let b = if k == AIMED { self.aim[1] } else { self.dir2(k)[1] };
+                let b = if k == AIMED {
+                    self.aim[1]
+                } else {
+                    self.dir2(k)[1]
+                };
                 (t0, t1) = clip_to_slab(self.u, (t0, t1), b);
             }
             if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
@@ -550,11 +554,7 @@ fn render_pixel(
             .iter()
             .map(|b| (b.lo, b.hi))
             .collect();
-        if std::env::var("FF_DBG").ok() != Some(format!("{px},{py}")) && std::env::var("FF_DBG").is_ok() { return ([0.0;3], Verdict::Empty); }
         let outcome = certifier.pixel(plane, &bounds, pixel.bracket);
-        if std::env::var("FF_DBG").is_ok() {
-            eprintln!("cpu px {px} {py}: boxes {} outcome {:?}", bounds.len(), outcome);
-        }
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.

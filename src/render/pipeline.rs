@@ -202,7 +202,14 @@ fn gpu_frame(
     times.pipeline_ms = ms(t);
     let t = Instant::now();
     let certifying = uniforms.certified().then(|| prepared.certifying());
-    bin_view(gpu, &mut caster, &prepared.hierarchy, certifying, camera, uniforms);
+    bin_view(
+        gpu,
+        &mut caster,
+        &prepared.hierarchy,
+        certifying,
+        camera,
+        uniforms,
+    );
     let (rgba, gpu_ms) = caster.render_rgba_timed(gpu, uniforms)?;
     times.frame_ms = ms(t);
     times.gpu_ms = gpu_ms;

@@ -126,16 +126,28 @@ pub fn enclose(
     if let Some(error) = scope_error(scope) {
         return Err(GpuError::Pipeline(error.to_string()));
     }
-    let values: Vec<[f32; 4]> = read_back(gpu, &readback, |data| bytemuck::cast_slice(data).to_vec())?;
+    let values: Vec<[f32; 4]> =
+        read_back(gpu, &readback, |data| bytemuck::cast_slice(data).to_vec())?;
     Ok(boxes
         .iter()
         .enumerate()
         .map(|(i, _)| {
-            let [a, b, c, d] = [values[4 * i], values[4 * i + 1], values[4 * i + 2], values[4 * i + 3]];
+            let [a, b, c, d] = [
+                values[4 * i],
+                values[4 * i + 1],
+                values[4 * i + 2],
+                values[4 * i + 3],
+            ];
             Enclosures {
                 f: [a[0], a[1]],
                 jump: a[2] != 0.0,
-                f_grad: [[b[0], b[1]], [b[2], b[3]], [c[0], c[1]], [c[2], c[3]], [d[0], d[1]]],
+                f_grad: [
+                    [b[0], b[1]],
+                    [b[2], b[3]],
+                    [c[0], c[1]],
+                    [c[2], c[3]],
+                    [d[0], d[1]],
+                ],
             }
         })
         .collect())

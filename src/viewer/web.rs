@@ -298,7 +298,14 @@ impl PngDownload {
             FrameOptions::default(),
         );
         let certifying = session.certifying.as_deref();
-        crate::render::pipeline::bin_view(gpu, &mut caster, hierarchy, certifying, &camera, &uniforms);
+        crate::render::pipeline::bin_view(
+            gpu,
+            &mut caster,
+            hierarchy,
+            certifying,
+            &camera,
+            &uniforms,
+        );
         let pending = caster
             .start_rgba(gpu, &uniforms)
             .map_err(|e| e.to_string())?;
