@@ -596,15 +596,7 @@ impl RayCaster {
     /// cannot wait for the GPU): poll the result until it is there.
     pub fn start_rgba(&self, gpu: &Gpu, uniforms: &Uniforms) -> Result<PendingRgba, GpuError> {
         let frame = self.submit_rgba(gpu, uniforms, None)?;
-        let state = Arc::new(Mutex::new(None));
-        let mapped = state.clone();
-        frame
-            .readback
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| {
-                *mapped.lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
-            });
-        Ok(PendingRgba { frame, state })
+        Ok(PendingRgba::map(frame))
     }
 
     /// Records and submits one frame and its copy into a mappable buffer.
@@ -623,14 +615,6 @@ impl RayCaster {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("fourfold readback"),
-            size: u64::from(padded_row) * u64::from(height),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
@@ -645,35 +629,21 @@ impl RayCaster {
         if let Some(timer) = timer {
             timer.resolve(&mut encoder);
         }
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(padded_row),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
+        let copy = FrameCopy::record(gpu, &mut encoder, &texture);
         gpu.queue.submit([encoder.finish()]);
-        Ok(FrameCopy {
-            readback,
-            width,
-            height,
-            padded_row,
-        })
+        Ok(copy)
     }
+}
+
+/// Starts reading back an RGBA8 texture made with COPY_SRC (the viewer's picture, for its
+/// certified pixels' verdicts) without waiting: poll the result until it is there.
+pub fn start_texture_read(gpu: &Gpu, texture: &wgpu::Texture) -> PendingRgba {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    let frame = FrameCopy::record(gpu, &mut encoder, texture);
+    gpu.queue.submit([encoder.finish()]);
+    PendingRgba::map(frame)
 }
 
 /// A frame copied into a mappable buffer, its rows padded to the copy alignment.
@@ -685,6 +655,37 @@ struct FrameCopy {
 }
 
 impl FrameCopy {
+    /// Records the copy of all of `texture` (RGBA8, COPY_SRC) into a new mappable buffer.
+    fn record(gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Self {
+        let (width, height) = (texture.width(), texture.height());
+        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("fourfold readback"),
+            size: u64::from(padded_row) * u64::from(height),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        encoder.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded_row),
+                    rows_per_image: Some(height),
+                },
+            },
+            texture.size(),
+        );
+        Self {
+            readback,
+            width,
+            height,
+            padded_row,
+        }
+    }
+
     /// The rows without their padding, 4 bytes a pixel.
     fn rows(&self, data: &[u8]) -> Vec<u8> {
         let row = (self.width * 4) as usize;
@@ -704,6 +705,19 @@ pub struct PendingRgba {
 }
 
 impl PendingRgba {
+    /// Starts mapping the copied frame; `poll` finds it once mapped.
+    fn map(frame: FrameCopy) -> Self {
+        let state = Arc::new(Mutex::new(None));
+        let mapped = state.clone();
+        frame
+            .readback
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                *mapped.lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+            });
+        Self { frame, state }
+    }
+
     /// The frame's width and height.
     pub fn size(&self) -> [u32; 2] {
         [self.frame.width, self.frame.height]

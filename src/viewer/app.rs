@@ -17,8 +17,8 @@ use crate::render::framing::{self, ZOOM_RANGE};
 use crate::render::uniforms::hidden_range;
 use crate::render::{Camera, Gpu, RayCaster, Shader};
 use crate::scene::{
-    AxisRange, Color, ColorBy, EXAMPLES, MAX_HITS, MAX_RAYS, MAX_STEPS, MAX_TREE_LEVEL, Sampling,
-    Scene, Speaker,
+    AxisRange, Color, ColorBy, EXAMPLES, MAX_CERT_BUDGET, MAX_HITS, MAX_RAYS, MAX_STEPS,
+    MAX_TREE_LEVEL, Sampling, Scene, Speaker, Undecided,
 };
 use crate::syntax::SourceError;
 use crate::syntax::parser::{TokenKind, tokens};
@@ -928,6 +928,20 @@ impl FourfoldApp {
                  the tree's boxes: the same picture, faster on some scenes and shallow trees",
             )
             .changed();
+        ui.checkbox(&mut r.certified, "certified pixels")
+            .on_hover_text(
+                "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
+                 zero there), or undecided once the budget of cells is spent, drawn magenta \
+                 where no ray found a hit. The counts are in the status line.",
+            );
+        if r.certified {
+            ui.horizontal(|ui| {
+                ui.label("cells per pixel");
+                ui.add(egui::DragValue::new(&mut r.cert_budget).range(1..=MAX_CERT_BUDGET));
+                ui.radio_value(&mut r.undecided, Undecided::Marker, "magenta");
+                ui.radio_value(&mut r.undecided, Undecided::Hatch, "hatched");
+            });
+        }
         ui.horizontal(|ui| {
             ui.label("background");
             color_edit(ui, &mut r.background);
@@ -990,6 +1004,21 @@ impl FourfoldApp {
                 frame.push_str(&format!(" · refining {:.0}%", 100.0 * p.fraction()));
             }
             ui.label(RichText::new(frame).small());
+            if self.session.scene.render.certified {
+                ui.separator();
+                let text = match p.verdicts {
+                    Some(c) => format!(
+                        "certified: {} hit · {} empty · {} undecided",
+                        c.hit, c.empty, c.undecided
+                    ),
+                    None => "certifying…".to_string(),
+                };
+                let color = match p.verdicts {
+                    Some(c) if c.undecided > 0 => Color32::from_rgb(255, 120, 255),
+                    _ => ui.visuals().text_color(),
+                };
+                ui.label(RichText::new(text).small().color(color));
+            }
             ui.separator();
             ui.label(RichText::new(format!("UI {:.0} fps", self.pacing.fps())).small());
             if let Some(ms) = self.edit_latency_ms {
@@ -1239,6 +1268,7 @@ impl FourfoldApp {
                 let subject = Subject {
                     caster,
                     hierarchy,
+                    certifying: s.certifying.as_ref(),
                     params: &s.tree_params,
                     scene: &s.scene,
                     generation: s.picture_generation,
@@ -1259,6 +1289,7 @@ impl FourfoldApp {
                 let subject = Subject {
                     caster: &mut inset.caster,
                     hierarchy,
+                    certifying: s.certifying.as_ref(),
                     params: &s.tree_params,
                     scene: &scene,
                     generation: s.picture_generation,

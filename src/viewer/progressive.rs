@@ -14,6 +14,8 @@ use web_time::Instant;
 
 use eframe::{egui, egui_wgpu};
 
+use crate::render::certify::{VerdictCounts, take_marks};
+use crate::render::gpu::{PendingRgba, start_texture_read};
 use crate::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, TileLists, Uniforms};
 use crate::scene::{Domain, RenderSettings, Scene, View};
 use crate::tree::Hierarchy;
@@ -26,6 +28,9 @@ pub const ACCUMULATED_PASSES: u32 = 16;
 pub struct Subject<'a> {
     pub caster: &'a mut RayCaster,
     pub hierarchy: &'a Arc<Hierarchy>,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`), where the scene
+    /// certifies.
+    pub certifying: Option<&'a Arc<Hierarchy>>,
     pub params: &'a [f64],
     pub scene: &'a Scene,
     pub generation: u64,
@@ -96,7 +101,8 @@ type BinKey = (usize, u64);
 /// than a UI frame).
 struct Binning {
     key: BinKey,
-    lists: Receiver<TileLists>,
+    /// The ray caster's lists, and the certifying ones where asked for.
+    lists: Receiver<(TileLists, Option<TileLists>)>,
     started: Instant,
 }
 
@@ -134,6 +140,10 @@ pub struct Progressive {
     /// Wall time of the last binning, milliseconds, and how many were started.
     pub binning_ms: Option<f64>,
     pub binnings: u64,
+    /// A certified view's verdicts: read back from its first full-resolution stage, and
+    /// the counts once they are in (None: not certified, or not yet).
+    verdict_read: Option<PendingRgba>,
+    pub verdicts: Option<VerdictCounts>,
 }
 
 impl Default for Progressive {
@@ -160,6 +170,8 @@ impl Default for Progressive {
             binning: None,
             binning_ms: None,
             binnings: 0,
+            verdict_read: None,
+            verdicts: None,
         }
     }
 }
@@ -226,7 +238,9 @@ impl Progressive {
                 gpu,
                 width,
                 height,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
             );
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             let id = renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Linear);
@@ -255,6 +269,8 @@ impl Progressive {
 
     fn plan(&mut self, scene: &Scene, interacting: bool) {
         self.plans += 1;
+        self.verdict_read = None;
+        self.verdicts = None;
         let rays = scene.render.rays.max(1);
         let pixels = |div: u32| {
             f64::from(self.size[0].div_ceil(div)) * f64::from(self.size[1].div_ceil(div))
@@ -333,11 +349,20 @@ impl Progressive {
         let Subject {
             caster,
             hierarchy,
+            certifying,
             params,
             scene,
             generation,
         } = subject;
         self.ensure_textures(gpu, caster, renderer, size);
+        if let Some(read) = &self.verdict_read
+            && let Some(result) = read.poll(gpu)
+        {
+            self.verdicts = result
+                .ok()
+                .map(|mut rgba| VerdictCounts::of(&take_marks(&mut rgba).1));
+            self.verdict_read = None;
+        }
         let full_key = (ViewKey::new(scene, size), generation, interacting);
         if self.key.as_ref() != Some(&full_key) {
             // Keep what is on screen (completed) until the new preview is done.
@@ -361,6 +386,11 @@ impl Progressive {
                     .map_or(0.0, |t| t.elapsed().as_secs_f64() * 1e3);
                 if stage.div == 1 && stage.frame == 0 {
                     self.full_ms = Some(wall);
+                    // Its alpha holds each pixel's verdict (later passes blend in the same).
+                    if scene.render.certified && certifying.is_some() {
+                        self.verdict_read =
+                            Some(start_texture_read(gpu, &self.textures[index].texture));
+                    }
                 }
                 if self.stage == 0 {
                     self.preview_ms = Some(wall);
@@ -402,8 +432,10 @@ impl Progressive {
             let (_, camera, uniforms) = frame.as_ref().expect("made above");
             // The leaves of each screen tile, for this stage's resolution and view (brute
             // force reads none). Binned once per texture and plan, off the UI thread.
+            let certifying = certifying.filter(|_| uniforms.certified());
+            let hierarchies = (hierarchy, certifying);
             if !uniforms.brute_force()
-                && !self.lists_ready(gpu, caster, hierarchy, camera, (index, self.plans))
+                && !self.lists_ready(gpu, caster, hierarchies, camera, (index, self.plans))
             {
                 return true;
             }
@@ -456,13 +488,14 @@ impl Progressive {
         false
     }
 
-    /// Whether the caster holds the tile lists for `key`; if not, starts or polls their
-    /// binning on a worker thread and uploads them once done.
+    /// Whether the caster holds the tile lists for `key` (and, for a certified view, the
+    /// certifying lists); if not, starts or polls their binning on a worker thread and
+    /// uploads them once done.
     fn lists_ready(
         &mut self,
         gpu: &Gpu,
         caster: &mut RayCaster,
-        hierarchy: &Arc<Hierarchy>,
+        (hierarchy, certifying): (&Arc<Hierarchy>, Option<&Arc<Hierarchy>>),
         camera: &Camera,
         key: BinKey,
     ) -> bool {
@@ -472,15 +505,16 @@ impl Progressive {
         if let Some(job) = &self.binning
             && job.key == key
         {
-            let lists = match job.lists.try_recv() {
-                Ok(lists) => Some(lists),
+            let (lists, cert) = match job.lists.try_recv() {
+                Ok((lists, cert)) => (Some(lists), cert),
                 Err(TryRecvError::Empty) => return false,
                 // The worker died (it cannot, short of running out of memory): draw by the
                 // stackless walk, which needs no lists.
-                Err(TryRecvError::Disconnected) => None,
+                Err(TryRecvError::Disconnected) => (None, None),
             };
             self.binning_ms = Some(job.started.elapsed().as_secs_f64() * 1e3);
             caster.set_tiles(gpu, lists.as_ref());
+            caster.set_cert_tiles(gpu, cert.as_ref());
             self.binning = None;
             self.binned = Some(key);
             return true;
@@ -488,10 +522,12 @@ impl Progressive {
         // A new view: bin it (a stale job finishes on its own; its result is dropped).
         let (send, lists) = std::sync::mpsc::channel();
         let (shared, view, budget) = (hierarchy.clone(), *camera, gpu.tile_entry_budget());
+        let shared_cert = certifying.cloned();
         let worker = std::thread::Builder::new()
             .name("fourfold binning".into())
             .spawn(move || {
-                let _ = send.send(TileLists::build_within(&shared, &view, budget));
+                let cert = shared_cert.map(|c| TileLists::build_within(&c, &view, budget));
+                let _ = send.send((TileLists::build_within(&shared, &view, budget), cert));
             });
         self.binnings += 1;
         if worker.is_ok() {
@@ -505,6 +541,8 @@ impl Progressive {
         // No thread to be had: bin here.
         let lists = TileLists::build_within(hierarchy, camera, budget);
         caster.set_tiles(gpu, Some(&lists));
+        let cert = certifying.map(|c| TileLists::build_within(c, camera, budget));
+        caster.set_cert_tiles(gpu, cert.as_ref());
         self.binned = Some(key);
         true
     }
