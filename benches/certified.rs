@@ -8,7 +8,7 @@
 //!    warm-up frame (which compiles the pipeline);
 //! 2. for every example scene with its own settings, the verdicts of a certified frame at
 //!    SIZE² and the default budget: the share of undecided pixels among those that may show
-//!    M (hit or undecided).
+//!    M (hit or undecided). FOURFOLD_BENCH_QUICK=1 skips it.
 
 use std::time::Instant;
 
@@ -104,6 +104,9 @@ fn main() {
             counts.hit + counts.undecided,
             counts.undecided_share()
         );
+    }
+    if std::env::var("FOURFOLD_BENCH_QUICK").is_ok_and(|v| v == "1") {
+        return;
     }
     println!("\n## Verdicts per example scene, {size}x{size}, its own settings, default budget\n");
     println!("| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] |");
