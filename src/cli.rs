@@ -709,11 +709,11 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         ));
         if counts.undecided > 0 {
             out.push_str(&format!(
-                "\n{} undecided pixels drawn {}; a larger --cert-budget decides more",
-                counts.undecided,
+                "\nundecided pixels are drawn {} where no ray found a hit; a larger \
+                 --cert-budget decides more",
                 match scene.render.undecided {
-                    Undecided::Marker => "magenta where no ray found a hit",
-                    Undecided::Hatch => "with magenta stripes where no ray found a hit",
+                    Undecided::Marker => "magenta",
+                    Undecided::Hatch => "in magenta stripes",
                 }
             ));
         }
