@@ -543,7 +543,7 @@ fn marching_coarser_boxes_draws_the_leaves_picture() {
             let tiles = caster.render_rgba(&gpu, &u).unwrap();
             caster.set_tiles(&gpu, None);
             let walk = caster.render_rgba(&gpu, &u).unwrap();
-            let reference = cpu::render_rgba(&formula, &params, h, &u);
+            let reference = cpu::render_rgba(&formula, &params, h, None, &u);
             for (what, picture) in [("tiles", &tiles), ("walk", &walk)] {
                 let (close, cover) = agreement(picture, &reference, scene.render.background.0, 12);
                 eprintln!(
@@ -622,7 +622,7 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
             let tiles = caster.render_rgba(&gpu, &u).unwrap();
             caster.set_tiles(&gpu, None);
             let walk = caster.render_rgba(&gpu, &u).unwrap();
-            [tiles, walk, cpu::render_rgba(&formula, &params, h, &u)]
+            [tiles, walk, cpu::render_rgba(&formula, &params, h, None, &u)]
         };
         let skipping = draw(&h);
         h.slopes.clear();
@@ -1262,7 +1262,7 @@ fn a_frame_read_back_without_waiting_is_the_frame_read_back_at_once() {
         let camera = Camera::new(&scene.domain, &scene.view, 96, 64);
         let uniforms = frame_uniforms(&scene, &camera, &h, &params, None);
         let mut caster = RayCaster::new(&gpu, &shader, &h).unwrap();
-        bin_view(&gpu, &mut caster, &h, &camera, &uniforms);
+        bin_view(&gpu, &mut caster, &h, None, &camera, &uniforms);
         let at_once = caster.render_rgba(&gpu, &uniforms).unwrap();
         let pending = caster.start_rgba(&gpu, &uniforms).unwrap();
         assert_eq!(pending.size(), [96, 64]);

@@ -603,7 +603,7 @@ fn render_pixel(
 /// An undecided pixel with no hit: the marker colour, or its stripes over the background
 /// (as the shader's `undecided_color`).
 fn undecided_color(u: &Uniforms, px: u32, py: u32) -> [f32; 3] {
-    let stripe = ((px + py) / 3) % 2 == 0;
+    let stripe = ((px + py) / 3).is_multiple_of(2);
     if u.control.flags & FLAG_HATCH != 0 && !stripe {
         [u.background[0], u.background[1], u.background[2]]
     } else {
