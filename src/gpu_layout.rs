@@ -251,7 +251,7 @@ pub struct Hidden {
     pub unused: [f32; 2],
 }
 
-/// The frame's settings (binding 0, a read-only storage buffer: see `render::gpu`; 1104
+/// The frame's settings (binding 0, a read-only storage buffer: see `render::gpu`; 1120
 /// bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

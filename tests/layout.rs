@@ -131,6 +131,7 @@ fn the_buffers_structs_are_laid_out_as_the_shader_reads_them() {
             half0,
             march,
             hidden,
+            cert_tiling,
             levels,
             params
         }),

@@ -133,8 +133,8 @@ fn interval_function(
     body
 }
 
-/// An interval holding the real number `v`: its nearest f32 stepped an ulp either way, or
-/// a half-line beyond the interval library's largest bound.
+/// An interval holding the real number `v`: the point where f32 holds it exactly, else its
+/// nearest f32 stepped an ulp either way, or a half-line beyond the library's largest bound.
 fn interval_constant(v: f64) -> String {
     const LARGE: f64 = 2305843009213693952.0; // IV_LARGE, 2^61
     if v.is_nan() {
@@ -143,6 +143,9 @@ fn interval_constant(v: f64) -> String {
         "vec2<f32>(IV_LARGE, IV_BIG)".into()
     } else if v < -LARGE {
         "vec2<f32>(-IV_BIG, -IV_LARGE)".into()
+    } else if f64::from(v as f32) == v && (v == 0.0 || v.abs() >= 2f64.powi(-125)) {
+        // Exact in f32, and no subnormal a device may flush: a point.
+        format!("vec2<f32>({})", literal(v))
     } else {
         format!("iv_around({})", literal(v))
     }
