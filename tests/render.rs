@@ -136,7 +136,10 @@ fn wgsl_snapshots_of_small_formulas() {
         let shader = codegen::generate(&f).unwrap();
         // The point functions, then (after the interval library) the interval ones.
         let start = shader.source.find("fn ff_f").unwrap();
-        let library = shader.source.find("// fourfold's rigorous interval").unwrap();
+        let library = shader
+            .source
+            .find("// fourfold's rigorous interval")
+            .unwrap();
         insta::assert_snapshot!(shader.source[start..library].trim().to_string());
         let boxed = shader.source.find("fn ff_f_box").unwrap();
         let end = shader.source.find("fn pcg").unwrap();
@@ -626,7 +629,11 @@ fn stepping_over_samples_by_slope_and_curvature_bounds_draws_the_same_picture() 
             let tiles = caster.render_rgba(&gpu, &u).unwrap();
             caster.set_tiles(&gpu, None);
             let walk = caster.render_rgba(&gpu, &u).unwrap();
-            [tiles, walk, cpu::render_rgba(&formula, &params, h, None, &u)]
+            [
+                tiles,
+                walk,
+                cpu::render_rgba(&formula, &params, h, None, &u),
+            ]
         };
         let skipping = draw(&h);
         h.slopes.clear();

@@ -928,12 +928,19 @@ impl FourfoldApp {
                  the tree's boxes: the same picture, faster on some scenes and shallow trees",
             )
             .changed();
-        ui.checkbox(&mut r.certified, "certified pixels")
-            .on_hover_text(
-                "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
+        ui.add_enabled(
+            super::CERTIFIED_PIXELS,
+            egui::Checkbox::new(&mut r.certified, "certified pixels"),
+        )
+        .on_disabled_hover_text(
+            "Certified pixels are drawn by the desktop viewer and `fourfold render \
+             --certified`, not yet in the browser.",
+        )
+        .on_hover_text(
+            "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
                  zero there), or undecided once the budget of cells is spent, drawn magenta \
                  where no ray found a hit. The counts are in the status line.",
-            );
+        );
         if r.certified {
             ui.horizontal(|ui| {
                 ui.label("cells per pixel");

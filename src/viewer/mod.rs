@@ -19,6 +19,12 @@ pub use session::Session;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 
+/// Whether this viewer draws certified pixels (docs/method.md §5.9). Not in the browser yet:
+/// Chromium on SwiftShader compiles the certified shader for longer than its GPU watchdog
+/// allows and loses the page, so a web scene that asks for them is drawn plain, with a
+/// notice (`web::certified_left_off`).
+pub const CERTIFIED_PIXELS: bool = cfg!(not(target_arch = "wasm32"));
+
 /// Opens the viewer window on `scene` (or the last scene, or the default one); `frame`
 /// fits the picture to it once its tree is ready (a share link keeps its own view).
 #[cfg(not(target_arch = "wasm32"))]

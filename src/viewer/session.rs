@@ -155,7 +155,8 @@ pub struct Session {
 }
 
 impl Session {
-    pub fn new(scene: Scene) -> Self {
+    pub fn new(mut scene: Scene) -> Self {
+        scene.render.certified &= super::CERTIFIED_PIXELS;
         let text = scene.formula.clone();
         Self {
             scene,
@@ -291,7 +292,8 @@ impl Session {
     }
 
     /// Replaces the whole scene (a preset or a file) and builds it.
-    pub fn load_scene(&mut self, scene: Scene, gpu: Option<&Gpu>) {
+    pub fn load_scene(&mut self, mut scene: Scene, gpu: Option<&Gpu>) {
+        scene.render.certified &= super::CERTIFIED_PIXELS;
         let text = scene.formula.clone();
         self.scene = scene;
         self.formula = None;

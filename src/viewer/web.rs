@@ -42,8 +42,11 @@ pub async fn start(canvas_id: &str) -> Result<(), JsValue> {
         .dyn_into::<web_sys::HtmlCanvasElement>()
         .map_err(|_| format!("`{canvas_id}` is not a canvas"))?;
     let hash = window.location().hash().unwrap_or_default();
-    let linked =
-        crate::scene::link::is_link(&hash).then(|| Scene::from_link(&hash, &default_scene()));
+    let linked = crate::scene::link::is_link(&hash).then(|| {
+        let (scene, mut problems) = Scene::from_link(&hash, &default_scene());
+        problems.extend(certified_left_off(&scene));
+        (scene, problems)
+    });
     let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
     if let eframe::egui_wgpu::WgpuSetup::CreateNew(setup) = &mut wgpu_options.wgpu_setup {
         // WebGL2 has no storage buffers, which the ray caster reads.
@@ -102,7 +105,8 @@ pub fn sync_address(app: &mut FourfoldApp) {
         let (written, at) = &mut *address.borrow_mut();
         if hash != *written && crate::scene::link::is_link(&hash) {
             *written = hash.clone();
-            let (scene, problems) = Scene::from_link(&hash, &app.session.scene);
+            let (scene, mut problems) = Scene::from_link(&hash, &app.session.scene);
+            problems.extend(certified_left_off(&scene));
             app.open(scene, false);
             if !problems.is_empty() {
                 let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
@@ -347,4 +351,15 @@ impl PngDownload {
             Err(e) => Notice::error(e),
         })
     }
+}
+
+/// What the page says of a linked scene that asks for certified pixels, which it draws plain
+/// (see `viewer::CERTIFIED_PIXELS`).
+fn certified_left_off(scene: &Scene) -> Option<crate::scene::LinkProblem> {
+    scene.render.certified.then(|| crate::scene::LinkProblem {
+        key: "render.certified".into(),
+        message: "certified pixels are drawn by the desktop viewer and `fourfold render \
+                  --certified`, not yet in the browser"
+            .into(),
+    })
 }

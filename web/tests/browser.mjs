@@ -7,7 +7,8 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
+// error; a link asking for certified pixels draws plain and says why; without WebGPU the
+// page says what it needs. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
 
 import { chromium } from 'playwright-core';
@@ -222,6 +223,15 @@ try {
   const linked = await picture(shared.page);
   check(s.formula === 'x^2 + y^2 - z^2 - w^2 - 0.1' && changed(home, linked) > 0.02,
     `a share link draws its formula (${(100 * changed(home, linked)).toFixed(1)}% of pixels differ from the default)`);
+
+  // A certified link: drawn plain, saying that certified pixels are the desktop's for now.
+  const certified = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
+    '&render.certified=true&render.rays=4');
+  const cs = await settled(certified.page);
+  const shown = coverage(await picture(certified.page));
+  check(shown.share > 0.01 && /certified/.test(cs.notice ?? '') && certified.errors.length === 0,
+    `a certified link draws, plain, and says why: ${JSON.stringify(cs.notice)}`);
+  await certified.page.close();
 
   // A link with a mistyped formula opens the editor on it, with the error.
   const bad = await open('#formula=' + encodeURIComponent('sn(x) + y') + '&zoom=nine');
