@@ -355,3 +355,48 @@ fn certified_and_plain_pictures_agree_where_the_plain_one_hits() {
         assert!(compared > 100, "{name}: only {compared} pixels with hits");
     }
 }
+
+/// Undecided pixels are never drawn as background: with a budget too small to decide, each
+/// shows a hit's colour or the marker's, on the GPU and the CPU twin alike.
+#[test]
+fn undecided_pixels_are_never_background() {
+    let gpu = gpu();
+    let (_, mut scene) = example_scenes_named(&["fig-3-9-left"]).remove(0);
+    scene.render.certified = true;
+    scene.render.cert_budget = 2;
+    scene.render.rays = 1;
+    let formula = CompiledFormula::compile(&scene.formula).unwrap();
+    let prepared = Prepared::new(&formula, &scene).unwrap();
+    let side = 48;
+    let background = scene.render.background.0;
+    for device in [Device::Gpu(&gpu), Device::Cpu] {
+        let picture = render_prepared(
+            &scene,
+            &formula,
+            &prepared,
+            side,
+            side,
+            device,
+            Default::default(),
+        )
+        .unwrap();
+        let verdicts = picture.verdicts.as_ref().unwrap();
+        let mut marked = 0;
+        for (i, v) in verdicts.iter().enumerate() {
+            let rgb = &picture.rgba[4 * i..4 * i + 3];
+            if *v == Verdict::Undecided {
+                assert_ne!(
+                    rgb, background,
+                    "{}: undecided pixel {i} drawn as background",
+                    picture.adapter
+                );
+                marked += usize::from(rgb == [255, 0, 255]);
+            }
+        }
+        assert!(
+            marked > 0,
+            "{}: no undecided pixel shows the marker",
+            picture.adapter
+        );
+    }
+}
