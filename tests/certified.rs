@@ -225,7 +225,27 @@ fn dense_sign_change(
     pos && neg
 }
 
-/// Certified pictures of `scene` at `side`², on the GPU and the CPU twin.
+/// A certified picture of `scene` (with its compiled formula and preparation) at `side`².
+fn certified_picture(
+    scene: &Scene,
+    formula: &CompiledFormula,
+    prepared: &Prepared,
+    side: u32,
+    device: Device<'_>,
+) -> fourfold::render::pipeline::Picture {
+    render_prepared(
+        scene,
+        formula,
+        prepared,
+        side,
+        side,
+        device,
+        Default::default(),
+    )
+    .unwrap()
+}
+
+/// Certified pictures' verdicts for `scene` at `side`², on the GPU and the CPU twin.
 fn certified_pictures(
     gpu: &Gpu,
     scene: &Scene,
@@ -240,18 +260,9 @@ fn certified_pictures(
     let prepared = Prepared::new(&formula, &scene).unwrap();
     let (_, uniforms) = prepared.frame(&scene, side, side, Default::default());
     let verdicts = [Device::Gpu(gpu), Device::Cpu].map(|device| {
-        render_prepared(
-            &scene,
-            &formula,
-            &prepared,
-            side,
-            side,
-            device,
-            Default::default(),
-        )
-        .unwrap()
-        .verdicts
-        .expect("a certified picture has verdicts")
+        certified_picture(&scene, &formula, &prepared, side, device)
+            .verdicts
+            .expect("a certified picture has verdicts")
     });
     (uniforms, verdicts)
 }
@@ -370,16 +381,7 @@ fn undecided_pixels_are_never_background() {
     let side = 48;
     let background = scene.render.background.0;
     for device in [Device::Gpu(&gpu), Device::Cpu] {
-        let picture = render_prepared(
-            &scene,
-            &formula,
-            &prepared,
-            side,
-            side,
-            device,
-            Default::default(),
-        )
-        .unwrap();
+        let picture = certified_picture(&scene, &formula, &prepared, side, device);
         let verdicts = picture.verdicts.as_ref().unwrap();
         let mut marked = 0;
         for (i, v) in verdicts.iter().enumerate() {

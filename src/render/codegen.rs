@@ -94,20 +94,36 @@ pub fn validate(source: &str) -> Result<naga::Module, CodegenError> {
     Ok(module)
 }
 
-fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> String) -> String {
+/// The WGSL function `header` computing `tape`: one `let` per instruction, written by `lets`
+/// (point or interval), then the return of `result` of the outputs.
+fn tape_function(
+    header: &str,
+    tape: &Tape,
+    lets: impl Fn(&mut String, usize, Instr),
+    result: impl Fn(&[String]) -> String,
+) -> String {
     let mut body = String::new();
-    let _ = writeln!(body, "fn {name}(p: vec4<f32>) -> {ret} {{");
+    let _ = writeln!(body, "{header} {{");
     for (i, instr) in tape.instrs().iter().enumerate() {
-        if let Instr::Powi(a, n) = *instr {
-            powi_lets(&mut body, i, a, n);
-        } else {
-            let _ = writeln!(body, "    let s{i} = {};", expression(*instr));
-        }
+        lets(&mut body, i, *instr);
     }
     let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
     let _ = writeln!(body, "    return {};", result(&outputs));
     body.push('}');
     body
+}
+
+/// `name(p)`: `tape`'s outputs at the point p, in f32.
+fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> String) -> String {
+    let header = format!("fn {name}(p: vec4<f32>) -> {ret}");
+    let lets = |body: &mut String, i: usize, instr: Instr| {
+        if let Instr::Powi(a, n) = instr {
+            powi_lets(body, i, a, n);
+        } else {
+            let _ = writeln!(body, "    let s{i} = {};", expression(instr));
+        }
+    };
+    tape_function(&header, tape, lets, result)
 }
 
 /// `name(lo, hi)`: enclosures of `tape`'s outputs over the box [lo, hi] with the operations
@@ -118,19 +134,15 @@ fn interval_function(
     tape: &Tape,
     result: impl Fn(&[String]) -> String,
 ) -> String {
-    let mut body = String::new();
-    let _ = writeln!(body, "fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret} {{");
-    for (i, instr) in tape.instrs().iter().enumerate() {
-        if let Instr::Powi(a, n) = *instr {
-            interval_powi_lets(&mut body, i, a, n);
+    let header = format!("fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret}");
+    let lets = |body: &mut String, i: usize, instr: Instr| {
+        if let Instr::Powi(a, n) = instr {
+            interval_powi_lets(body, i, a, n);
         } else {
-            let _ = writeln!(body, "    let s{i} = {};", interval_expression(*instr));
+            let _ = writeln!(body, "    let s{i} = {};", interval_expression(instr));
         }
-    }
-    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
-    let _ = writeln!(body, "    return {};", result(&outputs));
-    body.push('}');
-    body
+    };
+    tape_function(&header, tape, lets, result)
 }
 
 /// An interval holding the real number `v`: the point where f32 holds it exactly, else its
