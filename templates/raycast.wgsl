@@ -728,12 +728,13 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
 }
 
 // Certified pixels (docs/method.md §5.9). Each pixel's observer plane, within its boxes (the
-// tile list's, or the walk's marched boxes), is covered by cells (s, t ranges along n1, n2
-// from the pixel's origin); F is enclosed over each cell's box with the rigorous interval
-// arithmetic of ff_f_box. A cell whose enclosure excludes 0 holds no root; another is
-// sampled (its centre, rigorously signed) and split in two, depth first. Two samples of
-// opposite sign, where F is continuous on the segment between them, prove a root: HIT.
-// No cell left: EMPTY. Budget (march.y cells) or stack spent first: UNDECIDED.
+// certifying lists', see certify), is covered by cells (s, t ranges along n1, n2 from the
+// pixel's origin); F and its gradient are enclosed over each cell's box with the rigorous
+// interval arithmetic of templates/interval.wgsl. A cell whose enclosure (or mean-value
+// form) excludes 0 holds no root; another is sampled (rigorously signed) and split in two,
+// depth first. Two samples of opposite sign, where F is continuous on the segment between
+// them, prove a root: HIT. No cell left: EMPTY. Budget (march.y cells) or stack spent
+// first: UNDECIDED.
 const CERT_EMPTY: u32 = 0u;
 const CERT_HIT: u32 = 1u;
 const CERT_UNDECIDED: u32 = 2u;
@@ -903,14 +904,14 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         if (top == 0u || (*cert).hit) {
             break;
         }
-        if ((*cert).budget == 0u) {
-            (*cert).undecided = true;
-            break;
-        }
         top = top - 1u;
         let c = shrink_cell(stack[top], rel_lo, rel_hi, reach);
         if (c.x > c.y || c.z > c.w) {
             continue;
+        }
+        if ((*cert).budget == 0u) {
+            (*cert).undecided = true;
+            break;
         }
         let x = plane_box(o, c.xy, c.zw);
         let xlo = max(x.lo, lo);

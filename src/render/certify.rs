@@ -188,10 +188,10 @@ impl<'a> Certifier<'a> {
         ) else {
             return;
         };
+        let rel: Box4 = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
         let range = |n: [f32; 4]| {
             (0..4).fold(Interval::ZERO, |acc, i| {
-                let rel = bx[i].sub(Interval::point(f64::from(o[i])));
-                acc.add(rel.mul(Interval::point(f64::from(n[i]))))
+                acc.add(rel[i].mul(Interval::point(f64::from(n[i]))))
             })
         };
         let (s, t) = (range(u.n1), range(u.n2));
@@ -216,8 +216,6 @@ impl<'a> Certifier<'a> {
         }
         // As the shader: cells are cut down to where the plane may meet the box.
         let reach = magnitude(s).max(magnitude(t));
-        let rel: [Interval; 4] =
-            std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
         let global = u.control.flags & FLAG_CONTINUOUS != 0;
         let mut stack: Vec<Cell> = Vec::with_capacity(CERT_STACK);
         stack.push((s, t));
