@@ -157,7 +157,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub certified: bool,
     /// Certified pixels: the most cells of a pixel's observer plane to enclose F over, 1 to
-    /// 8192 (the scene's, else 1024); more decide more pixels, slower.
+    /// 8192 (the scene's, else 2048); more decide more pixels, slower.
     #[arg(long, allow_hyphen_values = true)]
     pub cert_budget: Option<u32>,
     /// How undecided certified pixels are drawn: marker (magenta) or hatch (magenta stripes).

@@ -323,7 +323,7 @@ pub struct Highlight {
 }
 
 /// Certified pixels' default budget of cells per pixel.
-pub const DEFAULT_CERT_BUDGET: u32 = 1024;
+pub const DEFAULT_CERT_BUDGET: u32 = 2048;
 /// The largest budget: within llvmpipe's 65 535 loop iterations per pixel, with the rays'.
 pub const MAX_CERT_BUDGET: u32 = 8192;
 
