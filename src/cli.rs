@@ -709,12 +709,15 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         ));
         if counts.undecided > 0 {
             out.push_str(&format!(
-                "\nundecided pixels are drawn {} where no ray found a hit; a larger \
-                 --cert-budget decides more",
+                "\nundecided pixels are drawn {} where no ray found a hit; {}",
                 match scene.render.undecided {
                     Undecided::Marker => "magenta",
                     Undecided::Hatch => "in magenta stripes",
-                }
+                },
+                crate::render::certify::undecided_advice(
+                    prepared.hierarchy.continuous,
+                    "--cert-budget"
+                )
             ));
         }
     }

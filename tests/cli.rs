@@ -295,6 +295,48 @@ fn render_fit_frames_the_manifold_not_the_domain() {
     );
 }
 
+#[test]
+fn certified_render_says_why_pixels_stay_undecided() {
+    // y = 1/x turned so that the plane x = 0 crosses many pixels' observer planes: a cell
+    // holding the pole encloses every value, so those pixels stay undecided and the advice
+    // says that a budget cannot help them. The same set written x·y = 1 is continuous.
+    let dir = std::env::temp_dir().join(format!("fourfold-pole-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = |formula: &str| {
+        let out = dir.join("pole.png");
+        let argv = [
+            "fourfold",
+            "render",
+            formula,
+            "--domain=-2,2,-2,2,-2,2,-2,2",
+            "--angles",
+            "0.5,0.3,0.7,0.2,0.4,0.6",
+            "--size",
+            "40x40",
+            "--rays",
+            "4",
+            "--certified",
+            "--cert-budget",
+            "64",
+            "--cpu",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        let Cli {
+            command: Some(Command::Render(args)),
+        } = Cli::try_parse_from(argv).unwrap()
+        else {
+            panic!("not a render command");
+        };
+        fourfold::cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message))
+    };
+    let pole = report("1/x - y = 0");
+    assert!(pole.contains("pole or a jump"), "{pole}");
+    let smooth = report("x*y - 1 = 0");
+    assert!(!smooth.contains("pole or a jump"), "{smooth}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn animate_args(flags: &[&str]) -> fourfold::cli::AnimateArgs {
     let argv = ["fourfold", "animate"].iter().chain(flags).copied();
     match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {

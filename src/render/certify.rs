@@ -78,6 +78,22 @@ impl std::fmt::Display for VerdictCounts {
     }
 }
 
+/// What a user can do about undecided pixels, naming the budget's control (`knob`). Where
+/// F has a pole or a jump in the domain (`continuous` false), a cell holding it encloses
+/// every value however small it is, so the pixels whose plane crosses it may stay undecided
+/// whatever the budget.
+pub fn undecided_advice(continuous: bool, knob: &str) -> String {
+    if continuous {
+        format!("a larger {knob} decides more")
+    } else {
+        format!(
+            "F has a pole or a jump in the domain (a division, floor, sign...): a pixel whose \
+             plane crosses it stays undecided whatever the budget, unless a root is proved \
+             elsewhere on the plane; a larger {knob} decides the others"
+        )
+    }
+}
+
 /// The marks a frame leaves in its alpha channel, made opaque: the pixels whose work the
 /// GPU driver cut short (odd 255 − alpha), and each pixel's verdict ((255 − alpha) / 2; a
 /// cut pixel that claims empty is undecided: its search may have stopped early).

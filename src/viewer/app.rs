@@ -1020,11 +1020,23 @@ impl FourfoldApp {
                     ),
                     None => "certifying…".to_string(),
                 };
-                let color = match p.verdicts {
-                    Some(c) if c.undecided > 0 => Color32::from_rgb(255, 120, 255),
-                    _ => ui.visuals().text_color(),
+                let undecided = p.verdicts.is_some_and(|c| c.undecided > 0);
+                let color = if undecided {
+                    Color32::from_rgb(255, 120, 255)
+                } else {
+                    ui.visuals().text_color()
                 };
-                ui.label(RichText::new(text).small().color(color));
+                let label = ui.label(RichText::new(text).small().color(color));
+                if undecided {
+                    let continuous = self.session.hierarchy.as_ref().is_none_or(|h| h.continuous);
+                    label.on_hover_text(format!(
+                        "Undecided pixels are marked in magenta where no ray found a hit; {}.",
+                        crate::render::certify::undecided_advice(
+                            continuous,
+                            "budget (cells per pixel, under Rendering)"
+                        )
+                    ));
+                }
             }
             ui.separator();
             ui.label(RichText::new(format!("UI {:.0} fps", self.pacing.fps())).small());
