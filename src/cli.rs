@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::formula::CompiledFormula;
 use crate::render::Gpu;
 use crate::render::animation::{
-    Animation, FrameDevice, MAX_FRAMES, Output, Sweep, Turn, draw, parse_range,
+    Animation, Drawn, FrameDevice, MAX_FRAMES, Output, Sweep, Turn, draw, parse_range,
 };
 use crate::render::framing::fit_scene;
 use crate::render::{MAX_PICTURE_SIDE, Prepared};
@@ -725,12 +725,10 @@ pub fn render(args: &RenderArgs) -> Result<String, Failure> {
         out.push_str("\nno surface in this domain: the picture shows only the background");
     }
     if cut > 0 {
-        out.push_str(&format!(
-            "\nwarning: the GPU driver cut the work of {cut} pixels short ({:.1}% of the picture; \
-             llvmpipe stops a shader's loops after 65535 iterations), so they may miss parts of \
-             the manifold. Lower --rays, the scene's steps or --max-level, or render with --cpu.",
+        out.push_str(&cut_warning(&format!(
+            "{cut} pixels ({:.1}% of the picture)",
             100.0 * cut as f64 / (f64::from(width) * f64::from(height))
-        ));
+        )));
     }
     Ok(out)
 }
@@ -795,6 +793,15 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
         frames: args.frames,
         fps: args.fps,
     })
+}
+
+/// The warning for pixels whose work the GPU driver cut short (`which`: how many, of what).
+fn cut_warning(which: &str) -> String {
+    format!(
+        "\nwarning: the GPU driver cut the work of {which} short (llvmpipe stops a shader's \
+         loops after 65535 iterations), so they may miss parts of the manifold. Lower --rays, \
+         the scene's steps or --max-level, or render with --cpu."
+    )
 }
 
 /// `fourfold animate`.
@@ -862,7 +869,11 @@ pub fn animate(args: &AnimateArgs) -> Result<String, Failure> {
     bar.finish_and_clear();
     // The frames drawn so far are written whatever stopped the drawing.
     let wrote = writer.finish().map_err(Failure::runtime)?;
-    let drawn = drawn.map_err(Failure::runtime)?;
+    let Drawn {
+        frames: drawn,
+        verdicts,
+        cut,
+    } = drawn.map_err(Failure::runtime)?;
     let seconds = started.elapsed().as_secs_f64();
     let adapter = gpu
         .as_ref()
@@ -874,6 +885,15 @@ drew {drawn} frames in {seconds:.1} s ({:.1} frames per second)",
         animation.fps,
         f64::from(drawn) / seconds.max(1e-9)
     );
+    if let Some(counts) = verdicts {
+        out.push_str(&format!(
+            "\ncertified pixels over {drawn} frames (budget {} cells): {counts}",
+            scene.render.cert_budget
+        ));
+    }
+    if cut > 0 {
+        out.push_str(&cut_warning(&format!("{cut} pixels over {drawn} frames")));
+    }
     if drawn < animation.frames {
         out.push_str(&format!(
             "

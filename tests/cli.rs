@@ -378,6 +378,42 @@ fn apng_frames(path: &std::path::Path) -> Vec<Vec<u8>> {
 }
 
 #[test]
+fn a_certified_animation_counts_every_frame_s_pixels() {
+    let dir = std::env::temp_dir().join(format!("fourfold-cert-anim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("turn.gif").display().to_string();
+    let flags = [
+        SCENE,
+        "--size",
+        "24x20",
+        "--rays",
+        "4",
+        "--frames",
+        "3",
+        "--turn",
+        "xw",
+        "--certified",
+        "--cpu",
+        "-o",
+        &out,
+    ];
+    let said =
+        fourfold::cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message));
+    std::fs::remove_dir_all(&dir).ok();
+    let counts = said
+        .lines()
+        .find_map(|l| l.strip_prefix("certified pixels over 3 frames (budget 2048 cells): "))
+        .unwrap_or_else(|| panic!("no counts in {said:?}"));
+    let numbers: Vec<usize> = counts
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|n| n.parse().ok())
+        .take(3)
+        .collect();
+    assert_eq!(numbers.iter().sum::<usize>(), 3 * 24 * 20, "{counts}");
+    assert!(numbers[0] > 0, "no pixel hit: {counts}");
+}
+
+#[test]
 fn animate_writes_frames_that_differ_in_every_format() {
     let dir = std::env::temp_dir().join(format!("fourfold-animate-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -12,10 +12,10 @@ use crate::formula::CompiledFormula;
 use crate::scene::Scene;
 
 use super::camera::{Camera, Rotation4};
+use super::certify::{VerdictCounts, take_marks};
 use super::codegen;
 use super::framing;
 use super::gpu::{Gpu, RayCaster};
-use super::pipeline::take_cut_pixels;
 use super::prepare::Prepared;
 use super::uniforms::{FrameOptions, Uniforms};
 
@@ -431,10 +431,20 @@ pub enum FrameDevice<'a> {
     Cpu,
 }
 
+/// What `draw` drew.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Drawn {
+    pub frames: u32,
+    /// With `[render] certified`: the verdicts of every frame's pixels, summed.
+    pub verdicts: Option<VerdictCounts>,
+    /// Pixels, summed over the frames, whose work the GPU driver cut short.
+    pub cut: usize,
+}
+
 /// Draws the animation's frames of `scene` at `width`×`height` one after the other, handing
 /// each to `frame` (its index and RGBA8 rows); stops early, with the frames drawn so far,
 /// once `stop` is set. With `fit`, one zoom and pan frames the manifold in every frame (of
-/// the first frame's tree). Returns how many frames were drawn.
+/// the first frame's tree).
 #[allow(clippy::too_many_arguments)]
 pub fn draw(
     scene: &Scene,
@@ -446,7 +456,7 @@ pub fn draw(
     device: FrameDevice<'_>,
     stop: &AtomicBool,
     mut frame: impl FnMut(u32, Vec<u8>) -> Result<(), String>,
-) -> Result<u32, String> {
+) -> Result<Drawn, String> {
     let mut scene = scene.clone();
     let mut prepared =
         Prepared::new(formula, &animation.scene_at(&scene, 0)).map_err(|e| e.to_string())?;
@@ -476,9 +486,13 @@ pub fn draw(
         }
         FrameDevice::Cpu => None,
     };
+    let mut drawn = Drawn {
+        verdicts: scene.render.certified.then(VerdictCounts::default),
+        ..Drawn::default()
+    };
     for k in 0..animation.frames {
         if stop.load(Ordering::Relaxed) {
-            return Ok(k);
+            return Ok(drawn);
         }
         let at = animation.scene_at(&scene, k);
         if k > 0 && at.params != animation.scene_at(&scene, k - 1).params {
@@ -521,8 +535,13 @@ pub fn draw(
                 &uniforms,
             ),
         };
-        take_cut_pixels(&mut rgba);
+        let (cut, verdicts) = take_marks(&mut rgba);
+        drawn.cut += cut.len();
+        if let Some(total) = &mut drawn.verdicts {
+            *total += VerdictCounts::of(&verdicts);
+        }
         frame(k, rgba)?;
+        drawn.frames = k + 1;
     }
-    Ok(animation.frames)
+    Ok(drawn)
 }

@@ -65,6 +65,14 @@ impl VerdictCounts {
     }
 }
 
+impl std::ops::AddAssign for VerdictCounts {
+    fn add_assign(&mut self, other: Self) {
+        self.hit += other.hit;
+        self.empty += other.empty;
+        self.undecided += other.undecided;
+    }
+}
+
 impl std::fmt::Display for VerdictCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(

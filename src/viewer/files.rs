@@ -213,7 +213,7 @@ fn write_animation(
         },
     );
     let wrote = writer.finish()?;
-    let done = done?;
+    let done = done?.frames;
     Ok(if done < animation.frames {
         format!(
             "stopped after {done} of {} frames: wrote {wrote}",
