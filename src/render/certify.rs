@@ -87,17 +87,18 @@ impl std::fmt::Display for VerdictCounts {
 }
 
 /// What a user can do about undecided pixels, naming the budget's control (`knob`). Where
-/// F has a pole or a jump in the domain (`continuous` false), a cell holding it encloses
-/// every value however small it is, so the pixels whose plane crosses it may stay undecided
-/// whatever the budget.
+/// F may be discontinuous in the domain (`continuous` false: interval evaluation over the
+/// domain could not rule out a pole, a jump or an edge of F's definition), a cell holding a
+/// pole encloses every value however small it is, so a pixel whose plane crosses one may
+/// stay undecided whatever the budget.
 pub fn undecided_advice(continuous: bool, knob: &str) -> String {
     if continuous {
         format!("a larger {knob} decides more")
     } else {
         format!(
-            "F has a pole or a jump in the domain (a division, floor, sign...): a pixel whose \
-             plane crosses it stays undecided whatever the budget, unless a root is proved \
-             elsewhere on the plane; a larger {knob} decides the others"
+            "F may have a pole in the domain (a division, a negative power...), and a pixel \
+             whose plane crosses one stays undecided whatever the budget unless a root is \
+             proved elsewhere on the plane; a larger {knob} decides the others"
         )
     }
 }
