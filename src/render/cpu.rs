@@ -174,8 +174,13 @@ impl Pixel<'_> {
         if self.slice() {
             return self.u.n1;
         }
-        let d = if k == AIMED { self.aim } else { self.dir2(k) };
+        let d = self.plane_dir(k);
         add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
+    }
+
+    /// Ray k's direction in (n1, n2), ray AIMED's included.
+    fn plane_dir(&self, k: u32) -> [f32; 2] {
+        if k == AIMED { self.aim } else { self.dir2(k) }
     }
 
     /// The plane's point where F changes sign between `a` (F > 0) and `b` (F < 0), by 24
@@ -310,29 +315,22 @@ impl Pixel<'_> {
             slope,
             curvature,
         } = *b;
-        {
-            let d = self.direction(k);
-            let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
-            for i in 0..4 {
-                let di = if d[i].abs() < 1e-30 { 1e-30 } else { d[i] };
-                let inv = 1.0 / di;
-                let (ta, tb) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
-                t0 = t0.max(ta.min(tb));
-                t1 = t1.min(ta.max(tb));
-            }
-            if self.u.control.flags & FLAG_SLAB != 0 {
-                let b = if k == AIMED {
-                    self.aim[1]
-                } else {
-                    self.dir2(k)[1]
-                };
-                (t0, t1) = clip_to_slab(self.u, (t0, t1), b);
-            }
-            if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
-                let along = slope_along(slope, d.map(f64::from));
-                let bend = curvature.along(d.map(f64::from));
-                self.find_roots(o, d, (t0, t1), steps, along, bend, k);
-            }
+        let d = self.direction(k);
+        let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+        for i in 0..4 {
+            let di = if d[i].abs() < 1e-30 { 1e-30 } else { d[i] };
+            let inv = 1.0 / di;
+            let (ta, tb) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        if self.u.control.flags & FLAG_SLAB != 0 {
+            (t0, t1) = clip_to_slab(self.u, (t0, t1), self.plane_dir(k)[1]);
+        }
+        if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
+            let along = slope_along(slope, d.map(f64::from));
+            let bend = curvature.along(d.map(f64::from));
+            self.find_roots(o, d, (t0, t1), steps, along, bend, k);
         }
     }
 

@@ -156,10 +156,14 @@ pub fn render_prepared(
             times.frame_ms = ms(t);
             (rgba, "CPU reference renderer".to_string())
         }
-        Device::Gpu(gpu) => gpu_frame(gpu, &shader, prepared, &camera, &uniforms, &mut times)?,
+        Device::Gpu(gpu) => gpu_frame(
+            gpu, &shader, hierarchy, certifying, &camera, &uniforms, &mut times,
+        )?,
         Device::NewGpu => {
             let gpu = Gpu::new()?;
-            gpu_frame(&gpu, &shader, prepared, &camera, &uniforms, &mut times)?
+            gpu_frame(
+                &gpu, &shader, hierarchy, certifying, &camera, &uniforms, &mut times,
+            )?
         }
     };
     let (cut_pixels, verdicts) = take_marks(&mut rgba);
@@ -192,24 +196,17 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 fn gpu_frame(
     gpu: &Gpu,
     shader: &codegen::Shader,
-    prepared: &Prepared,
+    hierarchy: &Hierarchy,
+    certifying: Option<&Hierarchy>,
     camera: &Camera,
     uniforms: &Uniforms,
     times: &mut StageTimes,
 ) -> Result<(Vec<u8>, String), RenderError> {
     let t = Instant::now();
-    let mut caster = RayCaster::new(gpu, shader, &prepared.hierarchy)?;
+    let mut caster = RayCaster::new(gpu, shader, hierarchy)?;
     times.pipeline_ms = ms(t);
     let t = Instant::now();
-    let certifying = uniforms.certified().then(|| prepared.certifying());
-    bin_view(
-        gpu,
-        &mut caster,
-        &prepared.hierarchy,
-        certifying,
-        camera,
-        uniforms,
-    );
+    bin_view(gpu, &mut caster, hierarchy, certifying, camera, uniforms);
     let (rgba, gpu_ms) = caster.render_rgba_timed(gpu, uniforms)?;
     times.frame_ms = ms(t);
     times.gpu_ms = gpu_ms;
