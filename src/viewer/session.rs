@@ -64,8 +64,9 @@ struct JobResult {
     formula: Arc<CompiledFormula>,
     shader: Arc<Shader>,
     params: Vec<f64>,
-    /// The ray caster's hierarchy, the one certified pixels search, and the tree's stats.
-    tree: Result<(Hierarchy, Hierarchy, TreeStats), String>,
+    /// The ray caster's hierarchy, the one certified pixels search (where this viewer draws
+    /// them), and the tree's stats.
+    tree: Result<(Hierarchy, Option<Hierarchy>, TreeStats), String>,
     caster: Option<Result<RayCaster, String>>,
     tree_ms: f64,
     pipeline_ms: f64,
@@ -422,7 +423,7 @@ impl Session {
         self.tree_params = result.params;
         self.marched = Some(hierarchy.march_summary());
         self.hierarchy = Some(Arc::new(hierarchy));
-        self.certifying = Some(Arc::new(certifying));
+        self.certifying = certifying.map(Arc::new);
         self.stats = Some(stats);
         self.times = EditTimes {
             compile_ms: job.compile_ms,
@@ -518,7 +519,10 @@ impl JobInputs {
     fn finish(&self, prepared: Result<Prepared, BuildError>) -> JobResult {
         let (tree, params, tree_ms) = match prepared {
             Ok(p) => {
-                let certifying = Hierarchy::for_certifying(&p.tree);
+                // Made with every tree (about a tenth of its build, on the build's thread) so
+                // that the switch shows certified pixels at once; not where none are drawn.
+                let certifying =
+                    super::CERTIFIED_PIXELS.then(|| Hierarchy::for_certifying(&p.tree));
                 (
                     Ok((p.hierarchy, certifying, p.tree.stats)),
                     p.params,
