@@ -279,6 +279,34 @@ fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
 }
 
 #[test]
+fn the_certified_switch_proves_every_pixel_and_counts_them() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.get_by_label_contains("Rendering").click();
+    h.step();
+    h.get_by_label_contains("certified pixels")
+        .click_accesskit();
+    h.step();
+    assert!(
+        h.state().session.scene.render.certified,
+        "the switch did nothing"
+    );
+    settle(&mut h);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while h.state().progressive.verdicts.is_none() {
+        h.step();
+        assert!(Instant::now() < deadline, "no verdicts in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+    let app = h.state();
+    let c = app.progressive.verdicts.unwrap();
+    assert!(c.hit > 0 && c.empty > 0, "{c:?}");
+    let said = format!("certified: {} hit · {} empty", c.hit, c.empty);
+    assert!(h.query_by_label_contains(&said).is_some(), "no {said:?}");
+}
+
+#[test]
 fn a_picture_converges_with_one_binning_per_resolution() {
     let mut h = harness(small_scene());
     settle(&mut h);

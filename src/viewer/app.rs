@@ -939,7 +939,7 @@ impl FourfoldApp {
         .on_hover_text(
             "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
                  zero there), or undecided once the budget of cells is spent, drawn magenta \
-                 where no ray found a hit. The counts are in the status line.",
+                 where no ray found a hit. The counts are under the picture.",
         );
         if r.certified {
             ui.horizontal(|ui| {
@@ -992,6 +992,36 @@ impl FourfoldApp {
         }
     }
 
+    /// The certified pixels' counts, on a line of their own: as the status line wraps, a
+    /// longer text would shrink the picture and start its (slow) certified frame again.
+    fn certified_line(&self, ui: &mut egui::Ui) {
+        let verdicts = self.progressive.verdicts;
+        let text = match verdicts {
+            Some(c) => format!(
+                "certified: {} hit · {} empty · {} undecided",
+                c.hit, c.empty, c.undecided
+            ),
+            None => "certifying pixels…".to_string(),
+        };
+        let undecided = verdicts.is_some_and(|c| c.undecided > 0);
+        let color = if undecided {
+            Color32::from_rgb(255, 120, 255)
+        } else {
+            ui.visuals().text_color()
+        };
+        let label = ui.label(RichText::new(text).small().color(color));
+        if undecided {
+            let continuous = self.session.hierarchy.as_ref().is_none_or(|h| h.continuous);
+            label.on_hover_text(format!(
+                "Undecided pixels are marked in magenta where no ray found a hit; {}.",
+                crate::render::certify::undecided_advice(
+                    continuous,
+                    "budget (cells per pixel, under Rendering)"
+                )
+            ));
+        }
+    }
+
     fn status_line(&self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             let adapter = self.gpu.as_ref().map_or("no GPU", |g| g.adapter.as_str());
@@ -1011,33 +1041,6 @@ impl FourfoldApp {
                 frame.push_str(&format!(" · refining {:.0}%", 100.0 * p.fraction()));
             }
             ui.label(RichText::new(frame).small());
-            if self.session.scene.render.certified {
-                ui.separator();
-                let text = match p.verdicts {
-                    Some(c) => format!(
-                        "certified: {} hit · {} empty · {} undecided",
-                        c.hit, c.empty, c.undecided
-                    ),
-                    None => "certifying…".to_string(),
-                };
-                let undecided = p.verdicts.is_some_and(|c| c.undecided > 0);
-                let color = if undecided {
-                    Color32::from_rgb(255, 120, 255)
-                } else {
-                    ui.visuals().text_color()
-                };
-                let label = ui.label(RichText::new(text).small().color(color));
-                if undecided {
-                    let continuous = self.session.hierarchy.as_ref().is_none_or(|h| h.continuous);
-                    label.on_hover_text(format!(
-                        "Undecided pixels are marked in magenta where no ray found a hit; {}.",
-                        crate::render::certify::undecided_advice(
-                            continuous,
-                            "budget (cells per pixel, under Rendering)"
-                        )
-                    ));
-                }
-            }
             ui.separator();
             ui.label(RichText::new(format!("UI {:.0} fps", self.pacing.fps())).small());
             if let Some(ms) = self.edit_latency_ms {
@@ -1527,6 +1530,11 @@ impl eframe::App for FourfoldApp {
         egui::Panel::bottom("fourfold status")
             .frame(bare)
             .show(ui, |ui| self.status_line(ui));
+        if self.session.scene.render.certified {
+            egui::Panel::bottom("fourfold certified")
+                .frame(bare)
+                .show(ui, |ui| self.certified_line(ui));
+        }
         let mut rebuild = false;
         let controls = egui::Panel::left("fourfold controls")
             .default_size(380.0)
