@@ -659,10 +659,8 @@ fn deepest_within_budget(tree: &Tree16, deepest: usize) -> usize {
 
 /// How many levels above the finest cover certified pixels search boxes (see
 /// [`Hierarchy::for_certifying`]): each box a plane crosses costs a pixel at least one cell,
-/// and a coarser box's cells subdivide only where M may be. Measured at 512², level 6
-/// (`cargo bench --bench certified`): 0, 1, 2, 3 levels up took 726, 358, 304, 324 ms for
-/// the chapter's scene and left 5.4%, 2.3%, 0.65%, 0.49% of fig. 3.11's covered pixels
-/// undecided.
+/// and a coarser box's cells subdivide only where M may be (the choice is measured in
+/// docs/benchmarks.md, "Certified pixels").
 pub const CERTIFY_LEVELS_ABOVE: usize = 2;
 
 /// How much looser than its descendants' a box's slope bound may be for the box to be
