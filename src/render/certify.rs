@@ -214,12 +214,7 @@ impl<'a> Certifier<'a> {
             return;
         };
         let rel: Box4 = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
-        let range = |n: [f32; 4]| {
-            (0..4).fold(Interval::ZERO, |acc, i| {
-                acc.add(rel[i].mul(Interval::point(f64::from(n[i]))))
-            })
-        };
-        let (s, t) = (range(u.n1), range(u.n2));
+        let (s, t) = (dot(&rel, u.n1), dot(&rel, u.n2));
         // n1 and n2 are orthonormal only to f32's rounding (as the shader, generously).
         let m = 1e-5 * (magnitude(s) + magnitude(t)) + 1e-30;
         let widen = |a: Interval| a.add(Interval::new(-m, m));
@@ -275,12 +270,7 @@ impl<'a> Certifier<'a> {
             if inside(&cp, &bx) {
                 let fc = self.eval.eval(&self.formula.tape_f, &cp, self.params);
                 if smooth {
-                    let along = |n: [f32; 4]| {
-                        (0..4).fold(Interval::ZERO, |acc, i| {
-                            acc.add(fg[i + 1].mul(Interval::point(f64::from(n[i]))))
-                        })
-                    };
-                    let (g1, g2) = (along(u.n1), along(u.n2));
+                    let (g1, g2) = (dot(&fg[1..], u.n1), dot(&fg[1..], u.n2));
                     let ds = cs.sub(Interval::point(mid[0]));
                     let dt = ct.sub(Interval::point(mid[1]));
                     let mv = fc.add(g1.mul(ds).add(g2.mul(dt)));
@@ -488,6 +478,13 @@ fn inside(x: &Box4, b: &Box4) -> bool {
 /// The values both enclosures hold.
 fn meet(a: Interval, b: Interval) -> Interval {
     a.intersect(b.lo(), b.hi())
+}
+
+/// An enclosure of x · n over the intervals x.
+fn dot(x: &[Interval], n: [f32; 4]) -> Interval {
+    (0..4).fold(Interval::ZERO, |acc, i| {
+        acc.add(x[i].mul(Interval::point(f64::from(n[i]))))
+    })
 }
 
 fn magnitude(a: Interval) -> f64 {

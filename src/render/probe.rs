@@ -8,7 +8,7 @@ use crate::formula::CompiledFormula;
 
 use super::codegen;
 use super::gpu::{Gpu, GpuError, read_back, scope_error};
-use super::uniforms::Uniforms;
+use super::uniforms::{Uniforms, pack_params};
 
 /// What the shader encloses over one box: F (`ff_f_box`) and whether it flagged a possible
 /// jump, then F and its gradient (`ff_f_grad_box`); each an interval [lo, hi] (lo > hi:
@@ -69,9 +69,7 @@ pub fn enclose(
     });
     let mut settings = Uniforms::zeroed();
     settings.counts.nan_bits = f32::NAN.to_bits();
-    for (i, p) in params.iter().take(64).enumerate() {
-        settings.params[i / 4][i % 4] = *p as f32;
-    }
+    settings.params = pack_params(params);
     let settings = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("fourfold probe settings"),
         contents: bytemuck::bytes_of(&settings),
@@ -128,16 +126,11 @@ pub fn enclose(
     }
     let values: Vec<[f32; 4]> =
         read_back(gpu, &readback, |data| bytemuck::cast_slice(data).to_vec())?;
-    Ok(boxes
-        .iter()
-        .enumerate()
-        .map(|(i, _)| {
-            let [a, b, c, d] = [
-                values[4 * i],
-                values[4 * i + 1],
-                values[4 * i + 2],
-                values[4 * i + 3],
-            ];
+    Ok(values
+        .chunks_exact(4)
+        .take(boxes.len())
+        .map(|v| {
+            let [a, b, c, d] = [v[0], v[1], v[2], v[3]];
             Enclosures {
                 f: [a[0], a[1]],
                 jump: a[2] != 0.0,

@@ -141,10 +141,6 @@ impl Uniforms {
         for (slot, info) in levels.iter_mut().zip(&hierarchy.levels) {
             *slot = *info;
         }
-        let mut packed = [[0f32; 4]; 16];
-        for (i, p) in params.iter().take(64).enumerate() {
-            packed[i / 4][i % 4] = *p as f32;
-        }
         Self {
             v1: v4(camera.v1),
             v2: v4(camera.v2),
@@ -204,7 +200,16 @@ impl Uniforms {
             hidden,
             cert_tiling: Tiling::zeroed(),
             levels,
-            params: packed,
+            params: pack_params(params),
         }
     }
+}
+
+/// The formula's parameter values as the shader reads them: four to a vec4, at most 64.
+pub fn pack_params(params: &[f64]) -> [[f32; 4]; 16] {
+    let mut packed = [[0f32; 4]; 16];
+    for (i, p) in params.iter().take(64).enumerate() {
+        packed[i / 4][i % 4] = *p as f32;
+    }
+    packed
 }
