@@ -56,7 +56,7 @@ struct Uniforms {
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
-    march: vec4<u32>,     // the finest level (see box_steps), unused x3
+    march: vec4<u32>,     // x the finest level (see box_steps), y certified pixels' budget of cells, unused x2
     hidden: vec4<f32>,    // the n2 coordinates the colour map's ends stand for (flag 128), unused x2
     cert_tiling: vec4<u32>, // as tiling, for the certifying lists (bindings 5 and 6)
     levels: array<LevelInfo, 16>,
@@ -613,6 +613,19 @@ fn bend_in_plane(f: PlaneCurvature, dir: vec2<f32>) -> vec2<f32> {
 // force, MODE 0, has none: +inf): `slope` bounds |dF/dx|, |dF/dy|, |dF/dz|, |dF/dw| in the
 // box, so |grad F . d| <= slope . |d| along a ray d; `form` bounds F's second derivatives
 // along the rays of the observer plane (see bend_in_plane).
+// Marches ray k, along dir in (n1, n2), over its span in the box [lo, hi] (and the slab).
+fn march_through(tr: ptr<function, Tracer>, k: u32, dir: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
+    let d = dir.x * u.n1 + dir.y * u.n2;
+    var span = clip_to_box((*tr).o, d, lo, hi);
+    if (slab_on()) {
+        span = clip_to_slab(span, dir.y);
+    }
+    if (span.x < span.y && span.x < (*tr).hits.far) {
+        (*tr).k = k;
+        march_ray(tr, d, span.x, span.y, steps, dot(abs(d), slope), bend_in_plane(form, dir));
+    }
+}
+
 fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
     if (slice_on()) {
         // One ray, along n1 from behind the domain (see fs_main).
@@ -643,16 +656,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
             kw = select(kw, kw + ni, kw < 0);
             kw = select(kw, kw - ni, kw >= ni);
             let k = select(j, u32(kw), stratified);
-            let dir = ray_dir2(k, n, (*tr).pixel_seed, (*tr).offset);
-            let d = dir.x * u.n1 + dir.y * u.n2;
-            var span = clip_to_box((*tr).o, d, lo, hi);
-            if (slab_on()) {
-                span = clip_to_slab(span, dir.y);
-            }
-            if (span.x < span.y && span.x < (*tr).hits.far) {
-                (*tr).k = k;
-                march_ray(tr, d, span.x, span.y, nsteps, dot(abs(d), slope), bend_in_plane(form, dir));
-            }
+            march_through(tr, k, ray_dir2(k, n, (*tr).pixel_seed, (*tr).offset), lo, hi, nsteps, slope, form);
             j = j + 1u;
             if (j >= rcount) {
                 break;
@@ -1116,8 +1120,6 @@ fn trace_aimed(tr: ptr<function, Tracer>, px: vec2<u32>) {
     let tile = px / max(u.tiling.x, 1u);
     let t = tile.x + tile.y * u.tiling.y;
     let end = tiles[t + 1u];
-    let dir = (*tr).aim;
-    let d = dir.x * u.n1 + dir.y * u.n2;
     var c = tiles[t];
     loop {
         if (c >= end) {
@@ -1126,13 +1128,7 @@ fn trace_aimed(tr: ptr<function, Tracer>, px: vec2<u32>) {
         let i = tiles[u.tiling.w + c];
         let half = level_half(boxes[i].level);
         let center = boxes[i].center;
-        var span = clip_to_box((*tr).o, d, center - half, center + half);
-        if (slab_on()) {
-            span = clip_to_slab(span, dir.y);
-        }
-        if (span.x < span.y && span.x < (*tr).hits.far) {
-            march_ray(tr, d, span.x, span.y, max(box_steps(boxes[i].level), 1u), dot(abs(d), boxes[i].slope), bend_in_plane(boxes[i].form, dir));
-        }
+        march_through(tr, AIMED, (*tr).aim, center - half, center + half, max(box_steps(boxes[i].level), 1u), boxes[i].slope, boxes[i].form);
         c = c + 1u;
     }
 }
