@@ -11,15 +11,22 @@ const SCENE: &str = concat!(
 );
 
 fn render_args(flags: &[&str]) -> RenderArgs {
-    let argv = ["fourfold", "render", SCENE, "-o", "x.png"]
+    let argv: Vec<&str> = ["render", SCENE, "-o", "x.png"]
         .iter()
         .chain(flags)
-        .copied();
-    match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {
+        .copied()
+        .collect();
+    parse_render(&argv)
+}
+
+/// `fourfold ARGV...` parsed as a render command.
+fn parse_render<S: AsRef<str> + std::fmt::Debug>(argv: &[S]) -> RenderArgs {
+    let words = std::iter::once("fourfold").chain(argv.iter().map(|a| a.as_ref()));
+    match Cli::try_parse_from(words).unwrap_or_else(|e| panic!("{argv:?}: {e}")) {
         Cli {
             command: Some(Command::Render(args)),
         } => args,
-        other => panic!("{flags:?} parsed as {other:?}"),
+        other => panic!("{argv:?} parsed as {other:?}"),
     }
 }
 
@@ -247,8 +254,7 @@ fn render_fit_frames_the_manifold_not_the_domain() {
         .map(|fit| {
             let out = dir.join(format!("glome-{fit}.png"));
             let mut argv = vec![
-                "fourfold".to_string(),
-                "render".into(),
+                "render".to_string(),
                 "x^2 + y^2 + z^2 + w^2 = 1".into(),
                 "--domain".into(),
                 "-4,4,-4,4,-4,4,-4,4".into(),
@@ -263,12 +269,7 @@ fn render_fit_frames_the_manifold_not_the_domain() {
             if fit {
                 argv.push("--fit".into());
             }
-            let Cli {
-                command: Some(Command::Render(args)),
-            } = Cli::try_parse_from(argv).unwrap()
-            else {
-                panic!("not a render command");
-            };
+            let args = parse_render(&argv);
             fourfold::cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message));
             let image = image::open(&out).unwrap().to_rgba8();
             let background = Scene::from_formula("x").render.background.0;
@@ -305,7 +306,6 @@ fn certified_render_says_why_pixels_stay_undecided() {
     let report = |formula: &str| {
         let out = dir.join("pole.png");
         let argv = [
-            "fourfold",
             "render",
             formula,
             "--domain=-2,2,-2,2,-2,2,-2,2",
@@ -322,13 +322,7 @@ fn certified_render_says_why_pixels_stay_undecided() {
             "-o",
             out.to_str().unwrap(),
         ];
-        let Cli {
-            command: Some(Command::Render(args)),
-        } = Cli::try_parse_from(argv).unwrap()
-        else {
-            panic!("not a render command");
-        };
-        fourfold::cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message))
+        fourfold::cli::render(&parse_render(&argv)).unwrap_or_else(|f| panic!("{}", f.message))
     };
     let pole = report("1/x - y = 0");
     assert!(pole.contains("may have a pole"), "{pole}");
