@@ -548,16 +548,12 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
         r.background =
             Color::parse(bg).map_err(|e| Failure::usage(format!("--background: {e}")))?;
     }
-    if let Some(s) = &args.sampling {
-        r.sampling = match s.as_str() {
-            "random" => Sampling::Random,
-            "stratified" => Sampling::Stratified,
-            other => {
-                return Err(Failure::usage(format!(
-                    "--sampling {other}: use random or stratified"
-                )));
-            }
-        };
+    if let Some(word) = &args.sampling {
+        let choices = [
+            ("random", Sampling::Random),
+            ("stratified", Sampling::Stratified),
+        ];
+        r.sampling = choice("sampling", word, choices)?;
     }
     let counts = [
         (args.rays, &mut r.rays),
@@ -580,27 +576,13 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
             *field = v;
         }
     }
-    if let Some(by) = &args.colour_by {
-        r.color_by = match by.as_str() {
-            "surface" => ColorBy::Surface,
-            "hidden" => ColorBy::Hidden,
-            other => {
-                return Err(Failure::usage(format!(
-                    "--colour-by {other}: use surface or hidden"
-                )));
-            }
-        };
+    if let Some(word) = &args.colour_by {
+        let choices = [("surface", ColorBy::Surface), ("hidden", ColorBy::Hidden)];
+        r.color_by = choice("colour-by", word, choices)?;
     }
-    if let Some(style) = &args.undecided {
-        r.undecided = match style.as_str() {
-            "marker" => Undecided::Marker,
-            "hatch" => Undecided::Hatch,
-            other => {
-                return Err(Failure::usage(format!(
-                    "--undecided {other}: use marker or hatch"
-                )));
-            }
-        };
+    if let Some(word) = &args.undecided {
+        let choices = [("marker", Undecided::Marker), ("hatch", Undecided::Hatch)];
+        r.undecided = choice("undecided", word, choices)?;
     }
     r.certified |= args.certified;
     r.brute_force |= args.brute_force;
@@ -793,6 +775,16 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
         frames: args.frames,
         fps: args.fps,
     })
+}
+
+/// The value `word` of `--flag`, one of two `choices`; else a usage error naming them.
+fn choice<T: Copy>(flag: &str, word: &str, choices: [(&str, T); 2]) -> Result<T, Failure> {
+    let [(a, _), (b, _)] = choices;
+    choices
+        .iter()
+        .find(|(name, _)| *name == word)
+        .map(|&(_, value)| value)
+        .ok_or_else(|| Failure::usage(format!("--{flag} {word}: use {a} or {b}")))
 }
 
 /// The warning for pixels whose work the GPU driver cut short (`which`: how many, of what).
