@@ -53,12 +53,12 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
     if formula.params.len() > MAX_PARAMS {
         return Err(CodegenError::TooManyParams(formula.params.len()));
     }
-    let f = function("ff_f", "f32", &formula.tape_f, |v| v[0].clone());
+    let f = tape_function(&POINT, "ff_f", "f32", &formula.tape_f, |v| v[0].clone());
     let grad_tape = Tape::new(&formula.graph, &formula.gradient);
-    let grad = function("ff_grad", "vec4<f32>", &grad_tape, |v| {
+    let grad = tape_function(&POINT, "ff_grad", "vec4<f32>", &grad_tape, |v| {
         format!("vec4<f32>({}, {}, {}, {})", v[0], v[1], v[2], v[3])
     });
-    let f_grad = function("ff_f_grad", "FGrad", &formula.tape_all, |v| {
+    let f_grad = tape_function(&POINT, "ff_f_grad", "FGrad", &formula.tape_all, |v| {
         format!(
             "FGrad({}, vec4<f32>({}, {}, {}, {}))",
             v[0], v[1], v[2], v[3], v[4]
@@ -66,11 +66,16 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
     });
     let interval = format!(
         "{INTERVAL_LIBRARY}\n{}\n\n{}",
-        interval_function("ff_f_box", "vec2<f32>", &formula.tape_f, |v| v[0].clone()),
-        interval_function("ff_f_grad_box", "IvFGrad", &formula.tape_all, |v| format!(
-            "IvFGrad({}, {}, {}, {}, {})",
-            v[0], v[1], v[2], v[3], v[4]
-        ))
+        tape_function(&INTERVAL, "ff_f_box", "vec2<f32>", &formula.tape_f, |v| v
+            [0]
+        .clone()),
+        tape_function(
+            &INTERVAL,
+            "ff_f_grad_box",
+            "IvFGrad",
+            &formula.tape_all,
+            |v| format!("IvFGrad({}, {}, {}, {}, {})", v[0], v[1], v[2], v[3], v[4])
+        )
     );
     let source = TEMPLATE
         .replace(F_MARKER, &f)
@@ -94,55 +99,51 @@ pub fn validate(source: &str) -> Result<naga::Module, CodegenError> {
     Ok(module)
 }
 
-/// The WGSL function `header` computing `tape`: one `let` per instruction, written by `lets`
-/// (point or interval), then the return of `result` of the outputs.
+/// How a tape becomes WGSL: in f32 at a point, or as rigorous intervals over a box.
+struct Flavour {
+    /// The parameters after the function's name.
+    params: &'static str,
+    /// An instruction's value, as an expression of earlier `s{i}` (all but Powi).
+    expression: fn(Instr) -> String,
+    /// `let s{i} = s{a}^n`, through helper lets as needed.
+    powi_lets: fn(&mut String, usize, u32, i32),
+}
+
+const POINT: Flavour = Flavour {
+    params: "p: vec4<f32>",
+    expression,
+    powi_lets,
+};
+
+/// With the operations of `templates/interval.wgsl` (see docs/method.md §5.9).
+const INTERVAL: Flavour = Flavour {
+    params: "lo: vec4<f32>, hi: vec4<f32>",
+    expression: interval_expression,
+    powi_lets: interval_powi_lets,
+};
+
+/// The WGSL function `name` computing `tape` in `flavour`: one `let` per instruction, then
+/// the return of `result` of the outputs, of type `ret`.
 fn tape_function(
-    header: &str,
-    tape: &Tape,
-    lets: impl Fn(&mut String, usize, Instr),
-    result: impl Fn(&[String]) -> String,
-) -> String {
-    let mut body = String::new();
-    let _ = writeln!(body, "{header} {{");
-    for (i, instr) in tape.instrs().iter().enumerate() {
-        lets(&mut body, i, *instr);
-    }
-    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
-    let _ = writeln!(body, "    return {};", result(&outputs));
-    body.push('}');
-    body
-}
-
-/// `name(p)`: `tape`'s outputs at the point p, in f32.
-fn function(name: &str, ret: &str, tape: &Tape, result: impl Fn(&[String]) -> String) -> String {
-    let header = format!("fn {name}(p: vec4<f32>) -> {ret}");
-    let lets = |body: &mut String, i: usize, instr: Instr| {
-        if let Instr::Powi(a, n) = instr {
-            powi_lets(body, i, a, n);
-        } else {
-            let _ = writeln!(body, "    let s{i} = {};", expression(instr));
-        }
-    };
-    tape_function(&header, tape, lets, result)
-}
-
-/// `name(lo, hi)`: enclosures of `tape`'s outputs over the box [lo, hi] with the operations
-/// of `templates/interval.wgsl`, one `let` per tape instruction (see docs/method.md §5.9).
-fn interval_function(
+    flavour: &Flavour,
     name: &str,
     ret: &str,
     tape: &Tape,
     result: impl Fn(&[String]) -> String,
 ) -> String {
-    let header = format!("fn {name}(lo: vec4<f32>, hi: vec4<f32>) -> {ret}");
-    let lets = |body: &mut String, i: usize, instr: Instr| {
-        if let Instr::Powi(a, n) = instr {
-            interval_powi_lets(body, i, a, n);
+    let mut body = String::new();
+    let _ = writeln!(body, "fn {name}({}) -> {ret} {{", flavour.params);
+    for (i, instr) in tape.instrs().iter().enumerate() {
+        if let Instr::Powi(a, n) = *instr {
+            (flavour.powi_lets)(&mut body, i, a, n);
         } else {
-            let _ = writeln!(body, "    let s{i} = {};", interval_expression(instr));
+            let _ = writeln!(body, "    let s{i} = {};", (flavour.expression)(*instr));
         }
-    };
-    tape_function(&header, tape, lets, result)
+    }
+    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
+    let _ = writeln!(body, "    return {};", result(&outputs));
+    body.push('}');
+    body
 }
 
 /// An interval holding the real number `v`: the point where f32 holds it exactly, else its
