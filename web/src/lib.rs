@@ -1,28 +1,175 @@
-//! The web page's entry: the same viewer as `fourfold view`, in a canvas, drawn with the
-//! browser's WebGPU. Everything it does lives in the `fourfold` library; `web/build.sh`
-//! turns this crate into `web/dist/`.
+//! The web page's entry: the same viewer as `fourfold view`, started in a canvas and drawn
+//! with the browser's WebGPU, and the page's state for its scripts. Everything else lives in
+//! the `fourfold-viewer` and `fourfold` crates; `web/build.sh` turns this crate into
+//! `web/dist/`. (Compiled for the browser only: natively this crate is empty.)
 
-#[cfg(target_arch = "wasm32")]
+#![cfg(target_arch = "wasm32")]
+
+use std::cell::RefCell;
+
+use eframe::egui;
+use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-/// Starts the viewer in the canvas with id `canvas_id`; rejects with a message a person can
-/// act on when the browser cannot run it.
-#[cfg(target_arch = "wasm32")]
+use fourfold::scene::Scene;
+use fourfold_viewer::FourfoldApp;
+use fourfold_viewer::app::default_scene;
+use fourfold_viewer::notice::Notice;
+use fourfold_viewer::platform::certified_left_off;
+
+/// What the page says when the browser has no WebGPU (index.html says it first, before the
+/// download; this is for a browser that has `navigator.gpu` but no adapter).
+const NO_WEBGPU: &str = "fourfold draws with WebGPU, and this browser did not give it a GPU \
+     adapter. Use a browser with WebGPU enabled: Chrome or Edge 113+, Safari 26+, or Firefox \
+     141+ on Windows; on Linux, Chrome with chrome://flags/#enable-unsafe-webgpu.";
+
+thread_local! {
+    /// The running viewer: dropping it would stop the page.
+    static RUNNER: RefCell<Option<eframe::WebRunner>> = const { RefCell::new(None) };
+}
+
+/// The viewer as the page runs it: eframe finds it again for [`status`] through `Any`.
+struct Page(FourfoldApp);
+
+impl eframe::App for Page {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        self.0.ui(ui, frame);
+    }
+
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        self.0.clear_color(visuals)
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        self.0.save(storage);
+    }
+}
+
+/// Starts the viewer in the canvas with id `canvas_id`, on the scene of the page's link (or
+/// the last scene, or the default one); rejects with a message a person can act on when the
+/// browser cannot run it.
 #[wasm_bindgen]
 pub async fn start(canvas_id: String) -> Result<(), JsValue> {
-    fourfold::viewer::web::start(&canvas_id).await
+    // The library reports what the GPU rejected to the log: the browser's console.
+    let _ = eframe::WebLogger::init(log::LevelFilter::Warn);
+    let window = web_sys::window().ok_or("fourfold needs a browser window")?;
+    let document = window.document().ok_or("fourfold needs a document")?;
+    let canvas = document
+        .get_element_by_id(&canvas_id)
+        .ok_or_else(|| format!("the page has no element with id `{canvas_id}`"))?
+        .dyn_into::<web_sys::HtmlCanvasElement>()
+        .map_err(|_| format!("`{canvas_id}` is not a canvas"))?;
+    let hash = window.location().hash().unwrap_or_default();
+    let linked = fourfold::scene::link::is_link(&hash).then(|| {
+        let (scene, mut problems) = Scene::from_link(&hash, &default_scene());
+        problems.extend(certified_left_off(&scene));
+        (scene, problems)
+    });
+    let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
+    if let eframe::egui_wgpu::WgpuSetup::CreateNew(setup) = &mut wgpu_options.wgpu_setup {
+        // WebGL2 has no storage buffers, which the ray caster reads.
+        setup.instance_descriptor.backends = eframe::wgpu::Backends::BROWSER_WEBGPU;
+    }
+    let options = eframe::WebOptions {
+        wgpu_options,
+        dithering: false,
+        ..Default::default()
+    };
+    let runner = eframe::WebRunner::new();
+    runner
+        .start(
+            canvas,
+            options,
+            Box::new(move |cc| {
+                let (scene, problems) = match linked {
+                    Some((scene, problems)) => (Some(scene), problems),
+                    None => (None, Vec::new()),
+                };
+                let from_link = scene.is_some();
+                let mut app = FourfoldApp::new(cc, scene);
+                // A link shows the view it carries, as its sender saw it.
+                app.fit_pending = !from_link;
+                if app.gpu().is_none() {
+                    return Err(NO_WEBGPU.into());
+                }
+                if !problems.is_empty() {
+                    let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
+                    app.message = Some(Notice::error(format!(
+                        "{} (left at the default)",
+                        said.join("; ")
+                    )));
+                }
+                app.platform.opened_with(hash);
+                Ok(Box::new(Page(app)))
+            }),
+        )
+        .await
+        .map_err(|e| {
+            let detail = e.as_string().unwrap_or_else(|| format!("{e:?}"));
+            JsValue::from_str(&format!("{NO_WEBGPU}\n({detail})"))
+        })?;
+    RUNNER.with(|r| *r.borrow_mut() = Some(runner));
+    Ok(())
 }
 
-/// The page's state as JSON (see `fourfold::viewer::web::status`), for scripts and tests.
-#[cfg(target_arch = "wasm32")]
+/// The page's state for scripts and tests, as JSON: the picture's generation and when its
+/// first frame was drawn, the last edit's latency and its stages, the editor's text, the
+/// formula on screen, the error shown, whether a build runs or the picture is still being
+/// drawn, the UI's frame time, where the editor, the controls' panel and the picture are
+/// (CSS pixels), and a panic if one happened.
 #[wasm_bindgen]
 pub fn status() -> String {
-    fourfold::viewer::web::status()
+    RUNNER.with(|runner| {
+        let runner = runner.borrow();
+        let Some(runner) = runner.as_ref() else {
+            return serde_json::json!({ "started": false }).to_string();
+        };
+        let panic = runner.panic_summary().map(|p| p.message());
+        let Some(page) = runner.app_mut::<Page>() else {
+            return serde_json::json!({ "started": true, "panic": panic }).to_string();
+        };
+        let app = &page.0;
+        let times = &app.session.times;
+        let rect = |r: Option<egui::Rect>| r.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]);
+        serde_json::json!({
+            "started": true,
+            "panic": panic,
+            "generation": app.session.picture_generation,
+            "first_frame_of": app.progressive.first_frame_of,
+            "edit_latency_ms": app.edit_latency_ms,
+            "edit_stages_ms": {
+                "compile": times.compile_ms,
+                "codegen": times.codegen_ms,
+                "tree": times.tree_ms,
+                "pipeline": times.pipeline_ms,
+                "ready": times.ready_ms,
+            },
+            "text": app.session.text,
+            "formula": app.session.scene.formula,
+            "error": app.session.error,
+            "building": app.session.building(),
+            "notice": app.message.as_ref().map(|m| m.text.clone()),
+            "drawing": app.drawing,
+            "ui_frame_ms": app.pacing.ui_frame_ms,
+            "editor": rect(app.editor_rect),
+            "controls": rect(app.controls_rect),
+            "picture": rect(app.picture_rect),
+            "link": app.share_link(),
+        })
+        .to_string()
+    })
 }
 
-/// Every example scene as `[name, link fragment]`, as JSON.
-#[cfg(target_arch = "wasm32")]
+/// Every example scene as `[name, link fragment]`, as JSON (for the page's tests).
 #[wasm_bindgen]
 pub fn example_links() -> String {
-    fourfold::viewer::web::example_links()
+    let links: Vec<(&str, String)> = fourfold::scene::EXAMPLES
+        .iter()
+        .filter_map(|(name, _)| Some((*name, Scene::example(name)?.to_link())))
+        .collect();
+    serde_json::to_string(&links).unwrap_or_default()
 }

@@ -1,0 +1,116 @@
+//! What every command reads first: a formula or a scene file, with parameter and domain
+//! overrides, checked by the library's scene rules; and the compiled formula with its
+//! warnings.
+
+use std::path::Path;
+
+use clap::Args;
+
+use fourfold::formula::CompiledFormula;
+use fourfold::scene::{Domain, Scene, Speaker};
+
+use crate::failure::Failure;
+
+/// A formula or a scene file, with parameter overrides.
+#[derive(Debug, Clone, Args)]
+pub struct Input {
+    /// A formula such as "x^2 + y^2 + z^2 + w^2 = 1", or the path of a .toml scene file.
+    pub formula_or_scene: String,
+    /// Set a parameter, as NAME=VALUE (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
+    /// The domain box: x0,x1,y0,y1,z0,z1,w0,w1.
+    #[arg(
+        long,
+        value_name = "x0,x1,y0,y1,z0,z1,w0,w1",
+        allow_hyphen_values = true
+    )]
+    pub domain: Option<String>,
+}
+
+/// Loads the scene named by `input` (a file, or a formula with default settings) and applies
+/// the command-line overrides.
+pub fn load_scene(input: &Input) -> Result<Scene, Failure> {
+    let text = &input.formula_or_scene;
+    let looks_like_file = text.ends_with(".toml") || Path::new(text).is_file();
+    let mut scene = if looks_like_file {
+        Scene::load(Path::new(text)).map_err(|e| Failure::usage(e.to_string()))?
+    } else {
+        Scene::from_formula(text)
+    };
+    for assignment in &input.params {
+        let (name, value) = assignment.split_once('=').ok_or_else(|| {
+            Failure::usage(format!(
+                "--param {assignment}: expected NAME=VALUE, as in --param R=2"
+            ))
+        })?;
+        let value: f64 = value.trim().parse().map_err(|_| {
+            Failure::usage(format!("--param {assignment}: '{value}' is not a number"))
+        })?;
+        scene.params.insert(name.trim().to_string(), value);
+    }
+    if let Some(domain) = &input.domain {
+        scene.domain = Domain::parse_list(domain)
+            .map_err(|e| Failure::usage(format!("--domain {domain}: {e}")))?;
+    }
+    checked(scene)
+}
+
+/// The scene, if the flags applied to it left every value in range (the scene file's own
+/// values were checked when it was read): else the problem, naming the flag.
+pub fn checked(scene: Scene) -> Result<Scene, Failure> {
+    match scene.check() {
+        Ok(()) => Ok(scene),
+        Err(problem) => Err(Failure::usage(problem.message(Speaker::Flag))),
+    }
+}
+
+/// Compiles the scene's formula, or renders its error with a caret under the formula.
+pub fn compile(scene: &Scene) -> Result<CompiledFormula, Failure> {
+    CompiledFormula::compile(&scene.formula)
+        .map_err(|e| Failure::usage(e.render("formula", &scene.formula)))
+}
+
+/// Warnings about parameters the formula uses but the scene does not set, or the reverse.
+pub fn parameter_warnings(scene: &Scene, formula: &CompiledFormula) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for p in &formula.params {
+        if !scene.params.contains_key(&p.name) {
+            warnings.push(format!(
+                "warning: parameter {} has no value; using 1.0 (set it with --param {}=VALUE)",
+                p.name, p.name
+            ));
+        }
+    }
+    for name in scene.params.keys() {
+        if !formula.params.iter().any(|p| &p.name == name) {
+            warnings.push(format!(
+                "warning: parameter {name} is set but the formula does not use it"
+            ));
+        }
+    }
+    warnings
+}
+
+/// Sets the tree levels and node budget given on the command line. A lower max level alone
+/// takes the min level down with it, so `--max-level 3` works on a scene whose min level is 4.
+pub fn override_tree(
+    scene: &mut Scene,
+    max_level: Option<u32>,
+    min_level: Option<u32>,
+    node_budget: Option<u32>,
+) {
+    let t = &mut scene.tree;
+    if let Some(v) = max_level {
+        t.max_level = v;
+        if min_level.is_none() {
+            t.min_level = t.min_level.min(v);
+        }
+    }
+    if let Some(v) = min_level {
+        t.min_level = v;
+    }
+    if let Some(v) = node_budget {
+        t.node_budget = v;
+    }
+}

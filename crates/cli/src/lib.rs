@@ -1,0 +1,67 @@
+//! The command line: argument types and the glue from them to the library, a file per
+//! command (with that command's flags). No maths here: every check of a value is the
+//! library's scene rules, every picture the library's picture API.
+
+mod animate;
+mod check;
+mod failure;
+mod input;
+mod render;
+mod tree;
+mod view;
+mod wgsl;
+
+use clap::{Parser, Subcommand};
+
+pub use animate::{AnimateArgs, animate, animation_of};
+pub use check::{check, grad};
+pub use failure::Failure;
+pub use input::{Input, compile, load_scene, parameter_warnings};
+pub use render::{RenderArgs, render, render_scene_of};
+pub use tree::{TreeArgs, tree};
+pub use view::{ViewArgs, view};
+pub use wgsl::{WgslArgs, wgsl};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "fourfold",
+    version,
+    about = "See the 3-manifold F(x,y,z,w) = 0 in four dimensions"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Parse a formula and report problems (exit 0 if fine, 2 if not).
+    Check(Input),
+    /// Print F and its four partial derivatives.
+    Grad(Input),
+    /// Build the 16-tree and print its statistics.
+    Tree(TreeArgs),
+    /// Print or write the generated, validated WGSL shader.
+    Wgsl(WgslArgs),
+    /// Render a picture to a PNG file.
+    Render(RenderArgs),
+    /// Render an animation (the manifold turning, or a parameter sweeping) to a GIF, an
+    /// animated PNG or a folder of PNGs.
+    Animate(AnimateArgs),
+    /// Open the interactive viewer (the default with no command).
+    View(ViewArgs),
+}
+
+/// Runs the command `cli` names (the viewer without one): the text to print, or the failure.
+pub fn run(cli: &Cli) -> Result<String, Failure> {
+    match &cli.command {
+        Some(Command::Check(input)) => check(input),
+        Some(Command::Grad(input)) => grad(input),
+        Some(Command::Tree(args)) => tree(args),
+        Some(Command::Wgsl(args)) => wgsl(args),
+        Some(Command::Render(args)) => render(args),
+        Some(Command::Animate(args)) => animate(args),
+        Some(Command::View(args)) => view(args),
+        None => view(&ViewArgs::default()),
+    }
+}

@@ -1,0 +1,587 @@
+//! The command line's `render` flags: each overrides the scene file, and a bad value is a
+//! usage error (exit code 2) that names the flag and says what it takes, never a panic.
+
+use clap::Parser;
+use fourfold::scene::{Sampling, Scene};
+use fourfold_cli::{Cli, Command, Failure, RenderArgs, render_scene_of};
+
+const SCENE: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../examples/scenes/fig-3-9-left.toml"
+);
+
+fn render_args(flags: &[&str]) -> RenderArgs {
+    let argv: Vec<&str> = ["render", SCENE, "-o", "x.png"]
+        .iter()
+        .chain(flags)
+        .copied()
+        .collect();
+    parse_render(&argv)
+}
+
+/// `fourfold ARGV...` parsed as a render command.
+fn parse_render<S: AsRef<str> + std::fmt::Debug>(argv: &[S]) -> RenderArgs {
+    let words = std::iter::once("fourfold").chain(argv.iter().map(|a| a.as_ref()));
+    match Cli::try_parse_from(words).unwrap_or_else(|e| panic!("{argv:?}: {e}")) {
+        Cli {
+            command: Some(Command::Render(args)),
+        } => args,
+        other => panic!("{argv:?} parsed as {other:?}"),
+    }
+}
+
+fn scene(flags: &[&str]) -> Result<Scene, Failure> {
+    render_scene_of(&render_args(flags))
+}
+
+#[test]
+fn certified_flags_set_the_scene_s_keys() {
+    let s = scene(&["--certified", "--cert-budget", "64", "--undecided", "hatch"]).unwrap();
+    assert!(s.render.certified);
+    assert_eq!(s.render.cert_budget, 64);
+    assert_eq!(s.render.undecided, fourfold::scene::Undecided::Hatch);
+    let plain = scene(&[]).unwrap();
+    assert!(!plain.render.certified);
+}
+
+#[test]
+fn render_flags_override_the_scene_file() {
+    let file = Scene::load(std::path::Path::new(SCENE)).unwrap();
+    let plain = scene(&[]).unwrap();
+    assert_eq!(plain.render, file.render);
+    assert_eq!(plain.view, file.view);
+    let s = scene(&[
+        "--rays",
+        "5",
+        "--hits",
+        "2",
+        "--steps",
+        "12",
+        "--bisection-iters",
+        "7",
+        "--approximation",
+        "0.001",
+        "--seed",
+        "42",
+        "--sampling",
+        "random",
+        "--alpha",
+        "0.25",
+        "--zoom",
+        "2",
+        "--angles",
+        "0.1,-0.2,0.3,0,0,1",
+        "--max-level",
+        "5",
+        "--min-level",
+        "3",
+        "--background",
+        "102030",
+        "--no-silhouette",
+        "--no-border",
+        "--no-lighting",
+        "--brute-force",
+    ])
+    .unwrap();
+    let r = &s.render;
+    assert_eq!((r.rays, r.hits, r.steps, r.bisection_iters), (5, 2, 12, 7));
+    assert_eq!((r.approximation, r.seed, r.alpha), (0.001, 42, 0.25));
+    assert_eq!(r.sampling, Sampling::Random);
+    assert_eq!(r.background.0, [0x10, 0x20, 0x30]);
+    assert!(!r.silhouette.enabled && !r.border.enabled && !r.lighting.enabled);
+    assert!(r.brute_force);
+    assert_eq!(s.view.angles, [0.1, -0.2, 0.3, 0.0, 0.0, 1.0]);
+    assert_eq!(s.view.zoom, 2.0);
+    assert_eq!((s.tree.max_level, s.tree.min_level), (5, 3));
+    // What no flag touched is the file's.
+    assert_eq!(s.formula, file.formula);
+    assert_eq!(s.domain, file.domain);
+    assert_eq!(s.render.lighting.shininess, file.render.lighting.shininess);
+}
+
+#[test]
+fn bad_render_flags_are_usage_errors_that_name_the_flag() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--rays", "0"], "--rays 0: between 1 and 1024"),
+        (&["--hits", "17"], "--hits 17: between 1 and 16"),
+        (&["--steps", "0"], "--steps 0: between 1 and 256"),
+        (
+            &["--bisection-iters", "257"],
+            "--bisection-iters 257: between 1 and 256",
+        ),
+        (
+            &["--approximation", "-1"],
+            "--approximation -1: a number ≥ 0",
+        ),
+        (
+            &["--approximation", "inf"],
+            "--approximation inf: a number ≥ 0",
+        ),
+        (&["--alpha", "1.5"], "--alpha 1.5: between 0 and 1"),
+        (&["--zoom", "-2"], "--zoom -2: a positive number"),
+        (
+            &["--angles", "1,2"],
+            "--angles 1,2: expected six numbers, got 2",
+        ),
+        (
+            &["--sampling", "even"],
+            "--sampling even: use random or stratified",
+        ),
+        (
+            &["--max-level", "13"],
+            "--max-level 13: the deepest level is 12",
+        ),
+        (
+            &["--min-level", "6", "--max-level", "5"],
+            "--min-level 6 is above --max-level 5",
+        ),
+        (&["--background", "zz"], "--background"),
+        (
+            &["--certified", "--cert-budget", "0"],
+            "--cert-budget 0: between 1 and 8192",
+        ),
+        (
+            &["--undecided", "grey"],
+            "--undecided grey: use marker or hatch",
+        ),
+    ];
+    for (flags, expected) in cases {
+        let failure = scene(flags).expect_err(&format!("{flags:?} was accepted"));
+        assert_eq!(failure.code, 2, "{flags:?}: {}", failure.message);
+        assert!(
+            failure.message.contains(expected),
+            "{flags:?}: {:?} does not say {expected:?}",
+            failure.message
+        );
+    }
+}
+
+#[test]
+fn a_negative_number_for_a_count_is_clap_s_clear_error_not_an_unknown_flag() {
+    for flag in ["--rays", "--seed", "--max-level", "--steps"] {
+        let err = Cli::try_parse_from(["fourfold", "render", SCENE, "-o", "x.png", flag, "-3"])
+            .expect_err(flag)
+            .to_string();
+        assert!(
+            err.contains("invalid value '-3'") && err.contains(flag),
+            "{flag}: {err}"
+        );
+    }
+}
+
+#[test]
+fn the_help_states_the_defaults_the_scene_really_has() {
+    use clap::CommandFactory;
+    use fourfold::scene::{RenderSettings, TreeSettings};
+    let (r, t) = (RenderSettings::default(), TreeSettings::default());
+    let cli = Cli::command();
+    let render = cli.find_subcommand("render").unwrap();
+    let expected = [
+        ("rays", r.rays.to_string()),
+        ("hits", r.hits.to_string()),
+        ("steps", r.steps.to_string()),
+        ("bisection_iters", r.bisection_iters.to_string()),
+        ("approximation", format!("{:e}", r.approximation)),
+        ("seed", r.seed.to_string()),
+        ("alpha", r.alpha.to_string()),
+        ("max_level", t.max_level.to_string()),
+        ("min_level", t.min_level.to_string()),
+    ];
+    let states = |command: &clap::Command, id: &str, default: &str| {
+        let arg = command.get_arguments().find(|a| a.get_id() == id).unwrap();
+        let help = arg.get_help().unwrap().to_string();
+        assert!(
+            help.contains(&format!("else {default}")),
+            "{} --{id}: {help:?} does not give the default {default}",
+            command.get_name()
+        );
+    };
+    for (id, default) in expected {
+        states(render, id, &default);
+    }
+    // `tree` states the tree's defaults too.
+    let tree = cli.find_subcommand("tree").unwrap();
+    states(tree, "max_level", &t.max_level.to_string());
+    states(tree, "min_level", &t.min_level.to_string());
+}
+
+#[test]
+fn a_scene_file_s_bad_value_is_told_as_the_flag_s_with_the_line_it_is_on() {
+    // The scene file and the flags share one check: the same range, said with the key's
+    // name and pointing at the line that sets it.
+    let cases = [
+        ("[render]\nrays = 0\n", "rays = 0: between 1 and 1024", 2),
+        (
+            "[tree]\nmax_level = 13\n",
+            "max_level = 13: the deepest level is 12",
+            2,
+        ),
+        (
+            "[tree]\nmax_level = 3\nmin_level = 5\n",
+            "min_level 5 is above max_level 3",
+            3,
+        ),
+        ("[view]\nzoom = -1.0\n", "zoom = -1: a positive number", 2),
+        (
+            "[render.silhouette]\nenabled = true\ntolerance = 0.1\ncolor = \"#ffffff\"\n\
+             [render.border]\nenabled = true\ntolerance = -0.5\ncolor = \"#ffffff\"\n",
+            "tolerance = -0.5: a number ≥ 0",
+            7,
+        ),
+    ];
+    for (body, expected, line) in cases {
+        let text = format!("formula = \"x^2 + y^2 + z^2 + w^2 - 1\"\n{body}");
+        let message = Scene::parse(&text, "bad.toml").expect_err(body).to_string();
+        assert!(message.contains(expected), "{body:?}: {message}");
+        // codespan names the line: bad.toml:LINE:COLUMN (the formula is line 1).
+        assert!(
+            message.contains(&format!("bad.toml:{}:", line + 1)),
+            "{body:?} should point at line {}: {message}",
+            line + 1
+        );
+    }
+}
+
+#[test]
+fn render_fit_frames_the_manifold_not_the_domain() {
+    // The glome in a domain four times its size: at zoom 1 it is a few pixels wide; --fit
+    // zooms to the tree's boxes around it (level 4 by default: half a unit wide), so that
+    // it fills half the picture or more.
+    let dir = std::env::temp_dir().join(format!("fourfold-fit-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let widths: Vec<u32> = [false, true]
+        .into_iter()
+        .map(|fit| {
+            let out = dir.join(format!("glome-{fit}.png"));
+            let mut argv = vec![
+                "render".to_string(),
+                "x^2 + y^2 + z^2 + w^2 = 1".into(),
+                "--domain".into(),
+                "-4,4,-4,4,-4,4,-4,4".into(),
+                "--size".into(),
+                "48x48".into(),
+                "--rays".into(),
+                "4".into(),
+                "--cpu".into(),
+                "-o".into(),
+                out.display().to_string(),
+            ];
+            if fit {
+                argv.push("--fit".into());
+            }
+            let args = parse_render(&argv);
+            fourfold_cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message));
+            let image = image::open(&out).unwrap().to_rgba8();
+            let background = Scene::from_formula("x").render.background.0;
+            let xs: Vec<u32> = image
+                .enumerate_pixels()
+                .filter(|(_, _, p)| p.0[..3] != background)
+                .map(|(x, _, _)| x)
+                .collect();
+            let (lo, hi) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+            assert!(
+                lo > 0 && hi < 47,
+                "fit {fit}: runs off the picture: {lo}..{hi}"
+            );
+            hi - lo + 1
+        })
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(widths[1] >= 24, "fitted: {} of 48 pixels wide", widths[1]);
+    assert!(
+        widths[1] >= 3 * widths[0],
+        "fitted {} against unfitted {} pixels wide",
+        widths[1],
+        widths[0]
+    );
+}
+
+#[test]
+fn certified_render_says_why_pixels_stay_undecided() {
+    // y = 1/x turned so that the plane x = 0 crosses many pixels' observer planes: a cell
+    // holding the pole encloses every value, so those pixels stay undecided and the advice
+    // says that a budget cannot help them. The same set written x·y = 1 is continuous.
+    let dir = std::env::temp_dir().join(format!("fourfold-pole-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = |formula: &str| {
+        let out = dir.join("pole.png");
+        let argv = [
+            "render",
+            formula,
+            "--domain=-2,2,-2,2,-2,2,-2,2",
+            "--angles",
+            "0.5,0.3,0.7,0.2,0.4,0.6",
+            "--size",
+            "40x40",
+            "--rays",
+            "4",
+            "--certified",
+            "--cert-budget",
+            "64",
+            "--cpu",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        fourfold_cli::render(&parse_render(&argv)).unwrap_or_else(|f| panic!("{}", f.message))
+    };
+    let pole = report("1/x - y = 0");
+    assert!(pole.contains("may have a pole"), "{pole}");
+    let smooth = report("x*y - 1 = 0");
+    assert!(!smooth.contains("may have a pole"), "{smooth}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+fn animate_args(flags: &[&str]) -> fourfold_cli::AnimateArgs {
+    let argv = ["fourfold", "animate"].iter().chain(flags).copied();
+    match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {
+        Cli {
+            command: Some(Command::Animate(args)),
+        } => args,
+        other => panic!("{flags:?} parsed as {other:?}"),
+    }
+}
+
+/// The frames of an animated GIF, decoded.
+fn gif_frames(path: &std::path::Path) -> Vec<image::RgbaImage> {
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .map(|f| f.unwrap().into_buffer())
+        .collect()
+}
+
+/// The frames of an animated PNG, decoded by the png crate.
+fn apng_frames(path: &std::path::Path) -> Vec<Vec<u8>> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let count = reader
+        .info()
+        .animation_control()
+        .expect("an animated PNG")
+        .num_frames;
+    (0..count)
+        .map(|_| {
+            let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut buf).unwrap();
+            buf.truncate(info.buffer_size());
+            buf
+        })
+        .collect()
+}
+
+#[test]
+fn a_certified_animation_counts_every_frame_s_pixels() {
+    let dir = std::env::temp_dir().join(format!("fourfold-cert-anim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("turn.gif").display().to_string();
+    let flags = [
+        SCENE,
+        "--size",
+        "24x20",
+        "--rays",
+        "4",
+        "--frames",
+        "3",
+        "--turn",
+        "xw",
+        "--certified",
+        "--cpu",
+        "-o",
+        &out,
+    ];
+    let said =
+        fourfold_cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message));
+    std::fs::remove_dir_all(&dir).ok();
+    let counts = said
+        .lines()
+        .find_map(|l| l.strip_prefix("certified pixels over 3 frames (budget 2048 cells): "))
+        .unwrap_or_else(|| panic!("no counts in {said:?}"));
+    let numbers: Vec<usize> = counts
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|n| n.parse().ok())
+        .take(3)
+        .collect();
+    assert_eq!(numbers.iter().sum::<usize>(), 3 * 24 * 20, "{counts}");
+    assert!(numbers[0] > 0, "no pixel hit: {counts}");
+}
+
+#[test]
+fn animate_writes_frames_that_differ_in_every_format() {
+    let dir = std::env::temp_dir().join(format!("fourfold-animate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |out: &std::path::Path, motion: &[&str]| {
+        let out = out.display().to_string();
+        let mut flags = vec![SCENE, "--size", "40x32", "--rays", "4", "--frames", "4"];
+        flags.extend(motion);
+        flags.extend(["-o", &out]);
+        fourfold_cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message))
+    };
+    let distinct = |frames: &[Vec<u8>]| {
+        frames
+            .iter()
+            .enumerate()
+            .all(|(i, a)| frames[..i].iter().all(|b| a != b))
+    };
+
+    let gif = dir.join("turn.gif");
+    let said = run(&gif, &["--turn", "xw", "--fit"]);
+    assert!(said.contains("4 frames"), "{said}");
+    let frames: Vec<Vec<u8>> = gif_frames(&gif).into_iter().map(|f| f.into_raw()).collect();
+    assert_eq!(frames.len(), 4);
+    assert!(distinct(&frames), "the turning frames repeat");
+
+    let apng = dir.join("sweep.png");
+    run(&apng, &["--sweep", "R=1.5..2.5"]);
+    let frames = apng_frames(&apng);
+    assert_eq!(frames.len(), 4);
+    assert!(frames.iter().all(|f| f.len() == 40 * 32 * 4));
+    assert!(distinct(&frames), "the sweeping frames repeat");
+
+    let slices = dir.join("slices.gif");
+    run(&slices, &["--slice-sweep", "-0.5..0.5"]);
+    let frames: Vec<Vec<u8>> = gif_frames(&slices)
+        .into_iter()
+        .map(|f| f.into_raw())
+        .collect();
+    assert_eq!(frames.len(), 4);
+    assert!(distinct(&frames), "the moving slice's frames repeat");
+
+    let folder = dir.join("frames");
+    run(&folder, &["--turn", "t3:0.5"]);
+    let frames: Vec<Vec<u8>> = (1..=4)
+        .map(|k| {
+            let path = folder.join(format!("frame-{k:04}.png"));
+            image::open(&path).unwrap().to_rgba8().into_raw()
+        })
+        .collect();
+    assert!(distinct(&frames), "the folder's frames repeat");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
+    let dir = std::env::temp_dir();
+    let gif = dir.join("fourfold-bad-animate.gif").display().to_string();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--turn", "xq"], "--turn: unknown plane 'xq'"),
+        (&["--turn", "xw:0"], "--turn: 0 turns"),
+        (&["--turn", "xw:fast"], "'fast' is not a number of turns"),
+        (&["--sweep", "R=1..1"], "is an empty range"),
+        (&["--sweep", "R=1"], "is not a range"),
+        (
+            &["--sweep", "q=1..2"],
+            "the formula has no parameter q (its parameters: R, r)",
+        ),
+        (
+            &["--turn", "xw", "--frames", "0"],
+            "--frames 0: between 1 and 10000",
+        ),
+        (
+            &["--turn", "xw", "--fps", "0"],
+            "--fps 0: above 0 and at most 100",
+        ),
+        (
+            &["--slice-sweep", "0.5..0.5"],
+            "--slice-sweep: 0.5..0.5 is an empty range",
+        ),
+        (
+            &["--slice-sweep", "up"],
+            "--slice-sweep: 'up' is not a range",
+        ),
+        (&[], "nothing moves"),
+    ];
+    for (flags, expected) in cases {
+        let mut argv = vec![SCENE, "-o", &gif];
+        argv.extend(*flags);
+        let failure = fourfold_cli::animate(&animate_args(&argv)).expect_err(expected);
+        assert_eq!(failure.code, 2, "{flags:?}: {}", failure.message);
+        assert!(
+            failure.message.contains(expected),
+            "{flags:?}: {:?} does not say {expected:?}",
+            failure.message
+        );
+    }
+    // An output that cannot be written, or of an unknown kind, is said before any frame.
+    for (out, expected) in [
+        (
+            "/nonexistent-folder/x.gif",
+            "cannot write /nonexistent-folder/x.gif",
+        ),
+        ("x.jpg", "unknown kind of file '.jpg'"),
+    ] {
+        let failure = fourfold_cli::animate(&animate_args(&[SCENE, "--turn", "xw", "-o", out]))
+            .expect_err(out);
+        assert_eq!(failure.code, 2);
+        assert!(failure.message.contains(expected), "{}", failure.message);
+    }
+}
+
+#[test]
+fn an_animation_stopped_early_keeps_its_frames_readable() {
+    // As after Ctrl-C: a file that was to hold 6 frames gets 2, and says so.
+    use fourfold::headless::Output;
+    let dir = std::env::temp_dir().join(format!("fourfold-stopped-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let frame = |v: u8| vec![v; 8 * 6 * 4];
+    for name in ["stopped.gif", "stopped.png"] {
+        let path = dir.join(name);
+        let mut writer = Output::from_path(&path)
+            .unwrap()
+            .open(8, 6, 24.0, 6)
+            .unwrap();
+        writer.add(frame(40)).unwrap();
+        writer.add(frame(200)).unwrap();
+        let said = writer.finish().unwrap();
+        assert!(said.contains("2 frames"), "{said}");
+        let count = if name.ends_with(".gif") {
+            gif_frames(&path).len()
+        } else {
+            apng_frames(&path).len()
+        };
+        assert_eq!(count, 2, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn no_adapter_gives_a_clear_message_not_a_panic() {
+    // No Vulkan driver can load, and only Vulkan is allowed: wgpu finds no adapter.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(["render", "x^2 + y^2 + z^2 + w^2 = 1", "--size", "8x8", "-o"])
+        .arg(std::env::temp_dir().join("fourfold-no-adapter.png"))
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "rendering without an adapter succeeded"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("no GPU adapter found"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+}
+
+#[test]
+fn the_device_takes_the_largest_picture_its_adapter_can_draw() {
+    // The CLI's largest (8192x8192) on lavapipe failed on wgpu's default limits.
+    let gpu = fourfold::render::Gpu::new().expect("GPU tests need an adapter");
+    let limits = gpu.device.limits();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(["render", "x + y + z + w = 9", "--size", "3000x8"])
+        .args(["--max-level", "2", "-o"])
+        .arg(std::env::temp_dir().join("fourfold-wide.png"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    if limits.max_texture_dimension_2d >= 3000 {
+        assert!(out.status.success(), "{stderr}");
+    } else {
+        assert!(stderr.contains("over this GPU's limit"), "{stderr}");
+    }
+}

@@ -1,0 +1,119 @@
+//! Certified pixels against the plain ray caster: `cargo bench --bench certified`.
+//!
+//! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
+//! 1. the certified frame against the plain one with the same rays (16), at SIZE² (default
+//!    512), for the scenes of FOURFOLD_BENCH_SCENES (default the chapter's and the glome),
+//!    each with its tree at level 6: by the wall clock (binning, upload, pass and read-back)
+//!    and, in brackets, the GPU's pass alone, best of FOURFOLD_BENCH_RUNS (default 3) after a
+//!    warm-up frame (which compiles the pipeline);
+//! 2. for every example scene with its own settings, the verdicts of a certified frame at
+//!    SIZE² and the default budget: the share of undecided pixels among those that may show
+//!    M (hit or undecided). FOURFOLD_BENCH_QUICK=1 skips it.
+
+use std::time::Instant;
+
+mod common;
+
+use common::env_u32;
+use fourfold::CompiledFormula;
+use fourfold::render::shader;
+use fourfold::render::verdict::{VerdictCounts, take_marks};
+use fourfold::render::{Gpu, Prepared, RayCaster};
+use fourfold::scene::{EXAMPLES, Scene};
+
+/// The best wall-clock and GPU-pass milliseconds of `runs` frames (after one to warm up),
+/// and the last frame's verdict counts.
+fn time_frames(
+    gpu: &Gpu,
+    scene: &Scene,
+    size: u32,
+    runs: u32,
+) -> (f64, Option<f64>, VerdictCounts) {
+    let formula = CompiledFormula::compile(&scene.formula).expect("example formulas compile");
+    let prepared = Prepared::new(&formula, scene).expect("the tree builds");
+    let shader = shader::generate(&formula).expect("the shader validates");
+    let mut caster = RayCaster::new(gpu, &shader, &prepared.hierarchy).expect("pipeline");
+    let (camera, uniforms) = prepared.frame(scene, size, size, Default::default());
+    let certifying = uniforms.certified().then(|| prepared.certifying());
+    let (mut best, mut best_gpu, mut counts) =
+        (f64::INFINITY, None::<f64>, VerdictCounts::default());
+    for run in 0..=runs {
+        let t = Instant::now();
+        caster.bin_view(gpu, &prepared.hierarchy, certifying, &camera, &uniforms);
+        let (mut rgba, gpu_ms) = caster.render_rgba_timed(gpu, &uniforms).expect("frame");
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        counts = VerdictCounts::of(&take_marks(&mut rgba).1);
+        if run > 0 {
+            best = best.min(ms);
+            best_gpu = match (best_gpu, gpu_ms) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+        }
+    }
+    (best, best_gpu, counts)
+}
+
+fn example(name: &str) -> Scene {
+    let text = EXAMPLES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap_or_else(|| panic!("no example {name}"))
+        .1;
+    Scene::parse(text, name).expect("examples parse")
+}
+
+fn main() {
+    let gpu = common::gpu_or_exit();
+    let size = env_u32("FOURFOLD_BENCH_SIZE", 512);
+    let runs = env_u32("FOURFOLD_BENCH_RUNS", 3);
+    println!("adapter: {}", gpu.adapter);
+    println!("\n## Certified frame against the plain one, {size}x{size}, 16 rays, level 6\n");
+    println!(
+        "| scene | plain ms [GPU pass] | certified ms [GPU pass] | certified/plain | certified/plain, GPU passes | undecided / covered |"
+    );
+    println!("|---|---|---|---|---|---|");
+    let scenes =
+        std::env::var("FOURFOLD_BENCH_SCENES").unwrap_or_else(|_| "fig-3-9-left,glome".into());
+    for name in scenes.split(',').map(str::trim) {
+        let mut scene = example(name);
+        scene.render.rays = 16;
+        scene.tree.max_level = 6;
+        scene.tree.min_level = scene.tree.min_level.min(6);
+        let (plain, plain_gpu, _) = time_frames(&gpu, &scene, size, runs);
+        scene.render.certified = true;
+        let (cert, cert_gpu, counts) = time_frames(&gpu, &scene, size, runs);
+        let bracket = |g: Option<f64>| g.map_or(String::new(), |g| format!(" [{g:.1}]"));
+        let gpu_ratio = plain_gpu
+            .zip(cert_gpu)
+            .map_or("-".into(), |(p, c)| format!("{:.1}x", c / p));
+        println!(
+            "| {name} | {plain:.1}{} | {cert:.1}{} | {:.1}x | {gpu_ratio} | {} / {} ({:.2}%) |",
+            bracket(plain_gpu),
+            bracket(cert_gpu),
+            cert / plain,
+            counts.undecided,
+            counts.hit + counts.undecided,
+            counts.undecided_share()
+        );
+    }
+    if std::env::var("FOURFOLD_BENCH_QUICK").is_ok_and(|v| v == "1") {
+        return;
+    }
+    println!("\n## Verdicts per example scene, {size}x{size}, its own settings, default budget\n");
+    println!("| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] |");
+    println!("|---|---|---|---|---|---|");
+    for (name, _) in EXAMPLES {
+        let mut scene = example(name);
+        scene.render.certified = true;
+        let (ms, gpu_ms, c) = time_frames(&gpu, &scene, size, 1);
+        println!(
+            "| {name} | {} | {} | {} | {:.2}% | {ms:.0}{} |",
+            c.hit,
+            c.empty,
+            c.undecided,
+            c.undecided_share(),
+            gpu_ms.map_or(String::new(), |g| format!(" [{g:.0}]"))
+        );
+    }
+}

@@ -1,0 +1,15 @@
+//! Stage 3: evaluators of a compiled formula's tapes: point (f64), rigorous interval over a
+//! box, and interval over 16 boxes at once, all keeping one contract ([`Evaluator`]).
+
+pub mod batch;
+pub mod evaluator;
+pub mod interval_eval;
+pub mod point;
+pub mod tape;
+
+pub use crate::interval::Interval;
+pub use batch::{BatchEvaluator, LANES};
+pub use evaluator::{Evaluator, Point4};
+pub use interval_eval::{Box4, IntervalEvaluator};
+pub use point::PointEvaluator;
+pub use tape::{Instr, Op, Tape};

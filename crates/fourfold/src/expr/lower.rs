@@ -1,0 +1,180 @@
+//! Syntax tree → expression graph: resolves names (variables, constants, functions,
+//! parameters) and reports the ones it cannot make sense of, with a suggestion.
+
+use crate::ops::{CONSTANTS, Function, function, function_names};
+use crate::syntax::{BinOp, Expr, ExprKind, Formula, SourceError, Span};
+
+use super::graph::{BinaryOp, ExprGraph, NodeId, UnaryOp, VARIABLES};
+
+/// The closest function name to a mistyped one, if it is close enough to be a likely typo.
+fn suggest_function(name: &str) -> Option<&'static str> {
+    let lower = name.to_ascii_lowercase();
+    if function(&lower).is_some() {
+        return function_names().find(|f| *f == lower);
+    }
+    let (best, distance) = function_names()
+        .map(|f| (f, strsim::damerau_levenshtein(&lower, f)))
+        .min_by_key(|(_, d)| *d)?;
+    let allowed = if name.len() >= 4 { 2 } else { 1 };
+    (distance <= allowed && name.len() >= 2).then_some(best)
+}
+
+/// Where each parameter first appears in the formula.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ParamSpans(pub Vec<Span>);
+
+/// Lowers a parsed formula to `lhs − rhs` in `graph`; returns the root and parameter spans.
+pub fn lower(
+    formula: &Formula,
+    graph: &mut ExprGraph,
+) -> Result<(NodeId, ParamSpans), SourceError> {
+    let mut lowering = Lowering {
+        graph,
+        spans: ParamSpans::default(),
+    };
+    let lhs = lowering.expr(&formula.lhs)?;
+    let root = match &formula.rhs {
+        Some(rhs) => {
+            let rhs = lowering.expr(rhs)?;
+            lowering.graph.sub(lhs, rhs)
+        }
+        None => lhs,
+    };
+    Ok((root, lowering.spans))
+}
+
+struct Lowering<'g> {
+    graph: &'g mut ExprGraph,
+    spans: ParamSpans,
+}
+
+impl Lowering<'_> {
+    fn expr(&mut self, expr: &Expr) -> Result<NodeId, SourceError> {
+        match &expr.kind {
+            ExprKind::Number(v) => Ok(self.graph.constant(*v)),
+            ExprKind::Ident(name) => self.ident(name, &expr.span),
+            ExprKind::Neg(a) => {
+                let a = self.expr(a)?;
+                Ok(self.graph.neg(a))
+            }
+            ExprKind::Abs(a) => {
+                let a = self.expr(a)?;
+                Ok(self.graph.unary(UnaryOp::Abs, a))
+            }
+            ExprKind::Binary(op, a, b) => {
+                let (a, b) = (self.expr(a)?, self.expr(b)?);
+                let op = match op {
+                    BinOp::Add => BinaryOp::Add,
+                    BinOp::Sub => BinaryOp::Sub,
+                    BinOp::Mul => BinaryOp::Mul,
+                    BinOp::Div => BinaryOp::Div,
+                    BinOp::Pow => BinaryOp::Pow,
+                };
+                Ok(self.graph.binary(op, a, b))
+            }
+            ExprKind::Call {
+                name,
+                name_span,
+                args,
+            } => self.call(name, name_span, args, &expr.span),
+        }
+    }
+
+    fn ident(&mut self, name: &str, span: &Span) -> Result<NodeId, SourceError> {
+        if let Some(axis) = VARIABLES.iter().position(|v| *v == name) {
+            return Ok(self.graph.var(axis as u8));
+        }
+        if let Some((_, value)) = CONSTANTS.iter().find(|(n, _)| *n == name) {
+            return Ok(self.graph.constant(*value));
+        }
+        // A run of coordinates, `xy` or `xyzw`, is their product, as mathematicians write it.
+        if name.len() > 1 && name.chars().all(|c| "xyzw".contains(c)) {
+            let mut product = self.graph.constant(1.0);
+            for c in name.chars() {
+                let axis = VARIABLES
+                    .iter()
+                    .position(|v| v.starts_with(c))
+                    .expect("checked");
+                let v = self.graph.var(axis as u8);
+                product = self.graph.mul(product, v);
+            }
+            return Ok(product);
+        }
+        if function(name).is_some() {
+            return Err(SourceError::new(
+                format!("'{name}' is a function and needs its argument in parentheses"),
+                span.clone(),
+                "function used without '('",
+            )
+            .with_hint(format!("write {name}(x)")));
+        }
+        Ok(self.param(name, span))
+    }
+
+    fn param(&mut self, name: &str, span: &Span) -> NodeId {
+        let before = self.graph.params().len();
+        let id = self.graph.param(name);
+        if self.graph.params().len() > before {
+            self.spans.0.push(span.clone());
+        }
+        id
+    }
+
+    fn call(
+        &mut self,
+        name: &str,
+        name_span: &Span,
+        args: &[Expr],
+        span: &Span,
+    ) -> Result<NodeId, SourceError> {
+        let Some(f) = function(name) else {
+            if let Some(suggestion) = suggest_function(name) {
+                return Err(SourceError::new(
+                    format!("unknown function '{name}'"),
+                    name_span.clone(),
+                    "not a function fourfold knows",
+                )
+                .with_hint(format!("did you mean {suggestion}?")));
+            }
+            // `R(x + 1)`, `x(y - 1)`: a name before a bracket is a product, as on paper.
+            if let [single] = args {
+                let factor = self.ident(name, name_span)?;
+                let inner = self.expr(single)?;
+                return Ok(self.graph.mul(factor, inner));
+            }
+            return Err(SourceError::new(
+                format!("unknown function '{name}'"),
+                name_span.clone(),
+                "not a function fourfold knows",
+            )
+            .with_hint(format!(
+                "the functions are: {}",
+                function_names().collect::<Vec<_>>().join(", ")
+            )));
+        };
+        let expected = f.arity();
+        if args.len() != expected {
+            let plural = if expected == 1 { "" } else { "s" };
+            return Err(SourceError::new(
+                format!(
+                    "{name} takes {expected} argument{plural}, but {} were given",
+                    args.len()
+                ),
+                span.clone(),
+                format!("expected {expected} argument{plural}"),
+            )
+            .with_hint(match f {
+                Function::Unary(_) => format!("write {name}(x)"),
+                Function::Binary(_) => format!("write {name}(a, b)"),
+            }));
+        }
+        let lowered = args
+            .iter()
+            .map(|a| self.expr(a))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(match f {
+            Function::Unary(op) => self.graph.unary(op, lowered[0]),
+            Function::Binary(op) => self.graph.binary(op, lowered[0], lowered[1]),
+        })
+    }
+}

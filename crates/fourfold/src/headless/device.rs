@@ -1,0 +1,50 @@
+//! A GPU device of one's own, opened without a window: the first adapter wgpu finds, with
+//! the limits the ray caster can use.
+
+use crate::render::gpu::{Gpu, GpuError, STORAGE_BUFFERS};
+
+impl Gpu {
+    /// Opens the first adapter wgpu finds (any backend, or those named in WGPU_BACKEND),
+    /// headless.
+    pub fn new() -> Result<Self, GpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
+            return Err(GpuError::Device(format!(
+                "{} reads at most {} storage buffers in a shader, and the ray caster needs {}; \
+                 use a Vulkan, Metal or DX12 adapter (WGPU_BACKEND=vulkan, or on Linux without \
+                 a GPU: apt-get install -y mesa-vulkan-drivers), or render with --cpu",
+                info.name, limits.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS
+            )));
+        }
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("fourfold"),
+            // Where the adapter has them: GPU timestamps around a frame's pass
+            // (`RayCaster::render_rgba_timed`).
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            // The adapter's own limits where fourfold can use more than the defaults: tile
+            // lists and trees in storage buffers, and the largest picture (`render --size`).
+            required_limits: wgpu::Limits {
+                max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
+                max_buffer_size: limits.max_buffer_size,
+                max_texture_dimension_2d: limits.max_texture_dimension_2d,
+                max_storage_buffers_per_shader_stage: STORAGE_BUFFERS,
+                ..wgpu::Limits::downlevel_defaults()
+            },
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(Self {
+            device,
+            queue,
+            adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
+        })
+    }
+}

@@ -1,0 +1,100 @@
+//! Directed rounding on the bits of an f64, without branches: the next float below or above,
+//! a library function's wider steps, and powers bounded from below and above.
+
+/// How many ulps a library function's bounds are widened.
+pub const LIB_ULPS: u32 = 2;
+
+/// The next float below `x` (one ulp; enough, as `+ - * /` and `sqrt` are correctly rounded,
+/// so their exact result is within half an ulp of the rounded one). Done on the bits, with
+/// selects rather than branches: the rounding is on the critical path of every interval
+/// operation, and a float-arithmetic version cost four dependent operations. +∞ (an overflow:
+/// the exact value is above `f64::MAX`) comes down to `MAX`; −∞ stays; ±0 gives the smallest
+/// negative subnormal; NaN (only from an empty operand) stays NaN, so the result stays empty.
+#[inline]
+pub(super) fn down(x: f64) -> f64 {
+    let b = x.to_bits() as i64;
+    // Positive floats: one step down is bits − 1; negative ones: bits + 1.
+    let r = f64::from_bits((b - ((b >> 63) | 1)) as u64);
+    let r = if x == f64::NEG_INFINITY { x } else { r };
+    if x == 0.0 { -TINY } else { r }
+}
+
+/// The next float above `x`; see [`down`]. −∞ comes up to `−MAX`, +∞ stays.
+#[inline]
+pub(super) fn up(x: f64) -> f64 {
+    let b = x.to_bits() as i64;
+    let r = f64::from_bits((b + ((b >> 63) | 1)) as u64);
+    let r = if x == f64::INFINITY { x } else { r };
+    if x == 0.0 { TINY } else { r }
+}
+
+/// `a < b ? a : b`: one `minsd`, unlike `f64::min`, which handles NaN. A NaN `a` gives `b`.
+#[inline]
+pub fn lesser(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// `a > b ? a : b`; a NaN `a` gives `b`.
+#[inline]
+pub fn greater(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The smallest positive subnormal.
+const TINY: f64 = f64::from_bits(1);
+
+#[inline]
+pub(super) fn lib_down(x: f64) -> f64 {
+    let mut x = x;
+    for _ in 0..LIB_ULPS {
+        x = down(x);
+    }
+    x
+}
+
+#[inline]
+pub(super) fn lib_up(x: f64) -> f64 {
+    let mut x = x;
+    for _ in 0..LIB_ULPS {
+        x = up(x);
+    }
+    x
+}
+
+/// A lower bound of x^k for x ≥ 0 (square-and-multiply, every product rounded down; the
+/// operands stay non-negative, so each rounded product bounds the exact one from below).
+#[inline]
+pub(super) fn pow_down(x: f64, k: u32) -> f64 {
+    directed_pow(x, k, |a, b| greater(down(a * b), 0.0))
+}
+
+/// An upper bound of x^k for x ≥ 0.
+#[inline]
+pub(super) fn pow_up(x: f64, k: u32) -> f64 {
+    directed_pow(x, k, |a, b| up(a * b))
+}
+
+#[inline]
+fn directed_pow(x: f64, mut k: u32, mul: impl Fn(f64, f64) -> f64) -> f64 {
+    if x == 0.0 || x.is_infinite() {
+        return x;
+    }
+    let mut base = x;
+    let mut acc = 1.0;
+    loop {
+        if k & 1 == 1 {
+            acc = if acc == 1.0 { base } else { mul(acc, base) };
+        }
+        k >>= 1;
+        if k == 0 {
+            return acc;
+        }
+        base = mul(base, base);
+    }
+}
+
+/// Product in which 0 × ∞ is 0: the bound of a set product, not an IEEE product.
+#[inline]
+pub(super) fn mul0(a: f64, b: f64) -> f64 {
+    if a == 0.0 || b == 0.0 { 0.0 } else { a * b }
+}

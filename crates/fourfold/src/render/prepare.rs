@@ -1,0 +1,155 @@
+//! The one preparation of a picture, shared by the CLI, the viewer, the benchmarks and the
+//! tests: a compiled formula and a scene → the parameter values, the 16-tree and the sphere
+//! hierarchy the ray caster marches; then, per view, the camera and the frame's settings.
+
+use std::sync::OnceLock;
+use std::sync::atomic::AtomicBool;
+
+use web_time::{Duration, Instant};
+
+use crate::formula::CompiledFormula;
+use crate::scene::Scene;
+use crate::tree::{BuildError, BuildSettings, Hierarchy, Progress, Tree16, TreeSteps};
+
+use super::view::{Camera, FrameOptions, Uniforms, frame};
+
+/// What the ray caster draws a scene from, apart from the view.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The parameter values, in the formula's order (1.0 where the scene has none).
+    pub params: Vec<f64>,
+    pub tree: Tree16,
+    pub hierarchy: Hierarchy,
+    /// Milliseconds for the tree and the hierarchy.
+    pub build_ms: f64,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`), made when first
+    /// asked for.
+    certifying: OnceLock<Hierarchy>,
+}
+
+impl Prepared {
+    /// Builds the tree with the scene's settings, to completion.
+    pub fn new(formula: &CompiledFormula, scene: &Scene) -> Result<Self, BuildError> {
+        Self::build(
+            formula,
+            scene,
+            scene.tree.into(),
+            &AtomicBool::new(false),
+            None,
+        )
+    }
+
+    /// Builds the tree with `settings` over the scene's domain; `cancel` is polled often
+    /// (once set, the build returns [`BuildError::Cancelled`]) and `progress` hears of each
+    /// level.
+    pub fn build(
+        formula: &CompiledFormula,
+        scene: &Scene,
+        settings: BuildSettings,
+        cancel: &AtomicBool,
+        progress: Option<Progress<'_>>,
+    ) -> Result<Self, BuildError> {
+        let started = Instant::now();
+        let params = scene.param_values(&formula.param_names());
+        let tree = Tree16::build(
+            formula,
+            &params,
+            &scene.domain.to_box(),
+            settings,
+            cancel,
+            progress,
+        )?;
+        let hierarchy = Hierarchy::for_formula(&tree, formula, &params);
+        Ok(Self {
+            params,
+            tree,
+            hierarchy,
+            build_ms: started.elapsed().as_secs_f64() * 1e3,
+            certifying: OnceLock::new(),
+        })
+    }
+
+    /// The boxes certified pixels search: the tree's, finer than the ray caster's cut.
+    pub fn certifying(&self) -> &Hierarchy {
+        self.certifying
+            .get_or_init(|| Hierarchy::for_certifying(&self.tree))
+    }
+
+    /// The same preparation in steps of about `budget` each (see [`PrepareSteps`]).
+    pub fn steps(
+        formula: &CompiledFormula,
+        scene: &Scene,
+        settings: BuildSettings,
+    ) -> Result<PrepareSteps, BuildError> {
+        let params = scene.param_values(&formula.param_names());
+        let tree = TreeSteps::new(formula, &params, &scene.domain.to_box(), settings)?;
+        Ok(PrepareSteps { params, tree })
+    }
+
+    /// The camera of the scene's view at `width`×`height`, and the settings of a frame
+    /// drawn through it (see [`frame`]).
+    pub fn frame(
+        &self,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        options: FrameOptions,
+    ) -> (Camera, Uniforms) {
+        frame(
+            scene,
+            &self.hierarchy,
+            &self.params,
+            [width, height],
+            options,
+        )
+    }
+}
+
+/// A preparation that runs a little at a time, between the frames of a window that has no
+/// other thread to give it (the web page): the tree is refined in slices of a level, then the
+/// hierarchy is made in one go (a few milliseconds at the viewer's levels).
+pub struct PrepareSteps {
+    params: Vec<f64>,
+    tree: TreeSteps,
+}
+
+/// Boxes refined between two looks at the clock: a few milliseconds of work on one core.
+const BOXES_PER_SLICE: usize = 64;
+
+impl PrepareSteps {
+    /// Works for about `budget`; the prepared scene once it is complete. `formula` must be
+    /// the one the steps were made for.
+    pub fn step(
+        &mut self,
+        formula: &CompiledFormula,
+        budget: Duration,
+    ) -> Result<Option<Prepared>, BuildError> {
+        let started = Instant::now();
+        let never = AtomicBool::new(false);
+        loop {
+            if let Some(tree) = self
+                .tree
+                .step(formula, &self.params, &never, BOXES_PER_SLICE)?
+            {
+                let t = Instant::now();
+                let hierarchy = Hierarchy::for_formula(&tree, formula, &self.params);
+                let build_ms = tree.stats.build_ms + t.elapsed().as_secs_f64() * 1e3;
+                return Ok(Some(Prepared {
+                    params: std::mem::take(&mut self.params),
+                    tree,
+                    hierarchy,
+                    build_ms,
+                    certifying: OnceLock::new(),
+                }));
+            }
+            if started.elapsed() >= budget {
+                return Ok(None);
+            }
+        }
+    }
+
+    /// Nodes made so far.
+    pub fn nodes(&self) -> u64 {
+        self.tree.nodes()
+    }
+}

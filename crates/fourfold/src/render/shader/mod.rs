@@ -1,0 +1,11 @@
+//! WGSL for F, ∇F and both at once (`ff_f_grad`, for the march's step bound), and their
+//! rigorous interval enclosures (certified pixels), spliced into `templates/raycast.wgsl`
+//! and validated by naga. Parameters are read from the frame's settings (binding 0), so
+//! changing one needs no new shader.
+
+mod source;
+mod tapes;
+
+pub use source::{
+    CodegenError, INTERVAL_LIBRARY, MAX_PARAMS, Shader, TEMPLATE, generate, validate,
+};

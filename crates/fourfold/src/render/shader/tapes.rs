@@ -1,0 +1,190 @@
+//! WGSL for a tape: one `let` per instruction, in order, so that shared subexpressions are
+//! computed once and a deep formula never nests deeply; at a point in f32, or as rigorous
+//! intervals over a box (with `templates/interval.wgsl`).
+//!
+//! Each operation's WGSL is its row of the table in `crate::ops`. Undefined values follow the
+//! CPU point evaluator: sqrt/ln/asin/acos outside their domain, division by 0, a negative or
+//! zero base of a real power with an exponent that needs a positive one — all give NaN (from
+//! the uniform, `ff_nan()`), and a NaN sample never makes a sign change, so no root is drawn
+//! there. Constants that do not fit in f32 are clamped to ±f32::MAX so every literal is
+//! finite.
+
+use std::fmt::Write as _;
+
+use crate::eval::{Instr, Tape};
+
+/// How a tape becomes WGSL: in f32 at a point, or as rigorous intervals over a box.
+pub(super) struct Flavour {
+    /// The parameters after the function's name.
+    params: &'static str,
+    /// An instruction's value, as an expression of earlier `s{i}` (all but Powi).
+    expression: fn(Instr) -> String,
+    /// `let s{i} = s{a}^n`, through helper lets as needed.
+    powi_lets: fn(&mut String, usize, u32, i32),
+}
+
+pub(super) const POINT: Flavour = Flavour {
+    params: "p: vec4<f32>",
+    expression,
+    powi_lets,
+};
+
+/// With the operations of `templates/interval.wgsl` (see docs/method.md §5.9).
+pub(super) const INTERVAL: Flavour = Flavour {
+    params: "lo: vec4<f32>, hi: vec4<f32>",
+    expression: interval_expression,
+    powi_lets: interval_powi_lets,
+};
+
+/// The WGSL function `name` computing `tape` in `flavour`: one `let` per instruction, then
+/// the return of `result` of the outputs, of type `ret`.
+pub(super) fn tape_function(
+    flavour: &Flavour,
+    name: &str,
+    ret: &str,
+    tape: &Tape,
+    result: impl Fn(&[String]) -> String,
+) -> String {
+    let mut body = String::new();
+    let _ = writeln!(body, "fn {name}({}) -> {ret} {{", flavour.params);
+    for (i, instr) in tape.instrs().iter().enumerate() {
+        if let Instr::Powi(a, n) = *instr {
+            (flavour.powi_lets)(&mut body, i, a, n);
+        } else {
+            let _ = writeln!(body, "    let s{i} = {};", (flavour.expression)(*instr));
+        }
+    }
+    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
+    let _ = writeln!(body, "    return {};", result(&outputs));
+    body.push('}');
+    body
+}
+
+/// An interval holding the real number `v`: the point where f32 holds it exactly, else its
+/// nearest f32 stepped an ulp either way, or a half-line beyond the library's largest bound.
+fn interval_constant(v: f64) -> String {
+    const LARGE: f64 = 2305843009213693952.0; // IV_LARGE, 2^61
+    if v.is_nan() {
+        "IV_EMPTY".into()
+    } else if v > LARGE {
+        "vec2<f32>(IV_LARGE, IV_BIG)".into()
+    } else if v < -LARGE {
+        "vec2<f32>(-IV_BIG, -IV_LARGE)".into()
+    } else if f64::from(v as f32) == v && (v == 0.0 || v.abs() >= 2f64.powi(-125)) {
+        // Exact in f32, and no subnormal a device may flush: a point.
+        format!("vec2<f32>({})", literal(v))
+    } else {
+        format!("iv_around({})", literal(v))
+    }
+}
+
+fn interval_expression(instr: Instr) -> String {
+    let s = |i: u32| format!("s{i}");
+    match instr {
+        Instr::Const(v) => interval_constant(v),
+        Instr::Var(a) => {
+            let c = ["x", "y", "z", "w"][a as usize & 3];
+            format!("vec2<f32>(lo.{c}, hi.{c})")
+        }
+        Instr::Param(i) => format!("iv_around(ff_param({i}u))"),
+        Instr::Powi(..) => unreachable!("integer powers are written by interval_powi_lets"),
+        Instr::Unary(op, a) => format!("{}({})", op.spec().wgsl_interval, s(a)),
+        Instr::Binary(op, a, b) => format!("{}({}, {})", op.spec().wgsl_interval, s(a), s(b)),
+    }
+}
+
+/// `let s{i} = s{a}^n` in intervals: square and multiply (squares through `iv_sqr`, never
+/// negative), and 1 / x^|n| for a negative n.
+fn interval_powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
+    let mut result: Option<String> = None;
+    let mut square = format!("s{a}");
+    let mut bits = n.unsigned_abs();
+    let mut j = 0;
+    while bits > 0 {
+        if bits & 1 == 1 {
+            result = Some(match result {
+                None => square.clone(),
+                Some(r) => {
+                    let next = format!("s{i}_m{j}");
+                    let _ = writeln!(body, "    let {next} = iv_mul({r}, {square});");
+                    next
+                }
+            });
+        }
+        bits >>= 1;
+        if bits > 0 {
+            let next = format!("s{i}_q{j}");
+            let _ = writeln!(body, "    let {next} = iv_sqr({square});");
+            square = next;
+        }
+        j += 1;
+    }
+    let positive = result.unwrap_or_else(|| "vec2<f32>(1.0)".into());
+    let value = if n < 0 {
+        format!("iv_div(vec2<f32>(1.0), {positive})")
+    } else {
+        positive
+    };
+    let _ = writeln!(body, "    let s{i} = {value};");
+}
+
+/// A finite f32 literal.
+fn literal(v: f64) -> String {
+    let v = if v.is_nan() {
+        return "ff_nan()".into();
+    } else {
+        v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
+    };
+    let text = format!("{v:?}");
+    let text = if text.contains(['.', 'e']) {
+        text
+    } else {
+        format!("{text}.0")
+    };
+    if v < 0.0 { format!("({text})") } else { text }
+}
+
+fn expression(instr: Instr) -> String {
+    let s = |i: u32| format!("s{i}");
+    match instr {
+        Instr::Const(v) => format!("f32({})", literal(v)),
+        Instr::Var(a) => format!("p.{}", ["x", "y", "z", "w"][a as usize]),
+        Instr::Param(i) => format!("ff_param({i}u)"),
+        Instr::Powi(..) => unreachable!("integer powers are written by powi_lets"),
+        Instr::Unary(op, a) => (op.spec().wgsl)(&s(a)),
+        Instr::Binary(op, a, b) => (op.spec().wgsl)(&s(a), &s(b)),
+    }
+}
+
+/// `let s{i} = s{a}^n` as multiplications: square and multiply, one `let` per square.
+fn powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
+    let k = n.unsigned_abs();
+    let x = format!("s{a}");
+    let positive = if k <= 4 {
+        vec![x.as_str(); k as usize].join(" * ")
+    } else {
+        let mut factors = Vec::new();
+        let mut square = x.clone();
+        let mut bits = k;
+        let mut j = 0;
+        while bits > 0 {
+            if bits & 1 == 1 {
+                factors.push(square.clone());
+            }
+            bits >>= 1;
+            if bits > 0 {
+                let next = format!("s{i}_{j}");
+                let _ = writeln!(body, "    let {next} = {square} * {square};");
+                square = next;
+                j += 1;
+            }
+        }
+        factors.join(" * ")
+    };
+    let value = if n < 0 {
+        format!("select(1.0 / ({positive}), ff_nan(), {x} == 0.0)")
+    } else {
+        format!("({positive})")
+    };
+    let _ = writeln!(body, "    let s{i} = {value};");
+}

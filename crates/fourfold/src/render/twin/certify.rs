@@ -1,0 +1,393 @@
+//! Certified pixels (docs/method.md §5.9): each pixel's verdict, and the CPU twin of the
+//! shader's `certify`, in f64 with the rigorous interval evaluator.
+//!
+//! A pixel's observer plane is the set of points o + s·n1 + t·n2 (its origin and the
+//! observer directions as the frame's f32 values, taken as exact reals). Within each of the
+//! pixel's boxes, cells (ranges of s and t) are enclosed: F□ over a cell's box without 0
+//! proves it holds no root; otherwise its centre's sign is proved if it can be, and the cell
+//! is split in two, depth first. Two points of opposite proved sign, joined by a segment on
+//! which F is continuous, prove a root: the pixel is a hit. Every cell excluded: empty.
+//! Otherwise undecided.
+
+use crate::eval::{Box4, Interval, IntervalEvaluator};
+use crate::formula::CompiledFormula;
+use crate::render::verdict::Verdict;
+use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLAB, FLAG_SLICE, Uniforms};
+
+/// Cells a pixel may have waiting (the shader's CERT_STACK); a cell that would go deeper
+/// stays undecided.
+pub const CERT_STACK: usize = 24;
+
+/// The outcome for one pixel: its verdict and, for a hit, two points (s, t) of its plane
+/// with F > 0 at the first and F < 0 at the second, F continuous on the segment between.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    pub verdict: Verdict,
+    pub bracket: Option<([f64; 2], [f64; 2])>,
+}
+
+/// The CPU's certifier for one frame (one per thread).
+pub struct Certifier<'a> {
+    formula: &'a CompiledFormula,
+    params: &'a [f64],
+    u: &'a Uniforms,
+    eval: IntervalEvaluator,
+}
+
+/// A cell: ranges of s and t.
+type Cell = (Interval, Interval);
+
+impl<'a> Certifier<'a> {
+    pub fn new(formula: &'a CompiledFormula, params: &'a [f64], u: &'a Uniforms) -> Self {
+        Self {
+            formula,
+            params,
+            u,
+            eval: IntervalEvaluator::new(),
+        }
+    }
+
+    /// Certifies the pixel whose plane has origin `o` (its observer plane's point on the
+    /// (v1, v2) plane through the domain's centre), within `boxes` ([lo, hi] each: boxes
+    /// that together hold every point of M in the domain that the plane may meet).
+    /// A ray's sign change, `bracket`'s two points (s, t), is tried first.
+    pub fn pixel(
+        &mut self,
+        o: [f32; 4],
+        boxes: &[([f32; 4], [f32; 4])],
+        bracket: Option<([f64; 2], [f64; 2])>,
+    ) -> Outcome {
+        let mut search = Search {
+            budget: self.u.march.cert_budget,
+            undecided: false,
+            pos: None,
+            neg: None,
+        };
+        if let Some((a, b)) = bracket.filter(|_| self.u.control.flags & FLAG_CONTINUOUS != 0) {
+            let domain = self.domain();
+            for p in [a, b] {
+                let sign = self.sign_at(o, p, &domain);
+                search.note(sign, p);
+            }
+        }
+        for &(lo, hi) in boxes {
+            if (search.budget == 0 && search.undecided) || search.hit().is_some() {
+                break;
+            }
+            self.certify_box(&mut search, o, lo, hi);
+        }
+        if let Some(bracket) = search.hit() {
+            return Outcome {
+                verdict: Verdict::Hit,
+                bracket: Some(bracket),
+            };
+        }
+        Outcome {
+            verdict: if search.undecided {
+                Verdict::Undecided
+            } else {
+                Verdict::Empty
+            },
+            bracket: None,
+        }
+    }
+
+    fn certify_box(&mut self, search: &mut Search, o: [f32; 4], lo: [f32; 4], hi: [f32; 4]) {
+        let u = self.u;
+        // The box within the domain (boxes are padded beyond it).
+        let domain = self.domain();
+        let Some(bx) = within(
+            std::array::from_fn(|i| Interval::new(f64::from(lo[i]), f64::from(hi[i]))),
+            &domain,
+        ) else {
+            return;
+        };
+        let rel: Box4 = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
+        let (s, t) = (dot(&rel, u.n1), dot(&rel, u.n2));
+        // n1 and n2 are orthonormal only to f32's rounding (as the shader, generously).
+        let m = 1e-5 * (magnitude(s) + magnitude(t)) + 1e-30;
+        let widen = |a: Interval| a.add(Interval::new(-m, m));
+        let (s, mut t) = (widen(s), widen(t));
+        let (offset, half) = (
+            f64::from(u.root.section_offset),
+            f64::from(u.root.section_half),
+        );
+        if u.control.flags & FLAG_SLICE != 0 {
+            if !t.contains(offset) {
+                return;
+            }
+            t = Interval::point(offset);
+        } else if u.control.flags & FLAG_SLAB != 0 {
+            t = t.intersect(offset - half, offset + half);
+            if t.is_empty() {
+                return;
+            }
+        }
+        // As the shader: cells are cut down to where the plane may meet the box.
+        let reach = magnitude(s).max(magnitude(t));
+        let global = u.control.flags & FLAG_CONTINUOUS != 0;
+        let mut stack: Vec<Cell> = Vec::with_capacity(CERT_STACK);
+        stack.push((s, t));
+        while let Some(cell) = stack.pop() {
+            let Some((cs, ct)) = self.shrink_cell(cell, &rel, reach) else {
+                continue;
+            };
+            if search.hit().is_some() {
+                return;
+            }
+            if search.budget == 0 {
+                search.undecided = true;
+                return;
+            }
+            let Some(x) = within(self.plane_box(o, cs, ct), &bx) else {
+                continue;
+            };
+            search.budget -= 1;
+            let mut fg = [Interval::EMPTY; 5];
+            let tape = &self.formula.tape_all;
+            self.eval.eval_into(tape, &x, self.params, &mut fg);
+            let smooth = self.eval.continuous_on_last_box(tape);
+            if !fg[0].contains_zero() {
+                continue;
+            }
+            let mid = [cs.midpoint(), ct.midpoint()];
+            // F's slope along n1 and n2 over the cell, estimated (where bounded).
+            let mut slope = [0.0; 2];
+            // As the shader: at the centre, where it lies in the box, F's value and the
+            // mean-value form over the cell.
+            let cp = self.plane_box(o, Interval::point(mid[0]), Interval::point(mid[1]));
+            if inside(&cp, &bx) {
+                let fc = self.eval.eval(&self.formula.tape_f, &cp, self.params);
+                if smooth {
+                    let (g1, g2) = (dot(&fg[1..], u.n1), dot(&fg[1..], u.n2));
+                    let ds = cs.sub(Interval::point(mid[0]));
+                    let dt = ct.sub(Interval::point(mid[1]));
+                    let mv = fc.add(g1.mul(ds).add(g2.mul(dt)));
+                    if !meet(fg[0], mv).contains_zero() {
+                        continue;
+                    }
+                    slope =
+                        [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
+                }
+                if global && inside(&cp, &domain) {
+                    search.note(proved_sign(fc), mid);
+                    if let Some(p) = search.guess(fc, mid, slope, (cs, ct)) {
+                        let sign = self.sign_at(o, p, &bx);
+                        search.note(sign, p);
+                    }
+                }
+            }
+            if !global && smooth {
+                // F is continuous on this cell's box only: its own samples must differ.
+                let mut local = Search::default();
+                for p in [mid, [cs.lo(), ct.lo()], [cs.hi(), ct.hi()]] {
+                    let sign = self.sign_at(o, p, &x);
+                    local.note(sign, p);
+                }
+                if local.hit().is_some() {
+                    (search.pos, search.neg) = (local.pos, local.neg);
+                }
+            }
+            if search.hit().is_some() {
+                return;
+            }
+            // Split the longer side (a slice's cells are segments along n1).
+            let along_s = cs.width() >= ct.width();
+            let (side, cut) = if along_s { (cs, mid[0]) } else { (ct, mid[1]) };
+            if !(side.lo() < cut && cut < side.hi()) || stack.len() + 2 > CERT_STACK {
+                search.undecided = true;
+                continue;
+            }
+            // The half where F more likely has the sign still missing is searched first
+            // (pushed last).
+            let (mut a, mut b) = (Interval::new(side.lo(), cut), Interval::new(cut, side.hi()));
+            let g = if along_s { slope[0] } else { slope[1] };
+            if f64::from(search.wanted()) * g < 0.0 {
+                (a, b) = (b, a);
+            }
+            if along_s {
+                stack.push((a, ct));
+                stack.push((b, ct));
+            } else {
+                stack.push((cs, a));
+                stack.push((cs, b));
+            }
+        }
+    }
+
+    /// The part of the cell where o + s·n1 + t·n2 may lie in the box o + `rel`, bounded
+    /// (None: nowhere): the shader's `shrink_cell`, in f64.
+    fn shrink_cell(&self, (s, t): Cell, rel: &Box4, reach: f64) -> Option<Cell> {
+        let (n1, n2) = (self.u.n1.map(f64::from), self.u.n2.map(f64::from));
+        let ranges: [(f64, f64); 4] = std::array::from_fn(|i| {
+            let (lo, hi) = (rel[i].lo(), rel[i].hi());
+            let slack = 1e-5 * (reach * (n1[i].abs() + n2[i].abs()) + lo.abs() + hi.abs()) + 1e-30;
+            (lo - slack, hi + slack)
+        });
+        let (mut a, mut b) = ((s.lo(), s.hi()), (t.lo(), t.hi()));
+        for _ in 0..2 {
+            a = narrow(a, &n1, &n2, b, &ranges);
+            b = narrow(b, &n2, &n1, a, &ranges);
+        }
+        let e = 1e-5 * reach + 1e-30;
+        let s = (s.lo().max(a.0 - e), s.hi().min(a.1 + e));
+        let t = (t.lo().max(b.0 - e), t.hi().min(b.1 + e));
+        (s.0 <= s.1 && t.0 <= t.1).then(|| (Interval::new(s.0, s.1), Interval::new(t.0, t.1)))
+    }
+
+    /// The domain, as the frame has it (f32 bounds).
+    fn domain(&self) -> Box4 {
+        let u = self.u;
+        std::array::from_fn(|i| Interval::new(f64::from(u.domain_lo[i]), f64::from(u.domain_hi[i])))
+    }
+
+    /// The box around the plane's points o + s·n1 + t·n2, s in `s`, t in `t`.
+    fn plane_box(&self, o: [f32; 4], s: Interval, t: Interval) -> Box4 {
+        let (n1, n2) = (self.u.n1, self.u.n2);
+        std::array::from_fn(|i| {
+            Interval::point(f64::from(o[i]))
+                .add(s.mul(Interval::point(f64::from(n1[i]))))
+                .add(t.mul(Interval::point(f64::from(n2[i]))))
+        })
+    }
+
+    /// F's proved sign at the plane's point p (0: not proved, or p may lie outside `within`).
+    fn sign_at(&mut self, o: [f32; 4], p: [f64; 2], within: &Box4) -> i8 {
+        let x = self.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
+        if !inside(&x, within) {
+            return 0;
+        }
+        proved_sign(self.eval.eval(&self.formula.tape_f, &x, self.params))
+    }
+}
+
+/// The search of one pixel: cells left to spend, whether any part stayed undecided, and
+/// the first points of each proved sign.
+#[derive(Debug, Default)]
+struct Search {
+    budget: u32,
+    undecided: bool,
+    pos: Option<[f64; 2]>,
+    neg: Option<[f64; 2]>,
+}
+
+impl Search {
+    fn note(&mut self, sign: i8, p: [f64; 2]) {
+        if sign > 0 && self.pos.is_none() {
+            self.pos = Some(p);
+        }
+        if sign < 0 && self.neg.is_none() {
+            self.neg = Some(p);
+        }
+    }
+
+    fn hit(&self) -> Option<([f64; 2], [f64; 2])> {
+        self.pos.zip(self.neg)
+    }
+
+    /// The sign still missing: 1, −1, or 0 (both, or neither, missing).
+    fn wanted(&self) -> i8 {
+        match (self.pos, self.neg) {
+            (None, Some(_)) => 1,
+            (Some(_), None) => -1,
+            _ => 0,
+        }
+    }
+
+    /// Where in the cell (s, t ranges) F more likely has the sign still missing (or, with
+    /// neither found, the sign opposite to F's at the centre): from the centre, with F's
+    /// value `fc` there and its estimated slope, twice the Newton step of the linear
+    /// model towards 0, kept within the cell.
+    fn guess(
+        &self,
+        fc: Interval,
+        mid: [f64; 2],
+        slope: [f64; 2],
+        (s, t): Cell,
+    ) -> Option<[f64; 2]> {
+        let f = fc.midpoint();
+        let want = match self.wanted() {
+            0 if self.pos.is_none() && self.neg.is_none() => -f.signum(),
+            w => f64::from(w),
+        };
+        let norm = slope[0] * slope[0] + slope[1] * slope[1];
+        if want * f >= 0.0 || !(norm > 0.0 && norm.is_finite() && f.is_finite()) {
+            return None;
+        }
+        let step = -2.0 * f / norm;
+        let p = [
+            (mid[0] + step * slope[0]).clamp(s.lo(), s.hi()),
+            (mid[1] + step * slope[1]).clamp(t.lo(), t.hi()),
+        ];
+        Some(p)
+    }
+}
+
+/// The range a takes where a·n_i + b·m_i (b in `other`) lies in `ranges[i]` for each i,
+/// intersected with `range` (the shader's `narrow`).
+fn narrow(
+    range: (f64, f64),
+    n: &[f64; 4],
+    m: &[f64; 4],
+    other: (f64, f64),
+    ranges: &[(f64, f64); 4],
+) -> (f64, f64) {
+    let mut r = range;
+    for i in 0..4 {
+        if n[i].abs() <= 1e-3 {
+            continue;
+        }
+        let (lo, hi) = ranges[i];
+        let q_lo = lo - (m[i] * other.0).max(m[i] * other.1);
+        let q_hi = hi - (m[i] * other.0).min(m[i] * other.1);
+        let (a, b) = (q_lo / n[i], q_hi / n[i]);
+        r = (r.0.max(a.min(b)), r.1.min(a.max(b)));
+    }
+    r
+}
+
+/// The sign an enclosure of F proves: 1, −1, or 0 (none).
+fn proved_sign(f: Interval) -> i8 {
+    if f.is_empty() {
+        0
+    } else if f.lo() > 0.0 {
+        1
+    } else if f.hi() < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Whether box `x` lies within box `b`.
+fn inside(x: &Box4, b: &Box4) -> bool {
+    (0..4).all(|i| x[i].lo() >= b[i].lo() && x[i].hi() <= b[i].hi())
+}
+
+/// The values both enclosures hold.
+fn meet(a: Interval, b: Interval) -> Interval {
+    a.intersect(b.lo(), b.hi())
+}
+
+/// An enclosure of x · n over the intervals x.
+fn dot(x: &[Interval], n: [f32; 4]) -> Interval {
+    (0..4).fold(Interval::ZERO, |acc, i| {
+        acc.add(x[i].mul(Interval::point(f64::from(n[i]))))
+    })
+}
+
+fn magnitude(a: Interval) -> f64 {
+    a.lo().abs().max(a.hi().abs())
+}
+
+/// The part of box `x` within box `b`, if any.
+fn within(x: Box4, b: &Box4) -> Option<Box4> {
+    let mut out = x;
+    for i in 0..4 {
+        out[i] = x[i].intersect(b[i].lo(), b[i].hi());
+        if out[i].is_empty() {
+            return None;
+        }
+    }
+    Some(out)
+}

@@ -1,0 +1,197 @@
+//! A whole frame on the CPU: each pixel's boxes (its tile's, or a walk of the hierarchy),
+//! its rays, and with certified pixels its verdict, in parallel over the rows.
+
+use rayon::prelude::*;
+
+use crate::eval::PointEvaluator;
+use crate::formula::CompiledFormula;
+use crate::render::verdict::Verdict;
+use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
+use crate::tree::{Curvature, Hierarchy};
+
+use super::certify::Certifier;
+use super::pixel::{AIMED, Marched, Pixel};
+use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
+
+/// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
+/// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
+pub fn render_rgba(
+    formula: &CompiledFormula,
+    params: &[f64],
+    hierarchy: &Hierarchy,
+    certifying: Option<&Hierarchy>,
+    u: &Uniforms,
+) -> Vec<u8> {
+    let certifying = certifying.unwrap_or(hierarchy);
+    let (width, height) = (u.size.width, u.size.height);
+    let rows: Vec<Vec<u8>> = (0..height)
+        .into_par_iter()
+        .map(|py| {
+            let mut certifier = Certifier::new(formula, params, u);
+            let mut row = Vec::with_capacity(width as usize * 4);
+            for px in 0..width {
+                let pixel = (px, py);
+                let (c, verdict) = render_pixel(
+                    formula,
+                    params,
+                    [hierarchy, certifying],
+                    u,
+                    &mut certifier,
+                    pixel,
+                );
+                row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
+                row.push(verdict.alpha());
+            }
+            row
+        })
+        .collect();
+    rows.concat()
+}
+
+/// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
+/// covers): a walk of the hierarchy's marched boxes whose sphere meets its observer plane
+/// (the shader's MODE 2), or the domain for brute force.
+fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
+    if u.brute_force() {
+        return vec![Marched {
+            lo: u.domain_lo,
+            hi: u.domain_hi,
+            steps: u.counts.brute_steps,
+            slope: [f32::INFINITY; 4],
+            curvature: Curvature::NONE,
+        }];
+    }
+    let mut boxes = Vec::new();
+    let mut i = 0usize;
+    while i < h.nodes.len() {
+        let node = &h.nodes[i];
+        let level = &u.levels[node.level() as usize];
+        let rel = sub(node.center, o);
+        let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
+        if a * a + b * b > level.radius * level.radius {
+            i = node.skip as usize;
+            continue;
+        }
+        // As the shader's `visit`: the boxes of the cut are marched whole.
+        if node.is_marched() {
+            boxes.push(Marched {
+                lo: sub(node.center, level.half),
+                hi: add(node.center, level.half),
+                steps: if node.is_leaf() {
+                    u.control.steps
+                } else {
+                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
+                },
+                slope: h.slope(i),
+                curvature: h.curvature(i),
+            });
+            i = node.skip as usize;
+            continue;
+        }
+        i += 1;
+    }
+    boxes
+}
+
+/// A pixel's colour and verdict; `h` holds the hierarchy the rays march and the one the
+/// certified search covers.
+fn render_pixel(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: [&Hierarchy; 2],
+    u: &Uniforms,
+    certifier: &mut Certifier<'_>,
+    (px, py): (u32, u32),
+) -> ([f32; 3], Verdict) {
+    let (w, hgt) = (u.size.width as f32, u.size.height as f32);
+    let s = u.misc.pixel_size;
+    let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
+    let plane = add(
+        u.center,
+        add(
+            scale(u.v1, s * (fx - 0.5 * w)),
+            scale(u.v2, s * (0.5 * hgt - fy)),
+        ),
+    );
+    let mut o = plane;
+    // As the shader: the slice's line, from where it enters the sphere around the domain.
+    let extent = sub(u.domain_hi, u.domain_lo);
+    let reach = 0.5 * dot(extent, extent).sqrt();
+    if u.control.flags & FLAG_SLICE != 0 {
+        o = sub(
+            add(o, scale(u.n2, u.root.section_offset)),
+            scale(u.n1, reach),
+        );
+    }
+    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
+        .control
+        .seed
+        .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
+    let mut pixel = Pixel {
+        u,
+        formula,
+        params,
+        eval: PointEvaluator::new(),
+        seed,
+        offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
+        hits: Vec::with_capacity(16),
+        k_max: u.size.hits.clamp(1, 16) as usize,
+        aim: [1.0, 0.0],
+        plane,
+        bracket: None,
+    };
+    let boxes = boxes_of(h[0], u, o);
+    for b in &boxes {
+        pixel.trace_box(o, b);
+    }
+    let mut verdict = Verdict::Empty;
+    if u.control.flags & FLAG_CERTIFIED != 0 {
+        let bounds: Vec<(V4, V4)> = boxes_of(h[1], u, plane)
+            .iter()
+            .map(|b| (b.lo, b.hi))
+            .collect();
+        let outcome = certifier.pixel(plane, &bounds, pixel.bracket);
+        verdict = outcome.verdict;
+        if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
+            // As the shader's `certify`: aim a ray through the proved root.
+            let root = pixel.root_between(plane, a, b);
+            if pixel.slice() {
+                pixel.insert(root[0] + reach, AIMED);
+            } else {
+                let len = (root[0] * root[0] + root[1] * root[1]).sqrt();
+                pixel.aim = if len > 0.0 {
+                    [root[0] / len, root[1] / len]
+                } else {
+                    [1.0, 0.0]
+                };
+                for b in &boxes {
+                    pixel.trace_ray(o, b, AIMED);
+                }
+                if pixel.hits.is_empty() {
+                    pixel.insert(len, AIMED);
+                }
+            }
+        }
+    }
+    if pixel.hits.is_empty() {
+        let color = if verdict == Verdict::Undecided {
+            undecided_color(u, px, py)
+        } else {
+            [u.background[0], u.background[1], u.background[2]]
+        };
+        return (color, verdict);
+    }
+    let alpha = u.misc.alpha;
+    let hits = pixel.hits.clone();
+    let mut color = [0.0f32; 3];
+    for (j, &(t, ray)) in hits.iter().rev().enumerate() {
+        let d = pixel.direction(ray);
+        let c = pixel.shade(add(o, scale(d, t)), d);
+        color = if j == 0 {
+            c
+        } else {
+            std::array::from_fn(|i| color[i] * (1.0 - alpha) + c[i] * alpha)
+        };
+    }
+    (color, verdict)
+}

@@ -1,0 +1,325 @@
+//! One pixel of the CPU twin: its rays through the observer plane, the march of each across
+//! the boxes it meets, the roots found by bisection, and the shading of the nearest hits,
+//! step for step as `templates/raycast.wgsl` does them.
+
+use crate::eval::PointEvaluator;
+use crate::formula::CompiledFormula;
+use crate::render::view::{
+    FLAG_BORDER, FLAG_CERTIFIED, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
+    FLAG_SLICE, Uniforms, slope_along,
+};
+use crate::tree::Curvature;
+
+use super::shading::{MARK_COLOR, V4, add, base_color, clip_to_slab, dot, rand01, scale, sub};
+
+/// The ray index of a hit along the ray aimed through a certified root (the shader's
+/// `AIMED`).
+pub(super) const AIMED: u32 = u32::MAX;
+
+pub(super) struct Pixel<'a> {
+    pub(super) u: &'a Uniforms,
+    pub(super) formula: &'a CompiledFormula,
+    pub(super) params: &'a [f64],
+    pub(super) eval: PointEvaluator,
+    pub(super) seed: u32,
+    pub(super) offset: f32,
+    pub(super) hits: Vec<(f32, u32)>,
+    pub(super) k_max: usize,
+    /// The direction of ray AIMED in (n1, n2).
+    pub(super) aim: [f32; 2],
+    /// With certification: the pixel's origin in its observer plane, and the first sign
+    /// change a ray found as its two ends' (s, t) there (as the shader's `bracket`).
+    pub(super) plane: V4,
+    pub(super) bracket: Option<([f64; 2], [f64; 2])>,
+}
+
+/// A box the pixel marches, as `trace_box` takes it.
+#[derive(Clone, Copy)]
+pub(super) struct Marched {
+    pub(super) lo: V4,
+    pub(super) hi: V4,
+    pub(super) steps: u32,
+    pub(super) slope: V4,
+    pub(super) curvature: Curvature,
+}
+
+impl Pixel<'_> {
+    pub(super) fn f(&mut self, p: V4) -> f32 {
+        let p = p.map(f64::from);
+        self.eval.eval(&self.formula.tape_f, p, self.params) as f32
+    }
+
+    /// F and dF/dt at `p` along `d` (dF/dt only if `bent`: else 0, unused).
+    pub(super) fn f_slope(&mut self, p: V4, d: V4, bent: bool) -> [f32; 2] {
+        if !bent {
+            return [self.f(p), 0.0];
+        }
+        let mut out = [0.0; 5];
+        let p = p.map(f64::from);
+        self.eval
+            .eval_into(&self.formula.tape_all, p, self.params, &mut out);
+        let g = (0..4).map(|k| out[k + 1] * f64::from(d[k])).sum::<f64>();
+        [out[0] as f32, g as f32]
+    }
+
+    pub(super) fn dir2(&self, k: u32) -> [f32; 2] {
+        let n = self.u.size.rays;
+        if self.u.control.flags & FLAG_RANDOM != 0 {
+            let a = [
+                2.0 * rand01(self.seed.wrapping_add(2 * k)) - 1.0,
+                2.0 * rand01(self.seed.wrapping_add(2 * k + 1)) - 1.0,
+            ];
+            let len = (a[0] * a[0] + a[1] * a[1]).sqrt();
+            if len < 1e-6 {
+                return [1.0, 0.0];
+            }
+            return [a[0] / len, a[1] / len];
+        }
+        let phi = std::f32::consts::TAU * (k as f32 + self.offset) / n as f32;
+        [phi.cos(), phi.sin()]
+    }
+
+    pub(super) fn direction(&self, k: u32) -> V4 {
+        if self.slice() {
+            return self.u.n1;
+        }
+        let d = self.plane_dir(k);
+        add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
+    }
+
+    /// Ray k's direction in (n1, n2), ray AIMED's included.
+    pub(super) fn plane_dir(&self, k: u32) -> [f32; 2] {
+        if k == AIMED { self.aim } else { self.dir2(k) }
+    }
+
+    /// The plane's point where F changes sign between `a` (F > 0) and `b` (F < 0), by 24
+    /// bisections in f32 (as the shader's `cert_root`: for shading; the root is proved).
+    pub(super) fn root_between(&mut self, o: V4, a: [f64; 2], b: [f64; 2]) -> [f32; 2] {
+        let (mut pa, mut pb) = (a.map(|v| v as f32), b.map(|v| v as f32));
+        let point = |m: [f32; 2]| add(o, add(scale(self.u.n1, m[0]), scale(self.u.n2, m[1])));
+        for _ in 0..24 {
+            let m = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+            if self.f(point(m)) > 0.0 {
+                pa = m;
+            } else {
+                pb = m;
+            }
+        }
+        [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])]
+    }
+
+    pub(super) fn slice(&self) -> bool {
+        self.u.control.flags & FLAG_SLICE != 0
+    }
+
+    pub(super) fn full(&self) -> bool {
+        self.hits.len() == self.k_max
+    }
+
+    pub(super) fn farthest(&self) -> f32 {
+        self.hits.last().map_or(f32::INFINITY, |h| h.0)
+    }
+
+    pub(super) fn insert(&mut self, t: f32, ray: u32) {
+        if self.full() && t >= self.farthest() {
+            return;
+        }
+        if self.full() {
+            self.hits.pop();
+        }
+        let at = self.hits.partition_point(|h| h.0 <= t);
+        self.hits.insert(at, (t, ray));
+    }
+
+    /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
+    /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
+    /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
+    /// +∞ and (−∞, +∞) take every sample).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn find_roots(
+        &mut self,
+        o: V4,
+        d: V4,
+        (t0, t1): (f32, f32),
+        steps: u32,
+        slope: f32,
+        bend: (f32, f32),
+        ray: u32,
+    ) {
+        let dt = (t1 - t0) / steps as f32;
+        // Samples per unit of t and per unit of |F| sure to keep its sign (0.999: a margin
+        // for rounding).
+        let per_t = 0.999 / dt;
+        let reach = per_t / slope;
+        // (dF/dt serves only the curvature bound.)
+        let bent = bend.0.is_finite() && bend.1.is_finite();
+        let mut ta = t0;
+        let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d, bent);
+        let mut s = 1;
+        loop {
+            let m = fa.abs() * reach;
+            let m = m.max(zero_ahead(fa, ga, bend) * per_t);
+            if m >= 1.0 {
+                s += m.min(steps as f32) as u32;
+                ta = t0 + (s - 1) as f32 * dt;
+            }
+            if s > steps || (self.full() && ta >= self.farthest()) {
+                return;
+            }
+            let tb = t0 + s as f32 * dt;
+            let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
+            if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
+                if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
+                    let at = |t: f32| {
+                        let p = sub(add(o, scale(d, t)), self.plane);
+                        [f64::from(dot(p, self.u.n1)), f64::from(dot(p, self.u.n2))]
+                    };
+                    self.bracket = Some((at(ta), at(tb)));
+                }
+                let (mut lo, mut hi) = (ta, tb);
+                // F(lo) stays on fa's side of 0 (as the shader: its sign is not carried).
+                let neg_lo = fa < 0.0;
+                let mut tm = 0.5 * (lo + hi);
+                for _ in 0..self.u.control.bisection_iters {
+                    tm = 0.5 * (lo + hi);
+                    // As the shader: f32 cannot split the bracket, every further midpoint
+                    // is this one.
+                    if tm == lo || tm == hi {
+                        break;
+                    }
+                    let fm = self.f(add(o, scale(d, tm)));
+                    if fm.abs() < self.u.root.approximation {
+                        break;
+                    }
+                    if (fm < 0.0) == neg_lo {
+                        lo = tm;
+                    } else {
+                        hi = tm;
+                    }
+                }
+                self.insert(tm, ray);
+            }
+            ta = tb;
+            fa = fb;
+            ga = gb;
+            s += 1;
+        }
+    }
+
+    /// Tries every ray in the box [lo, hi], over which `slope` bounds |∂F/∂x_k| (+∞: no
+    /// bound) and `curvature` F's second derivatives.
+    pub(super) fn trace_box(&mut self, o: V4, b: &Marched) {
+        let rays = if self.slice() { 1 } else { self.u.size.rays };
+        for k in 0..rays {
+            self.trace_ray(o, b, k);
+        }
+    }
+
+    /// Marches ray k (or AIMED) over its span in the box `b`.
+    pub(super) fn trace_ray(&mut self, o: V4, b: &Marched, k: u32) {
+        let Marched {
+            lo,
+            hi,
+            steps,
+            slope,
+            curvature,
+        } = *b;
+        let d = self.direction(k);
+        let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+        for i in 0..4 {
+            let di = if d[i].abs() < 1e-30 { 1e-30 } else { d[i] };
+            let inv = 1.0 / di;
+            let (ta, tb) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        if self.u.control.flags & FLAG_SLAB != 0 {
+            (t0, t1) = clip_to_slab(self.u, (t0, t1), self.plane_dir(k)[1]);
+        }
+        if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
+            let along = slope_along(slope, d.map(f64::from));
+            let bend = curvature.along(d.map(f64::from));
+            self.find_roots(o, d, (t0, t1), steps, along, bend, k);
+        }
+    }
+
+    pub(super) fn shade(&mut self, p: V4, d: V4) -> [f32; 3] {
+        let u = self.u;
+        let mut all = [0.0; 5];
+        self.eval.eval_into(
+            &self.formula.tape_all,
+            p.map(f64::from),
+            self.params,
+            &mut all,
+        );
+        let mut g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
+        if self.slice() {
+            // The slice is a surface in the hyperplane: its normal is ∇F within it.
+            g = sub(g, scale(u.n2, dot(g, u.n2)));
+        }
+        let glen = dot(g, g).sqrt();
+        let flags = u.control.flags;
+        let rgb = |c: V4| [c[0], c[1], c[2]];
+        if flags & FLAG_SILHOUETTE != 0 && glen > 0.0 {
+            let gu = scale(g, 1.0 / glen);
+            if dot(gu, u.n1).abs() < u.misc.silhouette_tolerance
+                && dot(gu, u.n2).abs() < u.misc.silhouette_tolerance
+            {
+                return rgb(u.silhouette_color);
+            }
+        }
+        if flags & FLAG_BORDER != 0 {
+            let inside = (0..4)
+                .map(|i| (p[i] - u.domain_lo[i]).min(u.domain_hi[i] - p[i]))
+                .fold(f32::INFINITY, f32::min);
+            if inside < u.misc.border_tolerance {
+                return rgb(u.border_color);
+            }
+        }
+        if flags & FLAG_MARK != 0 {
+            let centre: V4 = std::array::from_fn(|i| 0.5 * (u.domain_lo[i] + u.domain_hi[i]));
+            if (dot(sub(p, centre), u.n2) - u.root.section_offset).abs() < u.root.section_half {
+                return MARK_COLOR;
+            }
+        }
+        let surface = base_color(u, p);
+        if flags & FLAG_LIGHTING == 0 {
+            return surface;
+        }
+        let mut n = if glen > 0.0 {
+            scale(g, 1.0 / glen)
+        } else {
+            [0.0; 4]
+        };
+        if dot(n, d) > 0.0 {
+            n = scale(n, -1.0);
+        }
+        let l = u.light;
+        let diffuse = dot(n, l).max(0.0);
+        let r = sub(scale(n, 2.0 * dot(n, l)), l);
+        let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading.shininess);
+        std::array::from_fn(|i| {
+            surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
+                + u.shading.specular * specular
+        })
+    }
+}
+
+/// How far from a sample with value `f` and slope `g` (dF/dt) F surely keeps its sign when
+/// d²F/dt² lies in `bend`: the first zero of the parabola that bounds |F| from below
+/// (+∞: none; 0 where F, its slope or the bound is not finite). The shader's rule (`march_ray`).
+fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
+    // |F|, its slope, and how fast it can bend towards 0.
+    let (g, c) = if f > 0.0 { (g, -lo) } else { (-g, hi) };
+    let f = f.abs();
+    if !(f.is_finite() && g.is_finite() && c.is_finite()) {
+        return 0.0;
+    }
+    let disc = g * g + 2.0 * c * f;
+    let root = disc.max(0.0).sqrt();
+    if disc >= 0.0 && root > g {
+        2.0 * f / (root - g)
+    } else {
+        f32::INFINITY
+    }
+}

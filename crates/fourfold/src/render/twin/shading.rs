@@ -1,0 +1,106 @@
+//! What the CPU twin shares with the shader beside the march: the colours (viridis, the
+//! undecided marker, the slice's mark), the hashes that place rays, and vector arithmetic
+//! in f32 as the GPU does it.
+
+use crate::render::view::{FLAG_HATCH, FLAG_HIDDEN, Uniforms};
+
+pub(super) type V4 = [f32; 4];
+
+/// Undecided pixels' colour (as the shader's `UNDECIDED_COLOR`).
+pub(super) const UNDECIDED_COLOR: [f32; 3] = [1.0, 0.0, 1.0];
+
+/// The colour of the hits where a slice cuts (as the shader's `MARK_COLOR`).
+pub(super) const MARK_COLOR: [f32; 3] = [1.0, 0.35, 0.1];
+
+/// Nine samples of the viridis colour map, 0 to 255 (as the shader's `viridis`).
+const VIRIDIS: [[f32; 3]; 9] = [
+    [68.0, 1.0, 84.0],
+    [71.0, 45.0, 123.0],
+    [59.0, 82.0, 139.0],
+    [44.0, 114.0, 142.0],
+    [33.0, 145.0, 140.0],
+    [40.0, 174.0, 128.0],
+    [94.0, 201.0, 98.0],
+    [173.0, 220.0, 48.0],
+    [253.0, 231.0, 37.0],
+];
+
+/// The viridis colour map at t in [0, 1], linear between its samples.
+pub fn viridis(t: f32) -> [f32; 3] {
+    let x = t.clamp(0.0, 1.0) * 8.0;
+    let i = (x as usize).min(7);
+    let f = x - i as f32;
+    std::array::from_fn(|c| (VIRIDIS[i][c] + (VIRIDIS[i + 1][c] - VIRIDIS[i][c]) * f) / 255.0)
+}
+
+/// The colour of a hit at p before lighting, as the shader's `base_color`.
+pub(super) fn base_color(u: &Uniforms, p: V4) -> [f32; 3] {
+    if u.control.flags & FLAG_HIDDEN == 0 {
+        return [u.surface[0], u.surface[1], u.surface[2]];
+    }
+    let centre: V4 = std::array::from_fn(|i| 0.5 * (u.domain_lo[i] + u.domain_hi[i]));
+    let (lo, hi) = (u.hidden.lo, u.hidden.hi);
+    viridis((dot(sub(p, centre), u.n2) - lo) / (hi - lo))
+}
+
+/// An undecided pixel with no hit: the marker colour, or its stripes over the background
+/// (as the shader's `undecided_color`).
+pub(super) fn undecided_color(u: &Uniforms, px: u32, py: u32) -> [f32; 3] {
+    let stripe = ((px + py) / 3).is_multiple_of(2);
+    if u.control.flags & FLAG_HATCH != 0 && !stripe {
+        [u.background[0], u.background[1], u.background[2]]
+    } else {
+        UNDECIDED_COLOR
+    }
+}
+
+/// The part of a ray's span within the slab, as the shader's `clip_to_slab`.
+pub(super) fn clip_to_slab(u: &Uniforms, (t0, t1): (f32, f32), b: f32) -> (f32, f32) {
+    let lo = u.root.section_offset - u.root.section_half;
+    let hi = u.root.section_offset + u.root.section_half;
+    if b.abs() < 1e-30 {
+        return if lo <= 0.0 && 0.0 <= hi {
+            (t0, t1)
+        } else {
+            (1.0, 0.0)
+        };
+    }
+    let (ta, tb) = (lo / b, hi / b);
+    (t0.max(ta.min(tb)), t1.min(ta.max(tb)))
+}
+
+/// The pixel's offset of its stratified rays in a frame, as the shader's `fs_main`: the
+/// frame's turn (the radical inverse of the frame) added to the pixel's own offset, so that
+/// successive frames' pencils interleave.
+pub(super) fn stratified_offset(seed: u32, frame: u32, px: u32, py: u32) -> f32 {
+    let base = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(seed)))));
+    let turn = frame.reverse_bits() as f32 * 2f32.powi(-32);
+    let x = rand01(base ^ 0x9e37_79b9) + turn;
+    x - x.floor()
+}
+
+pub(super) fn dot(a: V4, b: V4) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+}
+
+pub(super) fn add(a: V4, b: V4) -> V4 {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+
+pub(super) fn sub(a: V4, b: V4) -> V4 {
+    std::array::from_fn(|i| a[i] - b[i])
+}
+
+pub(super) fn scale(a: V4, s: f32) -> V4 {
+    a.map(|v| v * s)
+}
+
+pub(super) fn pcg(v: u32) -> u32 {
+    let state = v.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+    (word >> 22) ^ word
+}
+
+pub(super) fn rand01(v: u32) -> f32 {
+    (pcg(v) >> 8) as f32 / 16_777_216.0
+}

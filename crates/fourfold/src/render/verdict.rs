@@ -1,0 +1,113 @@
+//! Certified pixels' verdicts (docs/method.md §5.9): how a frame's alpha carries them, how
+//! they are counted, and what to say about the undecided ones.
+
+/// What a certified pixel proved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Verdict {
+    /// F ≠ 0 on the pixel's observer plane within the domain: the background is right.
+    Empty = 0,
+    /// F changes sign on the plane, so M meets it.
+    Hit = 1,
+    /// The budget of cells ran out first.
+    Undecided = 2,
+}
+
+impl Verdict {
+    /// The pixel's alpha in a certified frame: 255 − 2·verdict (and 1 less where the GPU
+    /// driver cut the pixel's work short).
+    pub fn alpha(self) -> u8 {
+        255 - 2 * self as u8
+    }
+}
+
+/// How many pixels got each verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct VerdictCounts {
+    pub hit: usize,
+    pub empty: usize,
+    pub undecided: usize,
+}
+
+impl VerdictCounts {
+    pub fn of(verdicts: &[Verdict]) -> Self {
+        let mut c = Self::default();
+        for v in verdicts {
+            match v {
+                Verdict::Hit => c.hit += 1,
+                Verdict::Empty => c.empty += 1,
+                Verdict::Undecided => c.undecided += 1,
+            }
+        }
+        c
+    }
+
+    /// Undecided pixels as a share of those that may show M (hit or undecided), in percent.
+    pub fn undecided_share(&self) -> f64 {
+        let covered = self.hit + self.undecided;
+        if covered == 0 {
+            0.0
+        } else {
+            100.0 * self.undecided as f64 / covered as f64
+        }
+    }
+}
+
+impl std::ops::AddAssign for VerdictCounts {
+    fn add_assign(&mut self, other: Self) {
+        self.hit += other.hit;
+        self.empty += other.empty;
+        self.undecided += other.undecided;
+    }
+}
+
+impl std::fmt::Display for VerdictCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} hit, {} empty, {} undecided ({:.2}% of the pixels that may show M)",
+            self.hit,
+            self.empty,
+            self.undecided,
+            self.undecided_share()
+        )
+    }
+}
+
+/// What a user can do about undecided pixels, naming the budget's control (`knob`). Where
+/// F may be discontinuous in the domain (`continuous` false: interval evaluation over the
+/// domain could not rule out a pole, a jump or an edge of F's definition), a cell holding a
+/// pole encloses every value however small it is, so a pixel whose plane crosses one may
+/// stay undecided whatever the budget.
+pub fn undecided_advice(continuous: bool, knob: &str) -> String {
+    if continuous {
+        format!("a larger {knob} decides more")
+    } else {
+        format!(
+            "F may have a pole in the domain (a division, a negative power...), and a pixel \
+             whose plane crosses one stays undecided whatever the budget unless a root is \
+             proved elsewhere on the plane; a larger {knob} decides the others"
+        )
+    }
+}
+
+/// The marks a frame leaves in its alpha channel, made opaque: the pixels whose work the
+/// GPU driver cut short (odd 255 − alpha), and each pixel's verdict ((255 − alpha) / 2; a
+/// cut pixel that claims empty is undecided: its search may have stopped early).
+pub fn take_marks(rgba: &mut [u8]) -> (Vec<usize>, Vec<Verdict>) {
+    let mut cut = Vec::new();
+    let mut verdicts = Vec::with_capacity(rgba.len() / 4);
+    for (i, p) in rgba.chunks_mut(4).enumerate() {
+        let code = 255 - p[3];
+        let was_cut = code & 1 == 1;
+        if was_cut {
+            cut.push(i);
+        }
+        verdicts.push(match code >> 1 {
+            0 if !was_cut => Verdict::Empty,
+            1 => Verdict::Hit,
+            _ => Verdict::Undecided,
+        });
+        p[3] = 255;
+    }
+    (cut, verdicts)
+}

@@ -1,0 +1,41 @@
+//! Every range a user can set, in one place: the scene file's check, the command line's
+//! flags, the share links and the viewer's sliders all read these.
+
+use std::ops::RangeInclusive;
+
+/// Levels of the 16-tree (each level multiplies the boxes by up to 16).
+pub const TREE_LEVELS: RangeInclusive<u32> = 0..=crate::tree::MAX_LEVEL;
+/// Nodes the tree may keep: at least the root's children, at most what a machine's memory
+/// holds comfortably (a node costs tens of bytes, in the tree and the hierarchy).
+pub const NODE_BUDGET: RangeInclusive<u32> = 16..=100_000_000;
+/// Rays per pixel.
+pub const RAYS: RangeInclusive<u32> = 1..=1024;
+/// Nearest hits kept and blended per pixel.
+pub const HITS: RangeInclusive<u32> = 1..=16;
+/// March steps per span, and bisection iterations per root.
+pub const STEPS: RangeInclusive<u32> = 1..=256;
+/// Certified pixels' cells per pixel: within llvmpipe's 65 535 loop iterations per pixel,
+/// with the rays'.
+pub const CERT_BUDGET: RangeInclusive<u32> = 1..=8192;
+/// Certified pixels' default budget of cells per pixel.
+pub const DEFAULT_CERT_BUDGET: u32 = 2048;
+/// Magnification: 1 shows the whole domain.
+pub const ZOOM: RangeInclusive<f64> = 0.01..=100.0;
+/// The sides of a picture, in pixels (within the device's own limit too).
+pub const PICTURE_SIDE: RangeInclusive<u32> = 1..=8192;
+/// The largest picture side.
+pub const MAX_PICTURE_SIDE: u32 = *PICTURE_SIDE.end();
+/// Frames of an animation.
+pub const FRAMES: RangeInclusive<u32> = 1..=10_000;
+/// The most frames per second of an animation's file (any rate above 0 up to it).
+pub const MAX_FPS: f64 = 100.0;
+/// Full turns of an animation's turn, either way.
+pub const TURNS: RangeInclusive<f64> = -100.0..=100.0;
+/// A domain bound's magnitude: beyond it f32 positions on the GPU lose the picture.
+pub const DOMAIN_BOUND: f64 = 1e6;
+
+/// Whether `fps` is a frame rate an animation's file can have: above 0, at most
+/// [`MAX_FPS`].
+pub fn fps_allowed(fps: f64) -> bool {
+    fps > 0.0 && fps <= MAX_FPS
+}

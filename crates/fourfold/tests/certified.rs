@@ -1,0 +1,251 @@
+//! Certified pixels (docs/method.md §5.9): every pixel's verdict holds against an
+//! independent, dense look at its observer plane. (The GPU's interval arithmetic is checked
+//! with the other evaluators, in tests/conformance.rs.)
+
+mod common;
+
+use common::example_scenes_named;
+use fourfold::CompiledFormula;
+use fourfold::eval::PointEvaluator;
+use fourfold::headless::render_prepared;
+use fourfold::render::Device;
+use fourfold::render::verdict::Verdict;
+use fourfold::render::view::FLAG_SLAB;
+use fourfold::render::{Gpu, Prepared, Uniforms};
+use fourfold::scene::{DEFAULT_CERT_BUDGET, Scene};
+
+fn gpu() -> Gpu {
+    Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
+}
+
+/// Each pixel's observer plane sampled on a grid of `side`² points over the disk that
+/// holds the domain (within the slab, for one), in f64: whether F takes both signs at
+/// points inside the domain.
+fn dense_sign_change(
+    u: &Uniforms,
+    formula: &CompiledFormula,
+    params: &[f64],
+    (px, py): (u32, u32),
+    side: usize,
+) -> bool {
+    let f32v = |v: [f32; 4]| v.map(f64::from);
+    let (v1, v2, n1, n2, c) = (
+        f32v(u.v1),
+        f32v(u.v2),
+        f32v(u.n1),
+        f32v(u.n2),
+        f32v(u.center),
+    );
+    let (lo, hi) = (f32v(u.domain_lo), f32v(u.domain_hi));
+    let s = f64::from(u.misc.pixel_size);
+    let (w, h) = (f64::from(u.size.width), f64::from(u.size.height));
+    let (a, b) = (
+        s * (f64::from(px) + 0.5 - 0.5 * w),
+        s * (0.5 * h - f64::from(py) - 0.5),
+    );
+    let reach = 0.5 * (0..4).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt();
+    // A slab: only where the coordinate along n2 is within its range.
+    let (mid, half) = (
+        f64::from(u.root.section_offset),
+        f64::from(u.root.section_half),
+    );
+    let slab = (u.control.flags & FLAG_SLAB != 0).then_some((mid - half, mid + half));
+    let mut eval = PointEvaluator::new();
+    let (mut pos, mut neg) = (false, false);
+    for i in 0..side {
+        for j in 0..side {
+            let sv = reach * (2.0 * (i as f64 + 0.5) / side as f64 - 1.0);
+            let tv = reach * (2.0 * (j as f64 + 0.5) / side as f64 - 1.0);
+            if slab.is_some_and(|(lo, hi)| tv < lo || tv > hi) {
+                continue;
+            }
+            let p: [f64; 4] =
+                std::array::from_fn(|k| c[k] + a * v1[k] + b * v2[k] + sv * n1[k] + tv * n2[k]);
+            if (0..4).any(|k| p[k] < lo[k] || p[k] > hi[k]) {
+                continue;
+            }
+            let f = eval.eval(&formula.tape_f, p, params);
+            pos |= f > 1e-9;
+            neg |= f < -1e-9;
+        }
+    }
+    pos && neg
+}
+
+/// A certified picture of `scene` (with its compiled formula and preparation) at `side`².
+fn certified_picture(
+    scene: &Scene,
+    formula: &CompiledFormula,
+    prepared: &Prepared,
+    side: u32,
+    device: Device<'_>,
+) -> fourfold::render::Picture {
+    render_prepared(
+        scene,
+        formula,
+        prepared,
+        side,
+        side,
+        device,
+        Default::default(),
+    )
+    .unwrap()
+}
+
+/// Certified pictures' verdicts for `scene` at `side`², on the GPU and the CPU twin.
+fn certified_pictures(
+    gpu: &Gpu,
+    scene: &Scene,
+    side: u32,
+    budget: u32,
+) -> (Uniforms, [Vec<Verdict>; 2]) {
+    let mut scene = scene.clone();
+    scene.render.certified = true;
+    scene.render.cert_budget = budget;
+    scene.render.rays = 4;
+    let formula = CompiledFormula::compile(&scene.formula).unwrap();
+    let prepared = Prepared::new(&formula, &scene).unwrap();
+    let (_, uniforms) = prepared.frame(&scene, side, side, Default::default());
+    let verdicts = [Device::Gpu(gpu), Device::Cpu].map(|device| {
+        certified_picture(&scene, &formula, &prepared, side, device)
+            .verdicts
+            .expect("a certified picture has verdicts")
+    });
+    (uniforms, verdicts)
+}
+
+/// Against an independent look: wherever a dense grid of points on a pixel's observer plane
+/// finds F taking both signs in the domain, neither the GPU nor the CPU twin says EMPTY;
+/// and every HIT pixel's plane does hold a sign change (found by a finer grid).
+#[test]
+fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
+    let gpu = gpu();
+    let mut scenes = example_scenes_named(&["glome", "fig-3-9-left", "tiger", "hyperplane"]);
+    let mut slab = scenes[1].1.clone();
+    slab.view.slab = Some([1.0, 0.8]);
+    scenes.push(("fig-3-9-left, slab", slab));
+    let side = 40;
+    // (A small budget too: its searches stop between boxes and within them.)
+    let runs = scenes
+        .iter()
+        .flat_map(|s| [(s, DEFAULT_CERT_BUDGET), (s, 8)]);
+    for ((name, scene), budget) in runs {
+        let (u, verdicts) = certified_pictures(&gpu, scene, side, budget);
+        let formula = CompiledFormula::compile(&scene.formula).unwrap();
+        let params = scene.param_values(&formula.param_names());
+        for (k, device) in ["GPU", "CPU"].iter().enumerate() {
+            let v = &verdicts[k];
+            let mut hits = 0;
+            for py in 0..side {
+                for px in 0..side {
+                    let verdict = v[(py * side + px) as usize];
+                    if verdict == Verdict::Undecided {
+                        continue;
+                    }
+                    let dense = dense_sign_change(&u, &formula, &params, (px, py), 48);
+                    assert!(
+                        !(dense && verdict == Verdict::Empty),
+                        "{name}, {device}, budget {budget}: pixel ({px}, {py}) is EMPTY but F changes sign on its plane"
+                    );
+                    if verdict == Verdict::Hit {
+                        hits += 1;
+                        assert!(
+                            dense || dense_sign_change(&u, &formula, &params, (px, py), 400),
+                            "{name}, {device}: pixel ({px}, {py}) is HIT but no sign change is found on its plane"
+                        );
+                    }
+                }
+            }
+            assert!(
+                hits > 20,
+                "{name}, {device}: only {hits} hit pixels: the scene shows nothing"
+            );
+        }
+    }
+}
+
+/// Where the plain picture found a hit, the certified one shows the same colour and calls the
+/// pixel HIT (or at worst undecided), never EMPTY.
+#[test]
+fn certified_and_plain_pictures_agree_where_the_plain_one_hits() {
+    let gpu = gpu();
+    for (name, scene) in example_scenes_named(&["fig-3-9-left", "tiger"]) {
+        let mut scene = scene.clone();
+        scene.render.rays = 4;
+        let formula = CompiledFormula::compile(&scene.formula).unwrap();
+        let prepared = Prepared::new(&formula, &scene).unwrap();
+        let side = 64;
+        let picture = |certified: bool| {
+            let mut s = scene.clone();
+            s.render.certified = certified;
+            render_prepared(
+                &s,
+                &formula,
+                &prepared,
+                side,
+                side,
+                Device::Gpu(&gpu),
+                Default::default(),
+            )
+            .unwrap()
+        };
+        let (plain, certified) = (picture(false), picture(true));
+        let verdicts = certified.verdicts.as_ref().unwrap();
+        let background = scene.render.background.0;
+        let mut compared = 0;
+        for i in 0..(side * side) as usize {
+            let p = &plain.rgba[4 * i..4 * i + 3];
+            if p == background {
+                continue;
+            }
+            compared += 1;
+            assert_eq!(
+                p,
+                &certified.rgba[4 * i..4 * i + 3],
+                "{name}: pixel {i} differs"
+            );
+            assert_ne!(
+                verdicts[i],
+                Verdict::Empty,
+                "{name}: pixel {i} has a hit but is EMPTY"
+            );
+        }
+        assert!(compared > 100, "{name}: only {compared} pixels with hits");
+    }
+}
+
+/// Undecided pixels are never drawn as background: with a budget too small to decide, each
+/// shows a hit's colour or the marker's, on the GPU and the CPU twin alike.
+#[test]
+fn undecided_pixels_are_never_background() {
+    let gpu = gpu();
+    let (_, mut scene) = example_scenes_named(&["fig-3-9-left"]).remove(0);
+    scene.render.certified = true;
+    scene.render.cert_budget = 2;
+    scene.render.rays = 1;
+    let formula = CompiledFormula::compile(&scene.formula).unwrap();
+    let prepared = Prepared::new(&formula, &scene).unwrap();
+    let side = 48;
+    let background = scene.render.background.0;
+    for device in [Device::Gpu(&gpu), Device::Cpu] {
+        let picture = certified_picture(&scene, &formula, &prepared, side, device);
+        let verdicts = picture.verdicts.as_ref().unwrap();
+        let mut marked = 0;
+        for (i, v) in verdicts.iter().enumerate() {
+            let rgb = &picture.rgba[4 * i..4 * i + 3];
+            if *v == Verdict::Undecided {
+                assert_ne!(
+                    rgb, background,
+                    "{}: undecided pixel {i} drawn as background",
+                    picture.adapter
+                );
+                marked += usize::from(rgb == [255, 0, 255]);
+            }
+        }
+        assert!(
+            marked > 0,
+            "{}: no undecided pixel shows the marker",
+            picture.adapter
+        );
+    }
+}

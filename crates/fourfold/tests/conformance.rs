@@ -1,0 +1,327 @@
+//! The evaluators' one conformance suite: every implementation of `Evaluator` over boxes (the
+//! interval evaluator, the batch evaluator, the GPU's enclosures) holds the point evaluator's
+//! values at the corners, the centre and random points of every box, on random formulas over
+//! the whole language and boxes of every scale; the batch evaluator gives bit for bit the
+//! one-box evaluator's enclosures and continuity; and every evaluator keeps the contract's
+//! preconditions.
+
+mod common;
+
+use common::{Rng, example_scenes};
+use fourfold::CompiledFormula;
+use fourfold::eval::{
+    BatchEvaluator, Box4, Evaluator, Interval, IntervalEvaluator, LANES, PointEvaluator, Tape,
+};
+use fourfold::headless::probe::GpuEnclosures;
+use fourfold::render::Gpu;
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::{Config, TestRng, TestRunner};
+
+/// Random formulas over x, y, z, w, two parameters and every operation of the language.
+fn formula_text() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        Just("x".to_string()),
+        Just("y".to_string()),
+        Just("z".to_string()),
+        Just("w".to_string()),
+        Just("a".to_string()),
+        (-30i32..30).prop_map(|n| format!("{}", n as f64 / 4.0)),
+    ];
+    leaf.prop_recursive(5, 40, 2, |inner| {
+        let unary = [
+            "-", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "exp", "ln",
+            "sqrt", "cbrt", "abs", "sign", "step",
+        ];
+        let binary = ["+", "-", "*", "/", "^", "min", "max", "pow", "atan2"];
+        prop_oneof![
+            (prop::sample::select(unary.to_vec()), inner.clone()).prop_map(|(f, a)| {
+                if f == "-" {
+                    format!("-({a})")
+                } else {
+                    format!("{f}({a})")
+                }
+            }),
+            (
+                prop::sample::select(binary.to_vec()),
+                inner.clone(),
+                inner.clone()
+            )
+                .prop_map(|(op, a, b)| match op {
+                    "min" | "max" | "pow" | "atan2" => format!("{op}({a}, {b})"),
+                    _ => format!("({a}) {op} ({b})"),
+                }),
+            (inner.clone(), -4i32..6).prop_map(|(a, n)| format!("({a})^{n}")),
+        ]
+    })
+}
+
+/// A box of moderate size anywhere near the origin.
+fn a_box() -> impl Strategy<Value = Box4> {
+    let axis = (-4.0f64..4.0, 0.0f64..3.0).prop_map(|(lo, w)| Interval::new(lo, lo + w));
+    [axis.clone(), axis.clone(), axis.clone(), axis]
+}
+
+/// An interval of any scale: huge, tiny, negative, straddling zero, a point, unbounded.
+fn any_scale_interval() -> impl Strategy<Value = Interval> {
+    let scale = prop::sample::select(vec![1e-300, 1e-8, 1.0, 4.0, 1e3, 1e6, 1e15, 1e300]);
+    let width = prop::sample::select(vec![0.0, 1e-12, 1e-3, 0.5, 1.0, 3.0]);
+    prop_oneof![
+        8 => (scale, -1.0f64..1.0, width).prop_map(|(s, u, w)| Interval::new(s * u, s * u + s * w)),
+        1 => Just(Interval::new(f64::NEG_INFINITY, 1.0)),
+        1 => Just(Interval::new(0.0, f64::INFINITY)),
+    ]
+}
+
+fn any_scale_box() -> impl Strategy<Value = Box4> {
+    [
+        any_scale_interval(),
+        any_scale_interval(),
+        any_scale_interval(),
+        any_scale_interval(),
+    ]
+}
+
+/// A box among the kinds that break interval code on a GPU: huge, tiny, negative,
+/// straddling 0, points, beside 0 (in f32, which the GPU takes exactly).
+fn gpu_box() -> impl Strategy<Value = Box4> {
+    let axis = prop_oneof![
+        (-4.0f32..4.0, 0.0f32..2.0).prop_map(|(c, w)| (c, c + w)),
+        (-1e6f32..1e6, 0.0f32..1e6).prop_map(|(c, w)| (c, c + w)),
+        (-1.0f32..1.0, 0.0f32..1e-6).prop_map(|(c, w)| (c, c + w)),
+        (-1e-30f32..1e-30, 0.0f32..1e-30).prop_map(|(c, w)| (c, c + w)),
+        (-50.0f32..-1e-3, 0.0f32..1e-3).prop_map(|(c, w)| (c, c + w)),
+        (0.0f32..3.0).prop_map(|h| (-h, h)),
+        (-3.0f32..3.0).prop_map(|c| (c, c)),
+        Just((0.0f32, 0.0f32)),
+        (0.0f32..2.0).prop_map(|h| (0.0, h)),
+    ]
+    .prop_map(|(lo, hi)| Interval::new(f64::from(lo), f64::from(hi)));
+    [axis.clone(), axis.clone(), axis.clone(), axis]
+}
+
+/// The corners, the centre and random points of a (bounded) box; `samples` are points of
+/// the unit box mapped into it.
+fn points_of(bx: &Box4, samples: &[[f64; 4]]) -> Vec<[f64; 4]> {
+    let at = |t: [f64; 4]| -> [f64; 4] {
+        std::array::from_fn(|i| (bx[i].lo() + t[i] * bx[i].width()).min(bx[i].hi()))
+    };
+    let corners = (0..16).map(|c| std::array::from_fn(|i| ((c >> i) & 1) as f64));
+    corners
+        .chain([[0.5; 4]])
+        .chain(samples.iter().copied())
+        .map(at)
+        .collect()
+}
+
+/// Checks that `evaluator`'s enclosures of `tape`'s outputs over `boxes` hold the point
+/// evaluator's values at the points of each box: every output where it is finite (an
+/// undefined value or a pole has no real value to enclose).
+fn encloses_point_values<E: Evaluator<Input = Box4, Output = Interval>>(
+    evaluator: &mut E,
+    what: &str,
+    tape: &Tape,
+    boxes: &[Box4],
+    params: &[f64],
+    samples: &[[f64; 4]],
+) -> Result<(), String> {
+    let n = tape.outputs().len();
+    let mut point = PointEvaluator::new();
+    for chunk in boxes.chunks(evaluator.batch_size()) {
+        let mut enclosures = vec![Interval::EMPTY; chunk.len() * n];
+        evaluator.evaluate(tape, chunk, params, &mut enclosures)?;
+        for (bx, enclosure) in chunk.iter().zip(enclosures.chunks(n)) {
+            for p in points_of(bx, samples) {
+                let mut values = vec![0.0; n];
+                point.eval_into(tape, p, params, &mut values);
+                for (k, v) in values.iter().enumerate() {
+                    if v.is_finite() && !enclosure[k].contains(*v) {
+                        return Err(format!(
+                            "{what}: output {k}: {v} at {p:?} not in {} over {bx:?}",
+                            enclosure[k]
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that `evaluator` gives bit for bit the one-box interval evaluator's enclosures and
+/// continuity verdicts.
+fn equals_one_box<E: Evaluator<Input = Box4, Output = Interval>>(
+    evaluator: &mut E,
+    what: &str,
+    tape: &Tape,
+    boxes: &[Box4],
+    params: &[f64],
+) -> Result<(), String> {
+    let n = tape.outputs().len();
+    let mut one = IntervalEvaluator::new();
+    let mut got = vec![Interval::EMPTY; boxes.len() * n];
+    evaluator.evaluate(tape, boxes, params, &mut got)?;
+    for (lane, bx) in boxes.iter().enumerate() {
+        let mut expected = vec![Interval::EMPTY; n];
+        one.evaluate(tape, std::slice::from_ref(bx), params, &mut expected)?;
+        for (k, e) in expected.iter().enumerate() {
+            let g = got[lane * n + k];
+            if g.lo().to_bits() != e.lo().to_bits() || g.hi().to_bits() != e.hi().to_bits() {
+                return Err(format!("{what}: output {k} over {bx:?}: {g}, one box {e}"));
+            }
+        }
+        if evaluator.continuous(tape, lane) != one.continuous(tape, 0) {
+            return Err(format!("{what}: continuity over {bx:?} differs"));
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 600, ..ProptestConfig::default() })]
+
+    /// The interval and batch evaluators hold every point value of F and ∇F over every box.
+    #[test]
+    fn interval_evaluators_hold_the_point_values(
+        text in formula_text(),
+        bx in a_box(),
+        samples in prop::collection::vec([0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0], 8),
+        a in -2.0f64..2.0,
+    ) {
+        let formula = CompiledFormula::compile(&text).unwrap();
+        let params = vec![a; formula.params.len()];
+        let boxes = [bx];
+        let tape = &formula.tape_all;
+        let one = encloses_point_values(&mut IntervalEvaluator::new(), &text, tape, &boxes, &params, &samples);
+        prop_assert!(one.is_ok(), "{}", one.unwrap_err());
+        let batch = encloses_point_values(&mut BatchEvaluator::new(), &text, tape, &boxes, &params, &samples);
+        prop_assert!(batch.is_ok(), "{}", batch.unwrap_err());
+    }
+
+    /// The batch evaluator (16 boxes a pass, branch-free lane loops) gives bit for bit the
+    /// one-box evaluator's enclosures, and the same continuity verdicts, over every scale.
+    #[test]
+    fn batches_equal_one_box_at_a_time(
+        text in formula_text(),
+        boxes in prop::collection::vec(any_scale_box(), 1..=LANES),
+        a in -2.0f64..2.0,
+    ) {
+        let formula = CompiledFormula::compile(&text).unwrap();
+        let params = vec![a; formula.params.len()];
+        let checked = equals_one_box(&mut BatchEvaluator::new(), &text, &formula.tape_all, &boxes, &params);
+        prop_assert!(checked.is_ok(), "{}", checked.unwrap_err());
+    }
+}
+
+/// One formula per operation of the language (and both kinds of power).
+const OPERATIONS: &[&str] = &[
+    "x + y - z - w",
+    "x * y * z - w",
+    "x / y - z",
+    "(x - y)^2 - z^3 + w^4 - x^5",
+    "x^-2 - y^-3",
+    "sqrt(x) - y",
+    "sqrt(x^2 + y^2) - z",
+    "cbrt(x) - y",
+    "abs(x) - y",
+    "exp(x) - y",
+    "ln(x) - y",
+    "sin(x) - y",
+    "cos(3x) + w",
+    "sin(x * y) * cos(z - w)",
+    "tan(x) - y",
+    "asin(x) - y",
+    "acos(x) - y",
+    "atan(x) - y",
+    "sinh(x) - y",
+    "cosh(x) - y",
+    "tanh(x) - y",
+    "sign(x) + y",
+    "step(x) - y",
+    "min(x, y) - max(z, w)",
+    "pow(x, y) - z",
+    "x^0.5 - y",
+    "atan2(y, x) - z",
+    "a x - b y + 1e-30 z + 1e30 w",
+];
+
+/// For every operation and every example formula, over boxes of every kind, the GPU's
+/// enclosures of F (`ff_f_box`) and of F and ∇F (`ff_f_grad_box`) hold their values at the
+/// corners, the centre and random points.
+#[test]
+fn gpu_enclosures_hold_the_point_values() {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let mut runner = TestRunner::new_with_rng(
+        Config::default(),
+        TestRng::deterministic_rng(proptest::test_runner::RngAlgorithm::ChaCha),
+    );
+    let strategy = proptest::collection::vec(gpu_box(), 400);
+    let examples = example_scenes();
+    let formulas = OPERATIONS
+        .iter()
+        .map(|t| (t.to_string(), vec![1.5, -0.25]))
+        .chain(examples.iter().map(|(_, s)| {
+            let f = CompiledFormula::compile(&s.formula).unwrap();
+            (s.formula.clone(), s.param_values(&f.param_names()))
+        }));
+    let mut rng = Rng(0x5eed);
+    let samples: Vec<[f64; 4]> = (0..8)
+        .map(|_| std::array::from_fn(|_| rng.unit()))
+        .collect();
+    for (text, params) in formulas {
+        let formula = CompiledFormula::compile(&text).unwrap();
+        let params = &params[..formula.params.len().min(params.len())];
+        let boxes = strategy.new_tree(&mut runner).unwrap().current();
+        let mut gpu_enclosures = GpuEnclosures::new(&gpu, &formula);
+        for tape in [&formula.tape_f, &formula.tape_all] {
+            encloses_point_values(&mut gpu_enclosures, &text, tape, &boxes, params, &samples)
+                .unwrap();
+        }
+    }
+}
+
+/// Every evaluator refuses a call outside the contract with a reason, never a panic: no
+/// input, more than its batch, an output buffer too short; the GPU a tape not its formula's.
+#[test]
+fn every_evaluator_keeps_the_contract_s_preconditions() {
+    let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
+    let tape = &formula.tape_all;
+    let unit: Box4 = [Interval::new(0.0, 1.0); 4];
+    fn refuses<E: Evaluator>(e: &mut E, tape: &Tape, inputs: &[E::Input], out: &mut [E::Output]) {
+        let result = e.evaluate(tape, inputs, &[], out);
+        assert!(result.is_err(), "a call outside the contract was taken");
+    }
+    let mut out = vec![Interval::EMPTY; 5 * (LANES + 1)];
+    refuses(&mut IntervalEvaluator::new(), tape, &[], &mut out);
+    refuses(&mut IntervalEvaluator::new(), tape, &[unit, unit], &mut out);
+    refuses(&mut IntervalEvaluator::new(), tape, &[unit], &mut out[..4]);
+    refuses(&mut BatchEvaluator::new(), tape, &[], &mut out);
+    refuses(
+        &mut BatchEvaluator::new(),
+        tape,
+        &[unit; LANES + 1],
+        &mut out,
+    );
+    refuses(&mut PointEvaluator::new(), tape, &[], &mut [0.0; 5]);
+    refuses(
+        &mut PointEvaluator::new(),
+        tape,
+        &[[0.0; 4]; 2],
+        &mut [0.0; 9],
+    );
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let other = CompiledFormula::compile("x - y").unwrap();
+    refuses(
+        &mut GpuEnclosures::new(&gpu, &formula),
+        &other.tape_f,
+        &[unit],
+        &mut out,
+    );
+    // And within it, each fills what it is asked for.
+    let mut values = [0.0; 10];
+    PointEvaluator::new()
+        .evaluate(tape, &[[1.0, 0.0, 0.0, 0.0], [0.0; 4]], &[], &mut values)
+        .unwrap();
+    assert_eq!(values[0], 0.0);
+    assert_eq!(values[5], -1.0);
+}

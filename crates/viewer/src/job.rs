@@ -1,0 +1,112 @@
+//! The background half of an edit: the tree and hierarchy for a program (the library's
+//! `Prepared`), the boxes certified pixels search, and where the shader is new the viewer's
+//! ray caster, warmed up where the platform can wait for it. It runs on a thread natively and
+//! in slices of the window's frames in a web page (the platform's `BuildWork`).
+
+use std::sync::Arc;
+
+use web_time::Instant;
+
+use fourfold::render::{Gpu, Prepared, Program, RayCaster, Target};
+use fourfold::scene::Scene;
+use fourfold::tree::{BuildError, Hierarchy, TreeStats};
+
+/// The colour target of the viewer's ray caster. RGBA8, not half floats: egui samples these
+/// textures every UI frame, and on a software GPU sampling RGBA16F cost several times more
+/// (docs/benchmarks.md). The running mean of the accumulated passes is then rounded to 1/255
+/// at each pass, which stays within a few levels of the exact mean.
+pub const VIEW_TARGET: Target = Target {
+    format: wgpu::TextureFormat::Rgba8Unorm,
+    accumulate: true,
+};
+
+/// How a platform readies a new ray caster for its first draw: given the GPU, the caster,
+/// its hierarchy and whether it draws brute force.
+pub type WarmUp = fn(&Gpu, &mut RayCaster, &Hierarchy, bool) -> Result<(), String>;
+
+/// What a build needs besides the tree, and makes of it.
+pub struct JobInputs {
+    pub generation: u64,
+    pub program: Program,
+    pub scene: Scene,
+    pub gpu: Option<Gpu>,
+    /// Make the boxes certified pixels search (where the viewer draws them).
+    pub certifying: bool,
+    /// Make the ray caster too (the shader is new, or brute force changes).
+    pub make_pipeline: bool,
+    /// The brute-force setting the pipeline is warmed up for.
+    pub brute_force: bool,
+}
+
+/// A built tree as the viewer keeps it: the ray caster's hierarchy, the one certified
+/// pixels search (where this viewer draws them), and the tree's stats.
+pub type Built = (Arc<Hierarchy>, Option<Arc<Hierarchy>>, TreeStats);
+
+/// What a finished build hands back.
+pub struct JobResult {
+    pub generation: u64,
+    pub program: Program,
+    pub params: Vec<f64>,
+    pub tree: Result<Built, String>,
+    pub caster: Option<Result<RayCaster, String>>,
+    pub tree_ms: f64,
+    pub pipeline_ms: f64,
+    /// The brute-force setting the pipeline was warmed up for.
+    pub brute_force: bool,
+}
+
+impl JobInputs {
+    /// The result of a build: the tree, and the ray caster where one is to be made, warmed
+    /// up by `warm_up` (the platform's: a native build can wait for the GPU, a page not).
+    pub fn finish(&self, prepared: Result<Prepared, BuildError>, warm_up: WarmUp) -> JobResult {
+        let (tree, params, tree_ms) = match prepared {
+            Ok(p) => {
+                // Made with every tree (about a tenth of its build, off the window's frames
+                // natively) so that the switch shows certified pixels at once; not where
+                // none are drawn.
+                let certifying = self
+                    .certifying
+                    .then(|| Arc::new(Hierarchy::for_certifying(&p.tree)));
+                let build_ms = p.build_ms;
+                let Prepared {
+                    params,
+                    tree,
+                    hierarchy,
+                    ..
+                } = p;
+                (
+                    Ok((Arc::new(hierarchy), certifying, tree.stats)),
+                    params,
+                    build_ms,
+                )
+            }
+            Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
+        };
+        let t = Instant::now();
+        let caster = match (&self.gpu, &tree) {
+            (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => Some(
+                RayCaster::with_target(gpu, &self.program.shader, hierarchy, VIEW_TARGET)
+                    .map_err(|e| e.to_string())
+                    .and_then(|mut caster| {
+                        warm_up(gpu, &mut caster, hierarchy, self.brute_force).map(|()| caster)
+                    }),
+            ),
+            _ => None,
+        };
+        let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
+        JobResult {
+            brute_force: self.brute_force,
+            generation: self.generation,
+            program: self.program.clone(),
+            params,
+            tree,
+            caster,
+            tree_ms,
+            pipeline_ms,
+        }
+    }
+}
+
+pub fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

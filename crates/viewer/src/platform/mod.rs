@@ -1,0 +1,21 @@
+//! The viewer's platform edge: what the desktop and the web page do differently. Each side
+//! gives the same names (a test of the core checks that no other file of the viewer names a
+//! target):
+//!
+//! - `CERTIFIED_PIXELS`: whether the viewer draws certified pixels;
+//! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and
+//!   `warm_up`, `pause`;
+//! - `State`: the platform's own part of the app, with `top_bar`, `file_actions`,
+//!   `sections` (panels only one side has), `end_frame` and `busy`;
+//! - `PngExport`: a picture of the scene exported (a file, or a download);
+//! - `page_address`: the web page's address, for share links.
+
+#[cfg(not(target_arch = "wasm32"))]
+mod native;
+#[cfg(not(target_arch = "wasm32"))]
+pub use native::*;
+
+#[cfg(target_arch = "wasm32")]
+mod web;
+#[cfg(target_arch = "wasm32")]
+pub use web::*;

@@ -1,0 +1,293 @@
+//! The desktop's animation export: the "Export animation" section (what moves, how many
+//! frames, where to) and the animation drawn and written on a thread and a device of its
+//! own, with its progress and Cancel.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use eframe::egui;
+
+use fourfold::CompiledFormula;
+use fourfold::headless::{FrameDevice, Output, draw};
+use fourfold::render::Gpu;
+use fourfold::render::animation::{
+    Animation, Sweep, Turn, fps_problem, frames_problem, parse_range,
+};
+use fourfold::scene::Scene;
+use fourfold::scene::limits::{FRAMES, MAX_FPS, TURNS};
+
+use crate::notice::Notice;
+use crate::outcome::{Outcome, Window};
+use crate::session::Session;
+use crate::settings::{AnimationChoice, Motion, TURN_PLANES};
+
+/// The "Export animation" section: what moves, how many frames, where to.
+pub fn section(
+    running: &mut Option<AnimationExport>,
+    ui: &mut egui::Ui,
+    window: Window<'_>,
+) -> Outcome {
+    let params = window.session.param_names();
+    let size = window.settings.export_size;
+    let c = &mut window.settings.animation;
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut c.motion, Motion::Turn, "turn");
+        ui.radio_value(&mut c.motion, Motion::Sweep, "sweep a parameter")
+            .on_hover_text("the tree is rebuilt for every frame");
+        ui.radio_value(&mut c.motion, Motion::Slice, "move a slice")
+            .on_hover_text("the cut by a hyperplane moving along the hidden n2");
+    });
+    if c.motion == Motion::Slice {
+        ui.horizontal(|ui| {
+            ui.label("slice from");
+            ui.add(egui::DragValue::new(&mut c.slice_range.0).speed(0.02));
+            ui.label("to");
+            ui.add(egui::DragValue::new(&mut c.slice_range.1).speed(0.02));
+        });
+    } else if c.motion == Motion::Sweep {
+        if !params.contains(&c.param) {
+            c.param = params.first().cloned().unwrap_or_default();
+        }
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_id_salt("fourfold sweep parameter")
+                .selected_text(if c.param.is_empty() {
+                    "no parameter"
+                } else {
+                    &c.param
+                })
+                .show_ui(ui, |ui| {
+                    for p in &params {
+                        ui.selectable_value(&mut c.param, p.clone(), p);
+                    }
+                });
+            ui.label("from");
+            ui.add(egui::DragValue::new(&mut c.range.0).speed(0.05));
+            ui.label("to");
+            ui.add(egui::DragValue::new(&mut c.range.1).speed(0.05));
+        });
+    } else {
+        ui.horizontal(|ui| {
+            egui::ComboBox::from_id_salt("fourfold turn plane")
+                .selected_text(&c.plane)
+                .show_ui(ui, |ui| {
+                    for p in TURN_PLANES {
+                        ui.selectable_value(&mut c.plane, p.to_string(), p);
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "xy … yw: the manifold turns in that plane of R⁴; θ1..θ6: one of the \
+                     view's angles turns",
+                );
+            ui.add(
+                egui::DragValue::new(&mut c.turns)
+                    .speed(0.05)
+                    .range(TURNS)
+                    .suffix(" turns"),
+            );
+        });
+    }
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut c.frames)
+                .range(FRAMES)
+                .suffix(" frames"),
+        );
+        ui.add(
+            egui::DragValue::new(&mut c.fps)
+                .range(f64::MIN_POSITIVE..=MAX_FPS)
+                .suffix(" fps"),
+        );
+        ui.checkbox(&mut c.fit, "fit")
+            .on_hover_text("frame the manifold in every frame");
+    });
+    ui.horizontal(|ui| {
+        ui.add(egui::TextEdit::singleline(&mut c.path).desired_width(150.0))
+            .on_hover_text("a .gif, an animated .png, or a folder for numbered PNGs; the size is the PNG export's");
+        match running {
+            Some(export) => {
+                let (done, all) = (export.drawn(), export.frames);
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / all.max(1) as f32)
+                        .desired_width(90.0)
+                        .text(format!("{done}/{all}")),
+                );
+                if ui.button("Cancel").clicked() {
+                    export.cancel();
+                }
+            }
+            None => {
+                if ui.button("Export animation").clicked() {
+                    let outcome = export_animation(window.session, c, size);
+                    *running = outcome.1;
+                    return outcome.0;
+                }
+            }
+        }
+        Outcome::default()
+    })
+    .inner
+}
+
+/// The animation "Export animation" is set to make, or why it cannot be made.
+fn chosen_animation(c: &AnimationChoice) -> Result<Animation, String> {
+    let (mut turn, mut sweep, mut slice_sweep) = (None, None, None);
+    match c.motion {
+        Motion::Turn => turn = Some(Turn::parse(&format!("{}:{}", c.plane, c.turns))?),
+        Motion::Sweep => {
+            let text = format!("{}={}..{}", c.param, c.range.0, c.range.1);
+            sweep = Some(Sweep::parse(&text)?);
+        }
+        Motion::Slice => {
+            let (a, b) = c.slice_range;
+            slice_sweep = Some(parse_range(&format!("{a}..{b}"))?);
+        }
+    }
+    if let Some(problem) = frames_problem(c.frames) {
+        return Err(format!("frames {}: {problem}", c.frames));
+    }
+    if let Some(problem) = fps_problem(c.fps) {
+        return Err(format!("fps {}: {problem}", c.fps));
+    }
+    Ok(Animation {
+        turn,
+        sweep,
+        slice_sweep,
+        frames: c.frames,
+        fps: c.fps,
+    })
+}
+
+/// Starts drawing the animation `choice` asks for of the session's scene at `size`, or
+/// says why it cannot.
+fn export_animation(
+    session: &Session,
+    choice: &AnimationChoice,
+    size: [u32; 2],
+) -> (Outcome, Option<AnimationExport>) {
+    let Some(program) = &session.program else {
+        let notice = Notice::error("no picture yet: wait for the tree to be built");
+        return (Outcome::said(notice), None);
+    };
+    match chosen_animation(choice) {
+        Ok(animation) => {
+            let [w, h] = size;
+            let path = choice.path.clone();
+            let message = format!(
+                "drawing {} frames of {w}x{h} into {path}…",
+                animation.frames
+            );
+            let job = Job {
+                scene: session.scene.clone(),
+                formula: program.formula.clone(),
+                animation,
+                size,
+                fit: choice.fit,
+                path,
+            };
+            let export = AnimationExport::start(job);
+            (Outcome::said(Notice::done(message)), Some(export))
+        }
+        Err(e) => (Outcome::said(Notice::error(e)), None),
+    }
+}
+
+/// An animation being drawn and written in the background, with its progress.
+pub struct AnimationExport {
+    result: Receiver<Result<String, String>>,
+    /// Frames drawn so far.
+    drawn: Arc<AtomicU32>,
+    pub frames: u32,
+    stop: Arc<AtomicBool>,
+}
+
+impl AnimationExport {
+    /// Draws `job`'s animation on a new GPU device, off the UI thread.
+    fn start(job: Job) -> Self {
+        let (tx, rx) = channel();
+        let drawn = Arc::new(AtomicU32::new(0));
+        let stop = Arc::new(AtomicBool::new(false));
+        let frames = job.animation.frames;
+        {
+            let (drawn, stop) = (drawn.clone(), stop.clone());
+            std::thread::spawn(move || {
+                let _ = tx.send(job.write(&stop, &drawn));
+            });
+        }
+        Self {
+            result: rx,
+            drawn,
+            frames,
+            stop,
+        }
+    }
+
+    /// Frames drawn so far.
+    pub fn drawn(&self) -> u32 {
+        self.drawn.load(Ordering::Relaxed)
+    }
+
+    /// Stops after the frame being drawn; the file keeps the frames drawn so far.
+    pub fn cancel(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// The export's outcome once it is done.
+    pub fn poll(&self) -> Option<Notice> {
+        match self.result.try_recv() {
+            Ok(result) => Some(Notice::of(result)),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Notice::error(
+                "the animation export stopped before writing its file",
+            )),
+        }
+    }
+}
+
+/// An animation to draw: the scene on screen and its compiled formula, what moves, the
+/// picture's size, whether to frame the manifold in every frame, and the file.
+struct Job {
+    scene: Scene,
+    formula: Arc<CompiledFormula>,
+    animation: Animation,
+    size: [u32; 2],
+    fit: bool,
+    path: String,
+}
+
+impl Job {
+    /// Draws the frames into the file, counting them in `drawn`, until done or `stop`.
+    fn write(&self, stop: &AtomicBool, drawn: &AtomicU32) -> Result<String, String> {
+        let [width, height] = self.size;
+        let animation = &self.animation;
+        let output = Output::from_path(std::path::Path::new(&self.path))?;
+        let mut writer = output.open(width, height, animation.fps, animation.frames)?;
+        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        let done = draw(
+            &self.scene,
+            &self.formula,
+            animation,
+            width,
+            height,
+            self.fit,
+            FrameDevice::Gpu(&gpu),
+            stop,
+            |k, rgba| {
+                writer.add(rgba)?;
+                drawn.store(k + 1, Ordering::Relaxed);
+                Ok(())
+            },
+        );
+        let wrote = writer.finish()?;
+        let done = done?.frames;
+        Ok(if done < animation.frames {
+            format!(
+                "stopped after {done} of {} frames: wrote {wrote}",
+                animation.frames
+            )
+        } else {
+            format!("wrote {wrote}")
+        })
+    }
+}

@@ -1,0 +1,94 @@
+//! Builds on the desktop: on a thread of their own, cancelled by a newer one, the pipeline
+//! warmed up there (a driver that compiles a shader at its first draw does it off the
+//! window's thread).
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use web_time::Duration;
+
+use fourfold::render::{Gpu, Prepared, RayCaster};
+use fourfold::tree::{BuildError, Hierarchy};
+
+use crate::job::{JobInputs, JobResult};
+
+/// The desktop draws certified pixels (the web page cannot yet: see its platform module).
+pub const CERTIFIED_PIXELS: bool = true;
+
+/// Waits a moment between two looks at a build (`Session::wait`).
+pub fn pause() {
+    std::thread::sleep(std::time::Duration::from_millis(2));
+}
+
+/// Draws one pixel with the caster's pipeline, on the build's thread, so that a driver that
+/// compiles a shader at its first draw (llvmpipe) does not do it in a window's frame.
+fn warm_up(
+    gpu: &Gpu,
+    caster: &mut RayCaster,
+    hierarchy: &Hierarchy,
+    brute_force: bool,
+) -> Result<(), String> {
+    caster
+        .warm_up(gpu, hierarchy, brute_force)
+        .map_err(|e| e.to_string())
+}
+
+/// A build on a thread of its own, cancelled by a newer one.
+pub struct BuildWork {
+    cancel: Arc<AtomicBool>,
+    progress: Arc<AtomicU64>,
+    receiver: Receiver<JobResult>,
+}
+
+impl BuildWork {
+    /// Starts building `inputs` on a new thread.
+    pub fn start(inputs: JobInputs) -> Result<Self, String> {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let progress = Arc::new(AtomicU64::new(0));
+        let (sender, receiver) = channel();
+        let (thread_cancel, thread_progress) = (cancel.clone(), progress.clone());
+        std::thread::Builder::new()
+            .name("fourfold build".into())
+            .spawn(move || {
+                let report =
+                    |_level: u32, nodes: u64| thread_progress.store(nodes, Ordering::Relaxed);
+                let prepared = Prepared::build(
+                    &inputs.program.formula,
+                    &inputs.scene,
+                    inputs.scene.tree.into(),
+                    &thread_cancel,
+                    Some(&report),
+                );
+                if !matches!(prepared, Err(BuildError::Cancelled)) {
+                    let _ = sender.send(inputs.finish(prepared, warm_up));
+                }
+            })
+            .map_err(|e| format!("could not start the tree build: {e}"))?;
+        Ok(Self {
+            cancel,
+            progress,
+            receiver,
+        })
+    }
+
+    /// Nodes made so far.
+    pub fn progress(&self) -> u64 {
+        self.progress.load(Ordering::Relaxed)
+    }
+
+    /// The result once the thread is done (`budget` is for builds run in slices); Err if
+    /// it ended without one (cancelled, or died).
+    pub fn poll(&mut self, _budget: Duration) -> Option<Result<JobResult, ()>> {
+        match self.receiver.try_recv() {
+            Ok(result) => Some(Ok(result)),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Err(())),
+        }
+    }
+
+    /// Stops the build: a newer one replaces it.
+    pub fn cancel(self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}

@@ -1,0 +1,76 @@
+//! The desktop's part of the window: the gallery, and the exports running beside it.
+
+use eframe::egui;
+
+use crate::outcome::{Outcome, Window};
+
+use super::{animation, files, gallery};
+
+/// The share link's page, relative: the desktop has no address of its own.
+pub fn page_address() -> String {
+    "index.html".to_string()
+}
+
+/// The desktop's part of the window: the gallery and the exports running beside it.
+#[derive(Default)]
+pub struct State {
+    gallery: gallery::Gallery,
+    /// Whether the gallery's window is open.
+    pub gallery_open: bool,
+    png: Option<files::PngExport>,
+    animation: Option<animation::AnimationExport>,
+}
+
+impl State {
+    /// Whether something runs in the background that the window should keep polling.
+    pub fn busy(&self) -> bool {
+        self.png.is_some() || self.animation.is_some() || self.gallery.busy()
+    }
+}
+
+/// The top bar's Gallery button.
+pub fn top_bar(state: &mut State, ui: &mut egui::Ui) {
+    if ui
+        .selectable_label(state.gallery_open, "Gallery")
+        .on_hover_text("every example scene, as pictures")
+        .clicked()
+    {
+        state.gallery_open = !state.gallery_open;
+    }
+}
+
+/// The sections of the controls that only the desktop has: "Export animation" (drawn on a
+/// thread of its own).
+pub fn sections(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
+    egui::CollapsingHeader::new(egui::RichText::new("Export animation").heading())
+        .id_salt("fourfold animation")
+        .show(ui, |ui| {
+            animation::section(&mut state.animation, ui, window)
+        })
+        .body_returned
+        .unwrap_or_default()
+}
+
+/// Open, save and export, with paths typed in.
+pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
+    files::actions(&mut state.png, ui, window)
+}
+
+/// At the end of each frame: the gallery's window, and the exports' outcomes.
+pub fn end_frame(state: &mut State, ctx: &egui::Context, _window: Window<'_>) -> Outcome {
+    let mut outcome = Outcome::default();
+    if let Some(name) = state.gallery.show(ctx, &mut state.gallery_open) {
+        outcome.preset = Some(name);
+        state.gallery_open = false;
+    }
+    if let Some(notice) = state.png.as_ref().and_then(files::PngExport::poll) {
+        outcome.notice = Some(notice);
+        state.png = None;
+    }
+    let animation = state.animation.as_ref();
+    if let Some(notice) = animation.and_then(animation::AnimationExport::poll) {
+        outcome.notice = Some(notice);
+        state.animation = None;
+    }
+    outcome
+}

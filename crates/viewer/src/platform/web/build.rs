@@ -1,0 +1,60 @@
+//! Builds in the web page: a page has one thread, so a build runs in slices of the window's
+//! frames (the library's `PrepareSteps`), replaced by a newer one.
+
+use web_time::Duration;
+
+use fourfold::render::{Gpu, PrepareSteps, Prepared, RayCaster};
+use fourfold::tree::Hierarchy;
+
+use crate::job::{JobInputs, JobResult};
+
+/// Whether this viewer draws certified pixels: not in the browser yet. Chromium on
+/// SwiftShader compiles the certified shader for longer than its GPU watchdog allows and
+/// loses the page, so a web scene that asks for them is drawn plain, with a notice
+/// ([`certified_left_off`]).
+pub const CERTIFIED_PIXELS: bool = false;
+
+/// A page cannot sleep; `Session::wait` spins (only tests wait, natively).
+pub fn pause() {}
+
+/// A page compiles a pipeline when it makes it and cannot wait for a read-back: no warm-up.
+fn warm_up(
+    _gpu: &Gpu,
+    _caster: &mut RayCaster,
+    _hierarchy: &Hierarchy,
+    _brute_force: bool,
+) -> Result<(), String> {
+    Ok(())
+}
+
+/// A build run in slices of the window's frames (the library's `PrepareSteps`), replaced by
+/// a newer one.
+pub struct BuildWork(Box<(PrepareSteps, JobInputs)>);
+
+impl BuildWork {
+    /// Starts building `inputs` a slice at a time.
+    pub fn start(inputs: JobInputs) -> Result<Self, String> {
+        let settings = inputs.scene.tree.into();
+        let steps = Prepared::steps(&inputs.program.formula, &inputs.scene, settings)
+            .map_err(|e| e.to_string())?;
+        Ok(Self(Box::new((steps, inputs))))
+    }
+
+    /// Nodes made so far.
+    pub fn progress(&self) -> u64 {
+        self.0.0.nodes()
+    }
+
+    /// Works for about `budget`; the result once the build is done.
+    pub fn poll(&mut self, budget: Duration) -> Option<Result<JobResult, ()>> {
+        let (steps, inputs) = &mut *self.0;
+        match steps.step(&inputs.program.formula, budget) {
+            Ok(None) => None,
+            Ok(Some(prepared)) => Some(Ok(inputs.finish(Ok(prepared), warm_up))),
+            Err(e) => Some(Ok(inputs.finish(Err(e), warm_up))),
+        }
+    }
+
+    /// Stops the build: dropping it is enough.
+    pub fn cancel(self) {}
+}

@@ -1,0 +1,10 @@
+//! The web page's side of the viewer: builds in slices of the window's frames (a page has
+//! one thread), the share link kept in the address bar, files as uploads and downloads.
+//! The page's entry (`web/`) starts the viewer in its canvas.
+
+mod build;
+mod files;
+mod ui;
+
+pub use build::{BuildWork, CERTIFIED_PIXELS, pause};
+pub use ui::{State, certified_left_off, end_frame, file_actions, page_address, sections, top_bar};

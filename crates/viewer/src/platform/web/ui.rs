@@ -1,0 +1,118 @@
+//! The page's part of the window: the share link kept in the address bar (and a link pasted
+//! there opened), the PNG on its way back, what the page leaves out.
+
+use eframe::egui;
+use wasm_bindgen::prelude::*;
+use web_time::{Duration, Instant};
+
+use fourfold::scene::{LinkProblem, Scene};
+
+use crate::notice::Notice;
+use crate::outcome::{Outcome, Window};
+
+use super::files;
+
+/// The address bar is rewritten at most this often (browsers throttle faster rewrites).
+const ADDRESS_EVERY: Duration = Duration::from_millis(500);
+
+/// The page's part of the window: the scene file being uploaded, the PNG on its way back,
+/// and the fragment last written into the address bar, and when.
+#[derive(Default)]
+pub struct State {
+    upload: files::Upload,
+    png: Option<files::PngDownload>,
+    address: (String, Option<Instant>),
+}
+
+impl State {
+    /// Whether something runs in the background that the window should keep polling.
+    pub fn busy(&self) -> bool {
+        self.png.is_some()
+    }
+
+    /// The address's fragment the page opened with (so that the first frame does not take
+    /// it for a new link).
+    pub fn opened_with(&mut self, hash: String) {
+        self.address.0 = hash;
+    }
+}
+
+/// The top bar has nothing of the page's own (the gallery draws on a thread: not here yet).
+pub fn top_bar(_state: &mut State, _ui: &mut egui::Ui) {}
+
+/// No sections of the page's own (animations are drawn on a thread: not here yet).
+pub fn sections(_state: &mut State, _ui: &mut egui::Ui, _window: Window<'_>) -> Outcome {
+    Outcome::default()
+}
+
+/// Open as an upload; save and export as downloads.
+pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
+    files::actions(&mut state.upload, &mut state.png, ui, window)
+}
+
+/// At the end of each frame: the PNG's read-back, and the address bar.
+pub fn end_frame(state: &mut State, ctx: &egui::Context, window: Window<'_>) -> Outcome {
+    let mut outcome = Outcome::default();
+    if let Some(download) = &mut state.png {
+        match download.poll() {
+            Some(notice) => {
+                outcome.notice = Some(notice);
+                state.png = None;
+            }
+            None => ctx.request_repaint(),
+        }
+    }
+    outcome.and(sync_address(state, window))
+}
+
+/// Keeps the address bar a share link of the scene on screen, and opens a link typed or
+/// pasted into it (the page does not reload when only its `#…` part changes).
+fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
+    let Some(page) = web_sys::window() else {
+        return Outcome::default();
+    };
+    let hash = page.location().hash().unwrap_or_default();
+    if hash != state.address.0 && fourfold::scene::link::is_link(&hash) {
+        state.address.0 = hash.clone();
+        let (scene, mut problems) = Scene::from_link(&hash, &window.session.scene);
+        problems.extend(certified_left_off(&scene));
+        let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
+        return Outcome {
+            notice: (!said.is_empty()).then(|| Notice::error(said.join("; "))),
+            open: Some((scene, false)),
+            ..Outcome::default()
+        };
+    }
+    if state.address.1.is_some_and(|t| t.elapsed() < ADDRESS_EVERY) {
+        return Outcome::default();
+    }
+    let link = format!("#{}", window.session.link_fragment());
+    if link == state.address.0 {
+        return Outcome::default();
+    }
+    if let Ok(history) = page.history() {
+        let _ = history.replace_state_with_url(&JsValue::NULL, "", Some(&link));
+    }
+    // As the browser spells it, so that it is not taken for a new link next frame.
+    state.address = (page.location().hash().unwrap_or(link), Some(Instant::now()));
+    Outcome::default()
+}
+
+/// The page's address without its `#…` part, for "Copy link".
+pub fn page_address() -> String {
+    web_sys::window()
+        .and_then(|w| w.location().href().ok())
+        .map(|href| href.split('#').next().unwrap_or_default().to_string())
+        .unwrap_or_default()
+}
+
+/// What the page says of a linked scene that asks for certified pixels, which it draws plain
+/// (see `viewer::CERTIFIED_PIXELS`).
+pub fn certified_left_off(scene: &Scene) -> Option<LinkProblem> {
+    scene.render.certified.then(|| LinkProblem {
+        key: "render.certified".into(),
+        message: "certified pixels are drawn by the desktop viewer and `fourfold render \
+                  --certified`, not yet in the browser"
+            .into(),
+    })
+}

@@ -1,0 +1,398 @@
+//! What the viewer knows, apart from how it is drawn: the scene being edited, the last formula
+//! that compiled (and its validated shader), the tree built for it, and the background job
+//! that builds the next one. The egui layer (`app.rs`) only reads this and calls its methods,
+//! so tests can drive it the way the window does.
+//!
+//! An edit flows one way: text → the library's `Program` (parse, gradient, WGSL + naga
+//! validation: milliseconds, on the UI thread) → tree, hierarchy and pipeline (`job.rs`: a
+//! background thread, cancelled when a newer edit arrives; in the web page, slices of the
+//! UI's frames, replaced by a newer edit) → swap. Until the swap the last good picture
+//! stays.
+
+use std::sync::Arc;
+
+use web_time::{Duration, Instant};
+
+use fourfold::render::{Gpu, Program, ProgramError, RayCaster};
+use fourfold::scene::Scene;
+use fourfold::syntax::SourceError;
+use fourfold::tree::{Hierarchy, TreeStats};
+
+use crate::job::{JobInputs, ms};
+use crate::platform::{self, BuildWork};
+
+/// Milliseconds of each stage of the last edit, from the changed text to the swap.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EditTimes {
+    /// Parse and symbolic gradient (one call: `CompiledFormula::compile`).
+    pub compile_ms: f64,
+    /// WGSL generation and naga validation.
+    pub codegen_ms: f64,
+    /// Tree build and hierarchy (background).
+    pub tree_ms: f64,
+    /// Render pipeline creation (background; 0 when only the tree changed).
+    pub pipeline_ms: f64,
+    /// From the changed text to the new tree and pipeline being ready.
+    pub ready_ms: f64,
+}
+
+/// The running count of expensive things, for tests and the status line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Formulas compiled (parse + gradient).
+    pub compiles: u64,
+    /// Render pipelines created (one per new shader).
+    pub pipelines: u64,
+    /// Trees built to completion.
+    pub trees: u64,
+}
+
+/// A background build in flight.
+struct Job {
+    generation: u64,
+    work: BuildWork,
+    started: Instant,
+    compile_ms: f64,
+    codegen_ms: f64,
+}
+
+/// How long a UI frame spends on a build run in slices, at least and at most: as long as the
+/// rest of the frame takes (see `Session::slice_budget`), so the page keeps at least half
+/// its frame rate while the tree grows, and a slow page (a software GPU) still builds fast.
+pub const SLICE_BUDGET: std::ops::RangeInclusive<Duration> =
+    Duration::from_millis(10)..=Duration::from_millis(100);
+
+/// The picture-making state of the viewer.
+pub struct Session {
+    /// The scene as the user has set it; `scene.formula` is the last text that compiled.
+    pub scene: Scene,
+    /// The text in the editor (may not compile).
+    pub text: String,
+    /// The caret message of the text, if it does not compile (or why its picture failed).
+    pub error: Option<String>,
+    /// Where in the text the compile error is, for the editor to point at it.
+    pub error_at: Option<SourceError>,
+    /// The compiled formula and shader of the picture on screen (or being built).
+    pub program: Option<Program>,
+    /// The parameter values the current tree was built with.
+    pub tree_params: Vec<f64>,
+    pub stats: Option<TreeStats>,
+    pub times: EditTimes,
+    pub counters: Counters,
+    /// Bumped whenever the picture must be redrawn from scratch (new tree, pipeline or
+    /// settings); the renderer compares it with the generation it drew.
+    pub picture_generation: u64,
+    pub caster: Option<RayCaster>,
+    pub hierarchy: Option<Arc<Hierarchy>>,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`).
+    pub certifying: Option<Arc<Hierarchy>>,
+    /// The boxes the ray caster marches, in words (worked out once per tree, for the
+    /// status line).
+    pub marched: Option<String>,
+    job: Option<Job>,
+    generation: u64,
+    /// The edit whose timing runs from its text change (`Instant`) to its first frame.
+    pub edit_started: Option<Instant>,
+    /// How long the next UI frame may spend on a build run in slices (the window sets it
+    /// from its frame time, within [`SLICE_BUDGET`]).
+    pub slice_budget: Duration,
+    /// A brute-force setting waiting for its pipeline (warmed up in the background, so that
+    /// the window never waits for a driver compiling it at its first draw).
+    pub pending_brute_force: Option<bool>,
+}
+
+impl Session {
+    pub fn new(mut scene: Scene) -> Self {
+        scene.render.certified &= platform::CERTIFIED_PIXELS;
+        let text = scene.formula.clone();
+        Self {
+            scene,
+            text,
+            error: None,
+            error_at: None,
+            program: None,
+            tree_params: Vec::new(),
+            stats: None,
+            times: EditTimes::default(),
+            counters: Counters::default(),
+            picture_generation: 0,
+            caster: None,
+            hierarchy: None,
+            certifying: None,
+            marched: None,
+            job: None,
+            generation: 0,
+            edit_started: None,
+            slice_budget: *SLICE_BUDGET.start(),
+            pending_brute_force: None,
+        }
+    }
+
+    /// True while a tree or pipeline is being built.
+    pub fn building(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Nodes made so far by the build in flight.
+    pub fn build_progress(&self) -> Option<u64> {
+        self.job.as_ref().map(|j| j.work.progress())
+    }
+
+    /// The parameter names of the current formula, in uniform order.
+    pub fn param_names(&self) -> Vec<String> {
+        self.program
+            .as_ref()
+            .map(|p| {
+                p.formula
+                    .param_names()
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Parameter values for the current formula, from the scene.
+    pub fn param_values(&self) -> Vec<f64> {
+        match &self.program {
+            Some(p) => self.scene.param_values(&p.formula.param_names()),
+            None => Vec::new(),
+        }
+    }
+
+    /// The editor text changed: compile it; on success start building its picture, on failure
+    /// keep the last good one and show the error.
+    pub fn set_text(&mut self, text: &str, gpu: Option<&Gpu>) {
+        self.text = text.to_string();
+        let started = Instant::now();
+        self.counters.compiles += 1;
+        let program = match Program::new(text) {
+            Ok(p) => p,
+            Err(ProgramError::Formula(e)) => {
+                self.error = Some(e.render("formula", text));
+                self.error_at = Some(e);
+                return;
+            }
+            Err(e @ ProgramError::Shader(_)) => {
+                self.error_at = None;
+                self.error = Some(e.to_string());
+                return;
+            }
+        };
+        self.error_at = None;
+        self.error = None;
+        let text = text.trim().to_string();
+        if self.scene.formula != text {
+            // The scene's explanation was about its own formula.
+            self.scene.description.clear();
+        }
+        self.scene.formula = text;
+        // New parameters get 1.0 (or their old value), as on the command line.
+        for name in program.formula.param_names() {
+            self.scene.params.entry(name.to_string()).or_insert(1.0);
+        }
+        let timings = (program.compile_ms, program.codegen_ms);
+        self.start_job(program, true, gpu, started, timings);
+    }
+
+    /// Parameters, domain or tree settings changed: rebuild the tree for the same shader.
+    pub fn rebuild_tree(&mut self, gpu: Option<&Gpu>) {
+        let Some(program) = self.program.clone() else {
+            // Nothing compiled yet: compile the scene's formula instead.
+            let text = self.text.clone();
+            self.set_text(&text, gpu);
+            return;
+        };
+        self.start_job(program, false, gpu, Instant::now(), (0.0, 0.0));
+    }
+
+    /// Switches brute force on or off once a caster warmed up for it is ready (until then the
+    /// picture keeps its mode).
+    pub fn set_brute_force(&mut self, on: bool, gpu: Option<&Gpu>) {
+        if self
+            .pending_brute_force
+            .unwrap_or(self.scene.render.brute_force)
+            == on
+        {
+            return;
+        }
+        match self.program.clone() {
+            Some(program) if gpu.is_some() => {
+                self.pending_brute_force = Some(on);
+                self.start_job(program, true, gpu, Instant::now(), (0.0, 0.0));
+            }
+            _ => self.scene.render.brute_force = on,
+        }
+    }
+
+    /// Replaces the whole scene (a preset or a file) and builds it.
+    pub fn load_scene(&mut self, mut scene: Scene, gpu: Option<&Gpu>) {
+        scene.render.certified &= platform::CERTIFIED_PIXELS;
+        let text = scene.formula.clone();
+        self.scene = scene;
+        self.program = None;
+        self.set_text(&text, gpu);
+    }
+
+    /// Starts building the picture of `program` (its shader `new_shader`) for the scene as
+    /// it is; `timings` are the edit's compile and codegen milliseconds.
+    fn start_job(
+        &mut self,
+        program: Program,
+        new_shader: bool,
+        gpu: Option<&Gpu>,
+        started: Instant,
+        (compile_ms, codegen_ms): (f64, f64),
+    ) {
+        if let Some(job) = self.job.take() {
+            job.work.cancel();
+        }
+        self.generation += 1;
+        let generation = self.generation;
+        // When the shader is new, the pipeline is made here too, off the UI thread.
+        // (Also while a brute-force switch waits for its pipeline: this job replaces the one
+        // that was making it.)
+        let inputs = JobInputs {
+            generation,
+            program,
+            scene: self.scene.clone(),
+            gpu: gpu.cloned(),
+            certifying: platform::CERTIFIED_PIXELS,
+            make_pipeline: new_shader
+                || self.caster.is_none()
+                || self.pending_brute_force.is_some(),
+            brute_force: self
+                .pending_brute_force
+                .unwrap_or(self.scene.render.brute_force),
+        };
+        let work = match BuildWork::start(inputs) {
+            Ok(work) => work,
+            Err(e) => {
+                self.error = Some(e);
+                self.job = None;
+                return;
+            }
+        };
+        self.job = Some(Job {
+            generation,
+            work,
+            started,
+            compile_ms,
+            codegen_ms,
+        });
+        self.edit_started = Some(started);
+    }
+
+    /// Takes a finished build, if any; returns true when the picture changed.
+    pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
+        let Some(job) = &mut self.job else {
+            return false;
+        };
+        let result = match job.work.poll(self.slice_budget) {
+            Some(Ok(result)) => result,
+            Some(Err(())) => {
+                // Cancelled (a newer job replaced it) or the thread died.
+                self.job = None;
+                return false;
+            }
+            None => return false,
+        };
+        let job = self.job.take().expect("checked above");
+        if result.generation != job.generation {
+            return false;
+        }
+        let (hierarchy, certifying, stats) = match result.tree {
+            Ok(t) => t,
+            Err(e) => {
+                self.error = Some(e);
+                return false;
+            }
+        };
+        let new_caster = result.caster.is_some();
+        match result.caster {
+            Some(Ok(caster)) => {
+                self.caster = Some(caster);
+                self.counters.pipelines += 1;
+            }
+            Some(Err(e)) => {
+                self.error = Some(e);
+                return false;
+            }
+            None => {
+                if let (Some(caster), Some(gpu)) = (&mut self.caster, gpu)
+                    && let Err(e) = caster.set_hierarchy(gpu, &hierarchy)
+                {
+                    self.error = Some(e.to_string());
+                    return false;
+                }
+            }
+        }
+        self.counters.trees += 1;
+        if new_caster || self.pending_brute_force.is_none() {
+            self.scene.render.brute_force = result.brute_force;
+            self.pending_brute_force = None;
+        }
+        self.program = Some(result.program);
+        self.tree_params = result.params;
+        self.marched = Some(hierarchy.march_summary());
+        self.hierarchy = Some(hierarchy);
+        self.certifying = certifying;
+        self.stats = Some(stats);
+        self.times = EditTimes {
+            compile_ms: job.compile_ms,
+            codegen_ms: job.codegen_ms,
+            tree_ms: result.tree_ms,
+            pipeline_ms: result.pipeline_ms,
+            ready_ms: ms(job.started),
+        };
+        self.picture_generation += 1;
+        true
+    }
+
+    /// Blocks until the build in flight is done (tests, benchmarks, export).
+    pub fn wait(&mut self, gpu: Option<&Gpu>) -> bool {
+        let mut changed = false;
+        while self.job.is_some() {
+            changed |= self.poll(gpu);
+            platform::pause();
+        }
+        changed
+    }
+
+    /// The share link's `#…` part: the scene on screen, with only the parameters its formula
+    /// has (the scene keeps the values of earlier formulas' parameters, for undo).
+    pub fn link_fragment(&self) -> String {
+        let names = self.param_names();
+        let mut scene = self.scene.clone();
+        if self.program.is_some() {
+            scene.params.retain(|name, _| names.contains(name));
+        }
+        scene.to_link()
+    }
+
+    /// A one-line summary of the tree for the status bar.
+    pub fn tree_summary(&self) -> String {
+        let Some(s) = &self.stats else {
+            return "no tree yet".to_string();
+        };
+        if s.leaves == 0 {
+            return "no surface in this domain (the tree kept no box)".to_string();
+        }
+        let mut line = format!("{} nodes, {} leaves", s.nodes, s.leaves);
+        if let Some(cut) = self
+            .marched
+            .as_ref()
+            .filter(|_| !self.scene.render.brute_force)
+        {
+            line.push_str(&format!(" (marched as {cut})"));
+        }
+        if s.budget_hit {
+            line.push_str(", node budget hit (tree coarser than max level)");
+        }
+        if s.singular_boxes > 0 {
+            line.push_str(&format!(", {} singular boxes", s.singular_boxes));
+        }
+        line.push_str(&format!(", built in {:.0} ms", s.build_ms));
+        line
+    }
+}

@@ -1,0 +1,534 @@
+//! The viewer driven as a person drives it (egui_kittest on the real app and the real GPU
+//! path, lavapipe in CI): typing a formula, a mistyped formula, a parameter slider, presets.
+
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use fourfold::scene::{EXAMPLES, Scene};
+use fourfold_viewer::FourfoldApp;
+
+/// A small, quick scene: the glome at a coarse level with few rays.
+fn small_scene() -> Scene {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    scene.tree.max_level = 4;
+    scene.tree.min_level = 0;
+    scene.render.rays = 2;
+    scene
+}
+
+fn harness(scene: Scene) -> Harness<'static, FourfoldApp> {
+    Harness::builder()
+        .wgpu()
+        .with_size([900.0, 640.0])
+        .build_eframe(move |cc| FourfoldApp::new(cc, Some(scene)))
+}
+
+/// Steps the UI until the build in flight is done and a picture is on screen.
+fn settle(h: &mut Harness<'static, FourfoldApp>) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        h.step();
+        let app = h.state();
+        let shown = !app.progressive.paint().layers.is_empty();
+        if !app.session.building() && shown {
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the viewer did not settle in 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+/// Steps the UI until the picture has taken all its passes.
+fn converge(h: &mut Harness<'static, FourfoldApp>) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !h.state().progressive.converged() {
+        h.step();
+        assert!(
+            Instant::now() < deadline,
+            "the picture did not converge in 120 s"
+        );
+    }
+}
+
+fn replace_formula(h: &mut Harness<'static, FourfoldApp>, text: &str) {
+    let editor = h.get_by_label_contains("Formula");
+    editor.focus();
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_label_contains("Formula").type_text(text);
+    h.step();
+}
+
+#[test]
+fn typing_a_valid_formula_updates_the_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.picture_generation;
+    let pipelines = h.state().session.counters.pipelines;
+    assert!(h.state().session.error.is_none());
+
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert_eq!(h.state().session.text, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert!(
+        h.state().session.error.is_none(),
+        "{:?}",
+        h.state().session.error
+    );
+    settle(&mut h);
+    let app = h.state();
+    assert!(app.session.picture_generation > before, "no new picture");
+    assert_eq!(
+        app.session.counters.pipelines,
+        pipelines + 1,
+        "a new formula needs a new shader"
+    );
+    assert_eq!(app.session.scene.formula, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert!(app.session.stats.as_ref().unwrap().leaves > 0);
+    assert!(
+        app.edit_latency_ms.is_some(),
+        "the edit latency was not measured"
+    );
+}
+
+#[test]
+fn a_mistyped_formula_shows_the_error_and_keeps_the_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.picture_generation;
+    let formula_before = h.state().session.scene.formula.clone();
+
+    replace_formula(&mut h, "x^2 + sn(y) - 1");
+    for _ in 0..5 {
+        h.step();
+    }
+    let app = h.state();
+    let error = app.session.error.as_deref().expect("an error is shown");
+    assert!(error.contains("sn"), "{error}");
+    assert!(error.contains("did you mean sin"), "{error}");
+    assert!(error.contains('^'), "the message has a caret: {error}");
+    assert_eq!(
+        app.session.picture_generation, before,
+        "the picture was replaced"
+    );
+    assert_eq!(app.session.scene.formula, formula_before);
+    assert!(
+        !app.progressive.paint().layers.is_empty(),
+        "the last picture is gone"
+    );
+    // The message is on screen, under the editor.
+    h.get_by_label_contains("did you mean sin");
+}
+
+#[test]
+fn moving_a_parameter_slider_rebuilds_the_tree_not_the_shader() {
+    let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = a");
+    scene.params.insert("a".into(), 1.0);
+    scene.tree.max_level = 4;
+    scene.tree.min_level = 0;
+    scene.render.rays = 2;
+    let mut h = harness(scene);
+    settle(&mut h);
+    let counters = h.state().session.counters;
+
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "a")
+        .set_value_accesskit(0.5);
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.session.scene.params["a"], 0.5);
+    assert_eq!(app.session.tree_params, vec![0.5]);
+    assert_eq!(
+        app.session.counters.pipelines, counters.pipelines,
+        "the shader was rebuilt"
+    );
+    assert_eq!(
+        app.session.counters.compiles, counters.compiles,
+        "the formula was re-parsed"
+    );
+    assert_eq!(
+        app.session.counters.trees,
+        counters.trees + 1,
+        "the tree was not rebuilt"
+    );
+}
+
+#[test]
+fn every_preset_loads() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    // One through the combo box, as a person would.
+    h.get_by_label("Preset").click();
+    h.run_steps(3);
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "glome")
+        .click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().preset, Some("glome"));
+    for (name, _) in EXAMPLES {
+        let pipelines = h.state().session.counters.pipelines;
+        h.state_mut().load_preset(name);
+        // Keep the previews cheap on the software GPU.
+        h.state_mut().session.scene.render.rays = 2;
+        settle(&mut h);
+        let app = h.state();
+        assert!(
+            app.session.error.is_none(),
+            "{name}: {:?}",
+            app.session.error
+        );
+        assert_eq!(app.session.counters.pipelines, pipelines + 1, "{name}");
+        assert!(
+            app.session.stats.as_ref().unwrap().leaves > 0,
+            "{name}: no surface"
+        );
+        assert!(
+            !app.session.scene.description.is_empty(),
+            "{name}: no explanation"
+        );
+    }
+}
+
+#[test]
+fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 + 1");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.state().session.building() {
+        h.step();
+        assert!(Instant::now() < deadline);
+    }
+    h.step();
+    let app = h.state();
+    assert!(app.session.error.is_none());
+    assert_eq!(app.session.stats.as_ref().unwrap().leaves, 0);
+    assert!(
+        app.session
+            .tree_summary()
+            .contains("no surface in this domain")
+    );
+    h.get_by_label_contains("no surface in this domain");
+
+    // A huge max level is bounded by the node budget; the window keeps answering meanwhile.
+    h.state_mut().session.scene.tree.max_level = 12;
+    h.state_mut().session.scene.tree.node_budget = 200_000;
+    h.state_mut().load_preset("glome");
+    h.state_mut().session.scene.tree.max_level = 12;
+    h.state_mut().session.scene.tree.min_level = 12;
+    h.state_mut().session.scene.tree.node_budget = 200_000;
+    h.state_mut().session.scene.render.rays = 2;
+    let gpu = h.state().gpu().cloned();
+    h.state_mut().session.rebuild_tree(gpu.as_ref());
+    let started = Instant::now();
+    let mut frames = 0;
+    while h.state().session.building() {
+        let t = Instant::now();
+        h.step();
+        frames += 1;
+        // Generous: CI runs these tests in parallel on a software GPU.
+        assert!(
+            t.elapsed() < Duration::from_secs(15),
+            "a UI frame took {:?}",
+            t.elapsed()
+        );
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "the build did not end"
+        );
+    }
+    settle(&mut h);
+    let stats = h.state().session.stats.clone().unwrap();
+    assert!(stats.budget_hit, "the budget should stop a level-12 glome");
+    assert!(stats.nodes <= 200_000 + 16, "{} nodes", stats.nodes);
+    assert!(frames > 0);
+    assert!(h.state().session.tree_summary().contains("node budget hit"));
+}
+
+#[test]
+fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let pipelines = h.state().session.counters.pipelines;
+    // The rendering settings start folded.
+    assert!(h.query_by_label_contains("brute force").is_none());
+    h.get_by_label_contains("Rendering").click();
+    h.step();
+    h.get_by_label_contains("brute force").click_accesskit();
+    h.step();
+    {
+        // The picture keeps its mode until the new pipeline is warmed up in the background.
+        let app = h.state();
+        assert!(
+            app.session.scene.render.brute_force || app.session.pending_brute_force == Some(true),
+            "the checkbox did nothing"
+        );
+    }
+    settle(&mut h);
+    let app = h.state();
+    assert!(app.session.scene.render.brute_force);
+    assert_eq!(app.session.pending_brute_force, None);
+    assert_eq!(app.session.counters.pipelines, pipelines + 1);
+    assert!(!app.progressive.paint().layers.is_empty());
+}
+
+#[test]
+fn the_certified_switch_proves_every_pixel_and_counts_them() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.get_by_label_contains("Rendering").click();
+    h.step();
+    h.get_by_label_contains("certified pixels")
+        .click_accesskit();
+    h.step();
+    assert!(
+        h.state().session.scene.render.certified,
+        "the switch did nothing"
+    );
+    settle(&mut h);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while h.state().progressive.verdicts.is_none() {
+        h.step();
+        assert!(Instant::now() < deadline, "no verdicts in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+    let app = h.state();
+    let c = app.progressive.verdicts.unwrap();
+    assert!(c.hit > 0 && c.empty > 0, "{c:?}");
+    let said = format!("certified: {} hit · {} empty", c.hit, c.empty);
+    assert!(h.query_by_label_contains(&said).is_some(), "no {said:?}");
+}
+
+#[test]
+fn a_picture_converges_with_one_binning_per_resolution() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    converge(&mut h);
+    let app = h.state();
+    // A preview, maybe a half-size pass, then the full size: the accumulated full-size passes
+    // (same view, new ray offsets) reuse one set of leaf lists.
+    assert!(
+        (2..=3).contains(&app.progressive.binnings),
+        "{} binnings for one picture",
+        app.progressive.binnings
+    );
+    assert!(app.progressive.full_quality());
+}
+
+#[test]
+fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
+    // Once the picture has converged the window stops drawing until the next event; the
+    // status line's "UI N fps" must not count that wait as a frame (it read 1 fps at the
+    // first drag after a pause).
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    converge(&mut h);
+    h.step();
+    let drawing = h.state().pacing.ui_frame_ms;
+    std::thread::sleep(Duration::from_secs(3));
+    h.step();
+    let after = h.state().pacing.ui_frame_ms;
+    assert!(
+        after < drawing + 100.0,
+        "{after:.0} ms per UI frame after a 3 s pause, {drawing:.0} ms before"
+    );
+}
+
+/// The bounding box [x0, y0, x1, y1] of the pixels of `rgba` (w×h) that are not `background`.
+fn covered_box(rgba: &[u8], w: u32, background: [u8; 3]) -> Option<[u32; 4]> {
+    let mut bbox: Option<[u32; 4]> = None;
+    for (i, p) in rgba.chunks(4).enumerate() {
+        if p[..3] != background {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            bbox = Some(match bbox {
+                None => [x, y, x, y],
+                Some([x0, y0, x1, y1]) => [x0.min(x), y0.min(y), x1.max(x), y1.max(y)],
+            });
+        }
+    }
+    bbox
+}
+
+#[test]
+fn opening_a_preset_frames_the_manifold() {
+    use fourfold::headless::render_scene;
+    use fourfold::render::{Device, Gpu};
+    let gpu = Gpu::new().expect("GPU tests need an adapter");
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    for name in ["fig-3-9-left", "glome", "tiger", "duocylinder"] {
+        h.state_mut().load_preset(name);
+        h.state_mut().session.scene.render.rays = 4;
+        settle(&mut h);
+        let app = h.state();
+        assert!(!app.fit_pending, "{name}: not framed");
+        // The picture as it is on screen (the same view, a quarter of the size: the framing
+        // scales with it), drawn independently of the viewer's textures.
+        let [w, ht] = app.picture_size.map(|s| s / 4);
+        let scene = app.session.scene.clone();
+        let picture = render_scene(&scene, w, ht, Device::Gpu(&gpu), Default::default()).unwrap();
+        let background = scene.render.background.0;
+        let [x0, y0, x1, y1] = covered_box(&picture.rgba, w, background)
+            .unwrap_or_else(|| panic!("{name}: nothing drawn"));
+        assert!(
+            x0 > 0 && y0 > 0 && x1 < w - 1 && y1 < ht - 1,
+            "{name}: the manifold runs off the picture: {x0},{y0}..{x1},{y1} of {w}x{ht}"
+        );
+        let (cw, ch) = (x1 - x0 + 1, y1 - y0 + 1);
+        assert!(
+            2 * cw >= w || 2 * ch >= ht,
+            "{name}: the manifold fills {cw}x{ch} of {w}x{ht}"
+        );
+    }
+}
+
+#[test]
+fn a_late_error_in_a_long_formula_keeps_its_caret_in_the_panel() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    // 200 characters, the error at the very end, no '^' but the caret's.
+    let mut text = "sin(3x)cos(3y) + sin(3z)cos(3w) - 0.2 + ".repeat(5);
+    text.truncate(194);
+    text.push_str(" + sn(x");
+    assert!(text.len() >= 200 && !text.contains('^'));
+    replace_formula(&mut h, &text);
+    h.run_steps(3);
+    let panel = h.state().controls_rect.expect("the controls panel");
+    assert!(h.state().session.error_at.is_some(), "no error shown");
+    let carets: Vec<_> = h.query_all_by_label_contains("^").collect();
+    assert!(!carets.is_empty(), "no caret line on screen");
+    for caret in carets {
+        let rect = caret.rect();
+        assert!(
+            rect.left() >= panel.left() - 1.0 && rect.right() <= panel.right() + 1.0,
+            "the caret line {rect:?} leaves the panel {panel:?}"
+        );
+    }
+    // The label says where, in view too.
+    let label = h.get_by_label_contains("opened here").rect();
+    assert!(label.right() <= panel.right() + 1.0, "{label:?} {panel:?}");
+}
+
+#[test]
+fn undo_after_a_formula_edit_restores_the_formula_and_its_picture() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.scene.formula.clone();
+    let leaves = h.state().session.stats.as_ref().unwrap().leaves;
+    // Let the opening state settle into the history, then edit.
+    std::thread::sleep(Duration::from_millis(500));
+    h.run_steps(2);
+    replace_formula(&mut h, "x + y + z + w = 0.5");
+    settle(&mut h);
+    std::thread::sleep(Duration::from_millis(500));
+    h.run_steps(2);
+    assert_ne!(h.state().session.stats.as_ref().unwrap().leaves, leaves);
+    // Ctrl+Z acts on the window once the editor has let go of the keyboard.
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.session.text, before);
+    assert_eq!(app.session.scene.formula, before);
+    assert_eq!(app.session.stats.as_ref().unwrap().leaves, leaves);
+    assert!(app.history.can_redo());
+    // And redo brings the edit back.
+    h.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    h.step();
+    settle(&mut h);
+    assert_eq!(h.state().session.text, "x + y + z + w = 0.5");
+}
+
+#[test]
+fn the_gallery_lists_every_example_scene() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.get_by_label("Gallery").click();
+    h.run_steps(3);
+    for (name, _) in EXAMPLES {
+        h.get_by_label(name);
+    }
+    // Picking one opens and frames it.
+    h.get_by_label("tiger").click();
+    h.step();
+    settle(&mut h);
+    let app = h.state();
+    assert_eq!(app.preset, Some("tiger"));
+    assert!(!app.platform.gallery_open);
+    assert!(!app.fit_pending);
+}
+
+#[test]
+fn an_animation_exports_in_the_background_with_its_progress() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let path = std::env::temp_dir().join(format!("fourfold-viewer-{}.gif", std::process::id()));
+    {
+        let app = h.state_mut();
+        app.ui.export_size = [40, 30];
+        app.ui.animation.path = path.display().to_string();
+        app.ui.animation.plane = "xw".into();
+        app.ui.animation.frames = 3;
+    }
+    h.get_by_label_contains("Export animation").click();
+    h.step();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "Export animation")
+        .click();
+    h.step();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        h.step();
+        let message = h.state().message.clone();
+        if let Some(m) = message.filter(|m| m.text.starts_with("wrote")) {
+            assert!(!m.is_error, "{}", m.text);
+            break;
+        }
+        assert!(Instant::now() < deadline, "the export did not end");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .count();
+    assert_eq!(frames, 3);
+    std::fs::remove_file(&path).ok();
+}
+
+#[test]
+fn a_slice_is_shown_beside_the_projection() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    h.state_mut().session.scene.view.slice = Some(0.3);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    // (The slice's picture starts again at its new size; the projection starts anew.)
+    let drawn = |h: &Harness<'static, FourfoldApp>| {
+        let app = h.state();
+        !app.inset.paint().layers.is_empty() && !app.progressive.paint().layers.is_empty()
+    };
+    while !drawn(&h) {
+        h.step();
+        assert!(
+            Instant::now() < deadline,
+            "the slice and the projection beside it never both drew"
+        );
+    }
+    assert!(h.state().side_by_side());
+    // Back to the projection alone.
+    h.state_mut().session.scene.view.slice = None;
+    h.step();
+    assert!(!h.state().side_by_side());
+}
