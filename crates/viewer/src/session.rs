@@ -1,6 +1,6 @@
 //! What the viewer knows, apart from how it is drawn: the scene being edited, the last formula
 //! that compiled (and its validated shader), the tree built for it, and the background job
-//! that builds the next one. The egui layer (`app.rs`) only reads this and calls its methods,
+//! that builds the next one. The egui layer (`app/`) only reads this and calls its methods,
 //! so tests can drive it the way the window does.
 //!
 //! An edit flows one way: text → the library's `Program` (parse, gradient, WGSL + naga

@@ -315,9 +315,9 @@ fn a_picture_converges_with_one_binning_per_resolution() {
     // A preview, maybe a half-size pass, then the full size: the accumulated full-size passes
     // (same view, new ray offsets) reuse one set of leaf lists.
     assert!(
-        (2..=3).contains(&app.progressive.binnings),
+        (2..=3).contains(&app.progressive.binner.binnings),
         "{} binnings for one picture",
-        app.progressive.binnings
+        app.progressive.binner.binnings
     );
     assert!(app.progressive.full_quality());
 }

@@ -59,7 +59,7 @@ impl IntervalEvaluator {
 }
 
 /// The value of instruction `$op` over the box `$bx`, where `|$k| $read` reads slot `$k`. A
-/// macro, not a function taking a closure, which made the one-box loop 30% slower.
+/// macro, not a function taking a closure, which made the one-box loop slower.
 macro_rules! apply {
     ($op:expr, $bx:expr, $params:expr, |$k:ident| $read:expr) => {{
         use $crate::eval::{Interval, Op};

@@ -217,7 +217,8 @@ impl eframe::App for FourfoldApp {
         self.shortcuts(ui.ctx());
 
         // The panels leave their background to the frame's clear colour (clear_color below):
-        // egui's shader filling them costs ~25 ms per frame on a software GPU, a clear nothing.
+        // egui's shader filling them is a large share of a frame on a software GPU, a clear
+        // costs nothing.
         let bare = egui::Frame::side_top_panel(ui.style()).fill(Color32::TRANSPARENT);
         egui::Panel::top("fourfold top")
             .frame(bare)

@@ -306,7 +306,7 @@ impl FourfoldApp {
                 took_ms,
                 budget_ms,
                 self.progressive.throughput(),
-                self.progressive.binning_ms.unwrap_or(0.0),
+                self.progressive.binner.binning_ms.unwrap_or(0.0),
                 self.progressive.position()
             );
         }

@@ -68,7 +68,7 @@ pub(super) const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
 };
 
 /// The shader's pipeline constant SLOTS, the hit slots it keeps: one pipeline per value.
-/// Fewer slots cost less per hit (K = 4 by default: 10–15% of a frame on lavapipe).
+/// Fewer slots cost less per hit (K = 4 by default).
 pub(super) const SLOT_TIERS: [u32; 3] = [4, 8, 16];
 
 /// The index in SLOT_TIERS of the fewest slots that hold `hits` (K).
@@ -88,8 +88,8 @@ pub(super) struct Variant {
     mode: Mode,
     /// The index in SLOT_TIERS of SLOTS, the hit slots kept.
     slots: usize,
-    /// SAMPLING: the chapter's random rays (1) or stratified ones (0). Chosen at run time
-    /// by the shader's flag, the random rays' code cost a stratified frame 4-5% on llvmpipe.
+    /// SAMPLING: the chapter's random rays (1) or stratified ones (0): chosen at run time by
+    /// the shader's flag, the random rays' code slowed a stratified frame.
     random: bool,
     /// SECTION: the whole observer plane (0), a slab of it (1) or a slice (2), so that a
     /// whole plane's frame runs no slab or slice code.

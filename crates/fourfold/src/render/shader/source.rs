@@ -5,8 +5,21 @@ use crate::formula::CompiledFormula;
 
 use super::tapes::{INTERVAL, POINT, tape_function};
 
-/// The ray-casting template.
-pub const TEMPLATE: &str = include_str!("../../../templates/raycast.wgsl");
+/// The ray-casting template (`templates/raycast/`): the bindings and the formula's markers,
+/// the rays, the shading, the march, certified pixels, and the entry points.
+pub const TEMPLATE: &str = concat!(
+    include_str!("../../../templates/raycast/bindings.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/rays.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/shading.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/march.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/certify.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/entry.wgsl"),
+);
 const F_MARKER: &str = "//@FOURFOLD_F@";
 const GRAD_MARKER: &str = "//@FOURFOLD_GRAD@";
 const F_GRAD_MARKER: &str = "//@FOURFOLD_F_GRAD@";

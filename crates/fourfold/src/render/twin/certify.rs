@@ -92,16 +92,15 @@ impl<'a> Certifier<'a> {
         }
     }
 
-    fn certify_box(&mut self, search: &mut Search, o: [f32; 4], lo: [f32; 4], hi: [f32; 4]) {
+    /// The box [lo, hi] within the domain, the same box from o, and the range of (s, t) in
+    /// which the pixel's plane (its slab or slice) may meet it; None where it cannot.
+    fn plane_cell(&self, o: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> Option<(Box4, Box4, Cell)> {
         let u = self.u;
         // The box within the domain (boxes are padded beyond it).
-        let domain = self.domain();
-        let Some(bx) = within(
+        let bx = within(
             std::array::from_fn(|i| Interval::new(f64::from(lo[i]), f64::from(hi[i]))),
-            &domain,
-        ) else {
-            return;
-        };
+            &self.domain(),
+        )?;
         let rel: Box4 = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
         let (s, t) = (dot(&rel, u.n1), dot(&rel, u.n2));
         // n1 and n2 are orthonormal only to f32's rounding (as the shader, generously).
@@ -114,15 +113,24 @@ impl<'a> Certifier<'a> {
         );
         if u.control.flags & FLAG_SLICE != 0 {
             if !t.contains(offset) {
-                return;
+                return None;
             }
             t = Interval::point(offset);
         } else if u.control.flags & FLAG_SLAB != 0 {
             t = t.intersect(offset - half, offset + half);
             if t.is_empty() {
-                return;
+                return None;
             }
         }
+        Some((bx, rel, (s, t)))
+    }
+
+    fn certify_box(&mut self, search: &mut Search, o: [f32; 4], lo: [f32; 4], hi: [f32; 4]) {
+        let u = self.u;
+        let domain = self.domain();
+        let Some((bx, rel, (s, t))) = self.plane_cell(o, lo, hi) else {
+            return;
+        };
         // As the shader: cells are cut down to where the plane may meet the box.
         let reach = magnitude(s).max(magnitude(t));
         let global = u.control.flags & FLAG_CONTINUOUS != 0;

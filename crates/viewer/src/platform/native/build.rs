@@ -92,3 +92,37 @@ impl BuildWork {
         self.cancel.store(true, Ordering::Relaxed);
     }
 }
+
+/// Work done on a thread of its own beside the window's.
+pub struct Background<T> {
+    receiver: Option<Receiver<T>>,
+}
+
+impl<T: Send + 'static> Background<T> {
+    /// Starts `work` on a thread called `name`.
+    pub fn start(name: &str, work: impl FnOnce() -> T + Send + 'static) -> Self {
+        let (send, receiver) = channel();
+        // If no thread can start, the sender is dropped with the work, and `poll` says the
+        // work died.
+        let _ = std::thread::Builder::new()
+            .name(name.into())
+            .spawn(move || {
+                let _ = send.send(work());
+            });
+        Self {
+            receiver: Some(receiver),
+        }
+    }
+
+    /// The result once the work is done (`Some(None)` if its thread died without one); None
+    /// while it runs, and after the result was taken.
+    pub fn poll(&mut self) -> Option<Option<T>> {
+        let result = match self.receiver.as_ref()?.try_recv() {
+            Ok(result) => Some(result),
+            Err(TryRecvError::Empty) => return None,
+            Err(TryRecvError::Disconnected) => None,
+        };
+        self.receiver = None;
+        Some(result)
+    }
+}

@@ -58,3 +58,23 @@ impl BuildWork {
     /// Stops the build: dropping it is enough.
     pub fn cancel(self) {}
 }
+
+/// Work a native viewer does beside the window: a page has one thread, so it is done here,
+/// at once.
+pub struct Background<T> {
+    result: Option<T>,
+}
+
+impl<T> Background<T> {
+    /// Does `work` now (`_name` names a native viewer's thread).
+    pub fn start(_name: &str, work: impl FnOnce() -> T) -> Self {
+        Self {
+            result: Some(work()),
+        }
+    }
+
+    /// The result, once (as a native viewer's, which may have lost its thread: never here).
+    pub fn poll(&mut self) -> Option<Option<T>> {
+        self.result.take().map(Some)
+    }
+}

@@ -55,11 +55,9 @@ pub(super) struct Reach {
 /// The projection of a level's box on the screen, about its centre, in pixel units (y
 /// down): the pixels whose observer plane meets the box are those whose centres lie in
 /// it. A 4D box with half extents h projects (along n1, n2) to the zonotope Σ [−1, 1]·g_i,
-/// g_i = h_i (v1_i, −v2_i) / s: a centrally symmetric polygon of up to 8 vertices. It is
-/// half the area of the disk ∩ rectangle that the sphere and the supports bound (what the
-/// binning used before) at the chapter's fig. 3.9 view, and 1.3 to 1.4x smaller at the
-/// other figures' views, so fewer tiles get a box. Padded by `slack` pixels all round (the
-/// shader's f32 rounding).
+/// g_i = h_i (v1_i, −v2_i) / s: a centrally symmetric polygon of up to 8 vertices, smaller
+/// than the disk ∩ rectangle that the sphere and the supports bound, so fewer tiles get a
+/// box. Padded by `slack` pixels all round (the shader's f32 rounding).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Projection {
     pub(super) vertices: [[f32; 2]; 8],

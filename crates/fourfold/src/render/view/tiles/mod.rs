@@ -36,8 +36,8 @@ pub use lists::TileLists;
 
 /// Largest and smallest tile side in pixels. The pixels of a tile read one list in one
 /// order, so a SIMD group of pixels (llvmpipe shades 4x4 blocks; a GPU, warps of 32 or 64)
-/// visits the same boxes at the same time. 4-pixel tiles drew as fast as 1-pixel ones on
-/// lavapipe (`cargo bench --bench frame`), with a binning 5–10x cheaper.
+/// visits the same boxes at the same time; small tiles draw as fast as single pixels, with
+/// a far cheaper binning (docs/benchmarks.md, "Design choices").
 pub const MAX_TILE: u32 = 16;
 
 pub const MIN_TILE: u32 = 4;

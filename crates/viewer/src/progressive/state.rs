@@ -1,0 +1,364 @@
+//! The progressive renderer's state: which stage of which picture is being drawn, how fast
+//! squares go, and what is on screen.
+
+use std::sync::Arc;
+
+use eframe::egui_wgpu;
+use web_time::Instant;
+
+use fourfold::render::gpu::{PendingRgba, start_texture_read};
+use fourfold::render::verdict::{VerdictCounts, take_marks};
+use fourfold::render::view;
+use fourfold::render::{Camera, FrameOptions, Gpu, Pass, RayCaster, Uniforms};
+use fourfold::scene::Scene;
+use fourfold::tree::Hierarchy;
+
+use super::binning::Binner;
+use super::paint::{Paint, Progress, layers};
+use super::stages::{self, Stage, UNIT, ViewKey, texture_index};
+use super::textures::{self, StageTexture};
+
+/// What a progressive picture draws: a ray caster with its hierarchy and parameter values,
+/// seen as `scene` says, for the session's picture `generation` (a new one starts again).
+pub struct Subject<'a> {
+    pub caster: &'a mut RayCaster,
+    pub hierarchy: &'a Arc<Hierarchy>,
+    /// The boxes certified pixels search (`Hierarchy::for_certifying`), where the scene
+    /// certifies.
+    pub certifying: Option<&'a Arc<Hierarchy>>,
+    pub params: &'a [f64],
+    pub scene: &'a Scene,
+    pub generation: u64,
+}
+
+/// The progressive renderer's state.
+pub struct Progressive {
+    /// Screen size in pixels.
+    size: [u32; 2],
+    textures: Vec<StageTexture>,
+    stages: Vec<Stage>,
+    stage: usize,
+    tile: u32,
+    next_tile: u32,
+    /// Measured milliseconds per square in this stage (None: not measured yet).
+    unit_ms: Option<f64>,
+    /// The highest stage completed for the current plan (None: nothing yet).
+    completed: Option<usize>,
+    /// The texture of the last completed stage of any plan: what is on screen.
+    shown: Option<usize>,
+    /// What the stages were planned for (the view, the session's picture generation and
+    /// whether the user was interacting); a different one restarts. Plans made so far.
+    key: Option<(ViewKey, u64, bool)>,
+    plans: u64,
+    /// Measured throughput (rays per millisecond), for sizing previews and tiles.
+    rays_per_ms: f64,
+    stage_started: Option<Instant>,
+    /// Wall time of the last complete full-resolution stage, and of the last preview.
+    pub full_ms: Option<f64>,
+    pub preview_ms: Option<f64>,
+    /// Set when the first stage of a new picture generation completed.
+    pub first_frame_of: Option<u64>,
+    generation: u64,
+    /// The tile lists the ray caster holds, and their binning.
+    pub binner: Binner,
+    /// A certified view's verdicts: read back from its first full-resolution stage, and
+    /// the counts once they are in (None: not certified, or not yet).
+    verdict_read: Option<PendingRgba>,
+    pub verdicts: Option<VerdictCounts>,
+}
+
+impl Default for Progressive {
+    fn default() -> Self {
+        Self {
+            size: [0, 0],
+            textures: Vec::new(),
+            stages: Vec::new(),
+            stage: 0,
+            tile: UNIT,
+            next_tile: 0,
+            unit_ms: None,
+            completed: None,
+            shown: None,
+            key: None,
+            plans: 0,
+            rays_per_ms: 50.0,
+            stage_started: None,
+            full_ms: None,
+            preview_ms: None,
+            first_frame_of: None,
+            generation: 0,
+            binner: Binner::default(),
+            verdict_read: None,
+            verdicts: None,
+        }
+    }
+}
+
+impl Progressive {
+    /// Rays per millisecond measured so far.
+    pub fn throughput(&self) -> f64 {
+        self.rays_per_ms
+    }
+
+    /// True when there is nothing left to draw for the current picture.
+    pub fn converged(&self) -> bool {
+        self.completed == Some(self.stages.len().saturating_sub(1)) && !self.stages.is_empty()
+    }
+
+    /// Where the drawing is: the stage, and squares done in it (for FOURFOLD_TRACE).
+    pub fn position(&self) -> (usize, u32) {
+        (self.stage, self.next_tile)
+    }
+
+    /// 0..1: how far the current picture is.
+    pub fn fraction(&self) -> f32 {
+        if self.stages.is_empty() {
+            return 0.0;
+        }
+        let done = self.completed.map_or(0, |c| c + 1);
+        done as f32 / self.stages.len() as f32
+    }
+
+    /// Whether the full-resolution picture (with the scene's rays) is on screen.
+    pub fn full_quality(&self) -> bool {
+        self.completed
+            .is_some_and(|c| self.stages.get(c).is_some_and(|s| s.div == 1))
+    }
+
+    /// Makes sure the textures match `size` (screen pixels); registers them with egui.
+    fn ensure_textures(
+        &mut self,
+        gpu: &Gpu,
+        caster: &RayCaster,
+        renderer: &mut egui_wgpu::Renderer,
+        size: [u32; 2],
+    ) {
+        if self.size == size && !self.textures.is_empty() {
+            return;
+        }
+        for t in self.textures.drain(..) {
+            renderer.free_texture(&t.id);
+        }
+        self.size = size;
+        self.textures = textures::make(gpu, caster, renderer, size);
+        self.key = None;
+        self.completed = None;
+        self.shown = None;
+    }
+
+    /// The texture of each divisor.
+    pub fn texture(&self, index: usize) -> Option<&StageTexture> {
+        self.textures.get(index)
+    }
+
+    fn plan(&mut self, scene: &Scene, interacting: bool) {
+        self.plans += 1;
+        self.verdict_read = None;
+        self.verdicts = None;
+        self.stages = stages::plan(self.size, scene.render.rays, self.rays_per_ms, interacting);
+        self.completed = None;
+        self.stage = 0;
+        self.next_tile = 0;
+        self.stage_started = None;
+        self.plan_tile();
+    }
+
+    /// Tile side for the current stage: about 20 ms of rays, at least 8 pixels.
+    fn plan_tile(&mut self) {
+        // Work goes in runs of UNIT×UNIT squares along a row; the run length adapts to the
+        // measured time per square (a square of sky costs nothing, one on M a lot).
+        self.tile = UNIT;
+        self.unit_ms = None;
+    }
+
+    /// Draws as many tiles as fit in `budget_ms`; returns true while more work remains.
+    /// `interacting` asks for a quick preview only.
+    pub fn step(
+        &mut self,
+        gpu: &Gpu,
+        renderer: &mut egui_wgpu::Renderer,
+        subject: Subject<'_>,
+        size: [u32; 2],
+        interacting: bool,
+        budget_ms: f64,
+    ) -> bool {
+        let Subject {
+            caster,
+            hierarchy,
+            certifying,
+            params,
+            scene,
+            generation,
+        } = subject;
+        self.ensure_textures(gpu, caster, renderer, size);
+        self.read_verdicts(gpu);
+        let full_key = (ViewKey::new(scene, size), generation, interacting);
+        if self.key.as_ref() != Some(&full_key) {
+            // Keep what is on screen (completed) until the new preview is done.
+            self.key = Some(full_key);
+            self.generation = generation;
+            self.plan(scene, interacting);
+        }
+        let started = Instant::now();
+        let mut runs = 0;
+        let mut frame: Option<(usize, Camera, Uniforms)> = None;
+        while self.stage < self.stages.len() {
+            let stage = self.stages[self.stage];
+            let index = texture_index(stage.div);
+            let (width, height) = (self.textures[index].width, self.textures[index].height);
+            let cols = width.div_ceil(self.tile);
+            if self.next_tile >= cols * height.div_ceil(self.tile) {
+                let certified = scene.render.certified && certifying.is_some();
+                self.complete_stage(gpu, stage, certified);
+                continue;
+            }
+            // Stop when the budget is spent, or (after at least one run, so that the picture
+            // always progresses) when what is left would not hold half a square more.
+            let spent = started.elapsed().as_secs_f64() * 1e3;
+            let half_square = 0.5 * self.unit_ms.unwrap_or(0.0);
+            if spent >= budget_ms || (runs > 0 && budget_ms - spent < half_square) {
+                return true;
+            }
+            if self.stage_started.is_none() {
+                self.stage_started = Some(Instant::now());
+            }
+            // The stage's camera and settings are the same for all its squares: made once.
+            if frame.as_ref().is_none_or(|(s, ..)| *s != self.stage) {
+                let options = FrameOptions {
+                    frame: stage.frame,
+                    rays: Some(stage.rays),
+                    ..FrameOptions::default()
+                };
+                let (camera, uniforms) =
+                    view::frame(scene, hierarchy, params, [width, height], options);
+                frame = Some((self.stage, camera, uniforms));
+            }
+            let (_, camera, uniforms) = frame.as_ref().expect("made above");
+            // The leaves of each screen tile, for this stage's resolution and view (brute
+            // force reads none). Binned once per texture and plan, off the UI thread.
+            let certifying = certifying.filter(|_| uniforms.certified());
+            let hierarchies = (hierarchy, certifying);
+            if !uniforms.brute_force()
+                && !self
+                    .binner
+                    .ready(gpu, caster, hierarchies, camera, (index, self.plans))
+            {
+                return true;
+            }
+            // As many squares of this row as fit in what is left of the budget (with a
+            // margin: squares vary, and an overrun costs the window a frame).
+            let left = (0.5 * (budget_ms - started.elapsed().as_secs_f64() * 1e3)).max(1.0);
+            self.draw_run(gpu, caster, uniforms, stage, left);
+            runs += 1;
+        }
+        false
+    }
+
+    /// Takes a certified view's verdicts once they are back from the GPU.
+    fn read_verdicts(&mut self, gpu: &Gpu) {
+        if let Some(read) = &self.verdict_read
+            && let Some(result) = read.poll(gpu)
+        {
+            self.verdicts = result
+                .ok()
+                .map(|mut rgba| VerdictCounts::of(&take_marks(&mut rgba).1));
+            self.verdict_read = None;
+        }
+    }
+
+    /// The stage in progress is complete: it is what is on screen now. (The first full
+    /// picture of a certified view is read back for its verdicts: its alpha holds them, and
+    /// later passes blend in the same.)
+    fn complete_stage(&mut self, gpu: &Gpu, stage: Stage, certified: bool) {
+        let index = texture_index(stage.div);
+        let wall = self
+            .stage_started
+            .map_or(0.0, |t| t.elapsed().as_secs_f64() * 1e3);
+        if stage.div == 1 && stage.frame == 0 {
+            self.full_ms = Some(wall);
+            if certified {
+                self.verdict_read = Some(start_texture_read(gpu, &self.textures[index].texture));
+            }
+        }
+        if self.stage == 0 {
+            self.preview_ms = Some(wall);
+            if self.first_frame_of != Some(self.generation) {
+                self.first_frame_of = Some(self.generation);
+            }
+        }
+        self.completed = Some(self.stage);
+        self.shown = Some(index);
+        self.stage += 1;
+        self.next_tile = 0;
+        self.stage_started = None;
+        self.plan_tile();
+    }
+
+    /// Draws the next run of squares of the stage in progress, as many as `left_ms` holds
+    /// at the measured time per square, and updates the measurements.
+    fn draw_run(
+        &mut self,
+        gpu: &Gpu,
+        caster: &mut RayCaster,
+        uniforms: &Uniforms,
+        stage: Stage,
+        left_ms: f64,
+    ) {
+        let texture = &self.textures[texture_index(stage.div)];
+        let (width, height) = (texture.width, texture.height);
+        let cols = width.div_ceil(self.tile);
+        let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
+        let run = match self.unit_ms {
+            None => 1,
+            Some(u) => ((left_ms / u.max(1e-3)) as u32).clamp(1, cols - tx),
+        };
+        let region = [tx * self.tile, ty * self.tile, run * self.tile, self.tile];
+        let t = Instant::now();
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        caster.encode_pass(
+            gpu,
+            &mut encoder,
+            &texture.view,
+            uniforms,
+            Pass {
+                region: Some(region),
+                weight: stage.weight,
+            },
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        let run_ms = t.elapsed().as_secs_f64() * 1e3;
+        let per_unit = run_ms / f64::from(run);
+        // Slower squares count at once, faster ones slowly: never plan a run too long.
+        self.unit_ms = Some(match self.unit_ms {
+            Some(u) if per_unit < u => 0.8 * u + 0.2 * per_unit,
+            _ => per_unit,
+        });
+        let w = (run * self.tile).min(width - region[0]);
+        let h = self.tile.min(height - region[1]);
+        let rays = f64::from(w * h * stage.rays);
+        if run_ms > 0.05 {
+            let measured = rays / run_ms;
+            self.rays_per_ms = if measured < self.rays_per_ms {
+                measured
+            } else {
+                0.9 * self.rays_per_ms + 0.1 * measured
+            };
+        }
+        self.next_tile += run;
+    }
+
+    /// The layers to paint, bottom first (see `paint::layers`).
+    pub fn paint(&self) -> Paint {
+        layers(Progress {
+            stages: &self.stages,
+            stage: self.stage,
+            textures: &self.textures,
+            shown: self.shown,
+            next_tile: self.next_tile,
+            tile: self.tile,
+        })
+    }
+}
