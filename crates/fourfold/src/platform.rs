@@ -61,3 +61,15 @@ pub fn validated<T>(device: &wgpu::Device, work: impl FnOnce() -> T) -> (T, Opti
     };
     (made, error)
 }
+
+/// The shader as wgpu takes it: natively the module naga has already parsed and validated
+/// (wgpu does not parse the text again); in a page the text, which the browser compiles.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn shader_source<'a>(_text: &'a str, module: &naga::Module) -> wgpu::ShaderSource<'a> {
+    wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module.clone()))
+}
+
+#[cfg(target_arch = "wasm32")]
+pub fn shader_source<'a>(text: &'a str, _module: &naga::Module) -> wgpu::ShaderSource<'a> {
+    wgpu::ShaderSource::Wgsl(text.into())
+}

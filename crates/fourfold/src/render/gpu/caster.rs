@@ -69,7 +69,7 @@ impl RayCaster {
             crate::platform::validated(device, || {
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some("fourfold ray caster"),
-                    source: wgpu::ShaderSource::Wgsl(shader.source.as_str().into()),
+                    source: crate::platform::shader_source(&shader.source, &shader.module),
                 });
                 let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some("fourfold bindings"),
