@@ -970,7 +970,7 @@ fn check_tile_lists(
     };
     for ty in 0..lists.tiles_y {
         for tx in 0..lists.tiles_x {
-            let list = lists.tile_nodes(tx, ty);
+            let list = tile_nodes(lists, tx, ty);
             assert!(
                 list.iter().all(|&i| h.marches(&h.nodes[i as usize])),
                 "{name}: a node that is not marched in tile ({tx}, {ty})"
@@ -1015,7 +1015,7 @@ fn check_tile_lists(
             let o = camera.origin(f64::from(px), f64::from(py));
             let rel: [f64; 4] = std::array::from_fn(|k| o[k] - camera.center[k]);
             let (oa, ob) = (dot(&rel, &camera.v1), dot(&rel, &camera.v2));
-            let list = lists.tile_nodes(px / t, py / t);
+            let list = tile_nodes(lists, px / t, py / t);
             for &(i, ca, cb, r, sa, sb, lo, hi) in &cover {
                 let (a, b) = (ca - oa, cb - ob);
                 // (The sphere and the supports first: a plane that meets the box meets them.)
@@ -1256,4 +1256,13 @@ fn a_frame_read_back_without_waiting_is_the_frame_read_back_at_once() {
             "{name}: a blank picture"
         );
     }
+}
+
+/// The hierarchy's node indices of tile (tx, ty)'s boxes, in list order.
+fn tile_nodes(lists: &fourfold::render::TileLists, tx: u32, ty: u32) -> Vec<u32> {
+    lists
+        .tile(tx, ty)
+        .iter()
+        .map(|&b| lists.boxes[b as usize].node)
+        .collect()
 }

@@ -3,7 +3,9 @@
 //! points at the key's line, the command line names the flag that set it).
 
 use super::keys::{Speaker, flag_of, link_key};
-use super::limits::{CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TREE_LEVELS, ZOOM};
+use super::limits::{
+    CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TOLERANCE, TREE_LEVELS, UNIT, ZOOM,
+};
 use super::settings::Scene;
 
 /// A scene value that is not allowed.
@@ -243,10 +245,14 @@ fn within(key: &str, v: f64, range: &std::ops::RangeInclusive<f64>) -> Result<()
 }
 
 fn unit(key: &str, v: f64) -> Result<(), Invalid> {
-    if (0.0..=1.0).contains(&v) {
+    if UNIT.contains(&v) {
         Ok(())
     } else {
-        Err(Invalid::range(key, v, "between 0 and 1"))
+        Err(Invalid::range(
+            key,
+            v,
+            format!("between {} and {}", UNIT.start(), UNIT.end()),
+        ))
     }
 }
 
@@ -259,7 +265,7 @@ fn positive(key: &str, v: f64) -> Result<(), Invalid> {
 }
 
 fn non_negative(key: &str, v: f64) -> Result<(), Invalid> {
-    if v.is_finite() && v >= 0.0 {
+    if TOLERANCE.contains(&v) {
         Ok(())
     } else {
         Err(Invalid::range(key, v, "a number ≥ 0"))

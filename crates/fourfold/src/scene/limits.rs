@@ -19,6 +19,12 @@ pub const STEPS: RangeInclusive<u32> = 1..=256;
 pub const CERT_BUDGET: RangeInclusive<u32> = 1..=8192;
 /// Certified pixels' default budget of cells per pixel.
 pub const DEFAULT_CERT_BUDGET: u32 = 2048;
+/// A share between 0 and 1: the nearer hit's weight α, the light's ambient, diffuse and
+/// specular parts.
+pub const UNIT: RangeInclusive<f64> = 0.0..=1.0;
+/// A highlight's tolerance (the silhouette's, or the border's in domain units): any size
+/// from 0.
+pub const TOLERANCE: RangeInclusive<f64> = 0.0..=f64::MAX;
 /// Magnification: 1 shows the whole domain.
 pub const ZOOM: RangeInclusive<f64> = 0.01..=100.0;
 /// The sides of a picture, in pixels (within the device's own limit too).

@@ -6,7 +6,7 @@ use eframe::egui;
 use egui::RichText;
 
 use fourfold::scene::limits::{
-    CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TREE_LEVELS,
+    CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TOLERANCE, TREE_LEVELS, UNIT,
 };
 use fourfold::scene::{AxisRange, Color, ColorBy, Sampling, Undecided};
 
@@ -78,7 +78,7 @@ impl FourfoldApp {
                 .text("rays"),
         );
         ui.add(egui::Slider::new(&mut r.hits, HITS).text("hits kept"));
-        ui.add(egui::Slider::new(&mut r.alpha, 0.0..=1.0).text("α"));
+        ui.add(egui::Slider::new(&mut r.alpha, UNIT).text("α"));
         ui.add(egui::Slider::new(&mut r.steps, STEPS).text("steps per leaf"));
         ui.horizontal(|ui| {
             ui.label("sampling");
@@ -133,7 +133,7 @@ impl FourfoldApp {
             ui.horizontal(|ui| {
                 ui.label("light (v1 v2 n1 n2)");
                 for c in r.lighting.direction.iter_mut() {
-                    ui.add(egui::DragValue::new(c).speed(0.02).range(-10.0..=10.0));
+                    ui.add(egui::DragValue::new(c).speed(0.02));
                 }
             });
             if r.lighting.direction.iter().all(|c| *c == 0.0) {
@@ -149,7 +149,7 @@ impl FourfoldApp {
             ui.add(
                 egui::DragValue::new(&mut r.silhouette.tolerance)
                     .speed(0.005)
-                    .range(0.0..=1.0),
+                    .range(TOLERANCE),
             );
             color_edit(ui, &mut r.silhouette.color);
         });
@@ -158,7 +158,7 @@ impl FourfoldApp {
             ui.add(
                 egui::DragValue::new(&mut r.border.tolerance)
                     .speed(0.002)
-                    .range(0.0..=1.0),
+                    .range(TOLERANCE),
             );
             color_edit(ui, &mut r.border.color);
         });

@@ -105,14 +105,6 @@ impl TileLists {
         }
     }
 
-    /// The hierarchy's node indices of tile (tx, ty)'s boxes, in list order.
-    pub fn tile_nodes(&self, tx: u32, ty: u32) -> Vec<u32> {
-        self.tile(tx, ty)
-            .iter()
-            .map(|&b| self.boxes[b as usize].node)
-            .collect()
-    }
-
     /// The entries (indices in `boxes`) of tile (tx, ty).
     pub fn tile(&self, tx: u32, ty: u32) -> &[u32] {
         let tiles = (self.tiles_x * self.tiles_y) as usize;
