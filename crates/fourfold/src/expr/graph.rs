@@ -2,6 +2,10 @@
 //! operands, so node order is a topological order and every pass (evaluation, derivatives,
 //! code generation) is a loop, not a recursion. Constructors fold constants and apply the
 //! small algebraic rules that keep derivatives readable (`x*x` → `x^2`, `0*a` → `0`, ...).
+//!
+//! Folding is total: no node applies an operation to constants alone, whatever the value
+//! (an undefined one is NaN, which every operation keeps; an overflow is ±∞). So the shader
+//! never asks a WGSL compiler to evaluate an out-of-domain builtin or an infinite constant.
 
 use std::collections::HashMap;
 
@@ -150,10 +154,7 @@ impl ExprGraph {
     /// A unary node, folded and simplified.
     pub fn unary(&mut self, op: UnaryOp, a: NodeId) -> NodeId {
         if let Some(v) = self.const_value(a) {
-            let folded = (op.spec().point)(v);
-            if folded.is_finite() {
-                return self.constant(folded);
-            }
+            return self.constant((op.spec().point)(v));
         }
         match (op, self.node(a)) {
             (UnaryOp::Neg, Node::Unary(UnaryOp::Neg, inner)) => return inner,
@@ -185,10 +186,7 @@ impl ExprGraph {
             _ => {}
         }
         if let Some(v) = self.const_value(a) {
-            let folded = v.powi(n);
-            if folded.is_finite() {
-                return self.constant(folded);
-            }
+            return self.constant(crate::ops::powi(v, n));
         }
         match self.node(a) {
             Node::Powi(base, m) if (m as i64 * n as i64).abs() <= MAX_INT_EXPONENT as i64 => {
@@ -208,11 +206,8 @@ impl ExprGraph {
     pub fn binary(&mut self, op: BinaryOp, a: NodeId, b: NodeId) -> NodeId {
         use BinaryOp::*;
         let (ca, cb) = (self.const_value(a), self.const_value(b));
-        if let (Some(x), Some(y)) = (ca, cb) {
-            let folded = (op.spec().point)(x, y);
-            if folded.is_finite() {
-                return self.constant(folded);
-            }
+        if let Some(folded) = fold_binary(op, ca, cb) {
+            return self.constant(folded);
         }
         match op {
             Add => {
@@ -411,6 +406,19 @@ pub fn operands(node: Node) -> impl Iterator<Item = NodeId> {
         Node::Binary(_, a, b) => (Some(a), Some(b)),
     };
     a.into_iter().chain(b)
+}
+
+/// The value of `op` known from its constant operands alone, with the language's meaning
+/// (NaN is undefined): both constant; an undefined operand, which leaves every operation
+/// undefined; division by 0; a real power of a negative number.
+fn fold_binary(op: BinaryOp, a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some((op.spec().point)(x, y)),
+        (Some(v), None) | (None, Some(v)) if v.is_nan() => Some(f64::NAN),
+        (_, Some(0.0)) if op == BinaryOp::Div => Some(f64::NAN),
+        (Some(x), None) if op == BinaryOp::Pow && x < 0.0 => Some(f64::NAN),
+        _ => None,
+    }
 }
 
 fn canonical_order(ca: Option<f64>, cb: Option<f64>, a: NodeId, b: NodeId) -> (NodeId, NodeId) {

@@ -24,6 +24,8 @@ fn suggest_function(name: &str) -> Option<&'static str> {
 pub struct ParamSpans(pub Vec<Span>);
 
 /// Lowers a parsed formula to `lhs − rhs` in `graph`; returns the root and parameter spans.
+/// A formula that folds to an undefined constant is refused, pointing at the operation that
+/// first made a defined value undefined.
 pub fn lower(
     formula: &Formula,
     graph: &mut ExprGraph,
@@ -31,24 +33,58 @@ pub fn lower(
     let mut lowering = Lowering {
         graph,
         spans: ParamSpans::default(),
+        undefined: None,
     };
+    let whole = formula.lhs.span.start
+        ..formula
+            .rhs
+            .as_ref()
+            .map_or(formula.lhs.span.end, |r| r.span.end);
     let lhs = lowering.expr(&formula.lhs)?;
     let root = match &formula.rhs {
         Some(rhs) => {
             let rhs = lowering.expr(rhs)?;
-            lowering.graph.sub(lhs, rhs)
+            let root = lowering.graph.sub(lhs, rhs);
+            lowering.note_undefined(root, &whole, BinaryOp::Sub.spec().undefined);
+            root
         }
         None => lhs,
     };
+    if lowering.is_undefined(root) {
+        let (span, why) = lowering
+            .undefined
+            .take()
+            .unwrap_or((whole, "every value in it is undefined"));
+        return Err(
+            SourceError::new("F is undefined everywhere in the domain", span, why).with_hint(
+                "an operation on an undefined value is undefined, so F has no value at any \
+                 point: change this part",
+            ),
+        );
+    }
     Ok((root, lowering.spans))
 }
 
 struct Lowering<'g> {
     graph: &'g mut ExprGraph,
     spans: ParamSpans,
+    /// The first expression (innermost, leftmost) whose defined operands gave an undefined
+    /// constant, and why.
+    undefined: Option<(Span, &'static str)>,
 }
 
 impl Lowering<'_> {
+    fn is_undefined(&self, id: NodeId) -> bool {
+        self.graph.const_value(id).is_some_and(f64::is_nan)
+    }
+
+    /// Remembers `span` as the culprit if `id` is the first undefined constant.
+    fn note_undefined(&mut self, id: NodeId, span: &Span, why: &'static str) {
+        if self.undefined.is_none() && self.is_undefined(id) {
+            self.undefined = Some((span.clone(), why));
+        }
+    }
+
     fn expr(&mut self, expr: &Expr) -> Result<NodeId, SourceError> {
         match &expr.kind {
             ExprKind::Number(v) => Ok(self.graph.constant(*v)),
@@ -70,7 +106,9 @@ impl Lowering<'_> {
                     BinOp::Div => BinaryOp::Div,
                     BinOp::Pow => BinaryOp::Pow,
                 };
-                Ok(self.graph.binary(op, a, b))
+                let node = self.graph.binary(op, a, b);
+                self.note_undefined(node, &expr.span, op.spec().undefined);
+                Ok(node)
             }
             ExprKind::Call {
                 name,
@@ -140,7 +178,9 @@ impl Lowering<'_> {
             if let [single] = args {
                 let factor = self.ident(name, name_span)?;
                 let inner = self.expr(single)?;
-                return Ok(self.graph.mul(factor, inner));
+                let node = self.graph.mul(factor, inner);
+                self.note_undefined(node, span, BinaryOp::Mul.spec().undefined);
+                return Ok(node);
             }
             return Err(SourceError::new(
                 format!("unknown function '{name}'"),
@@ -172,9 +212,14 @@ impl Lowering<'_> {
             .iter()
             .map(|a| self.expr(a))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(match f {
-            Function::Unary(op) => self.graph.unary(op, lowered[0]),
-            Function::Binary(op) => self.graph.binary(op, lowered[0], lowered[1]),
-        })
+        let (node, why) = match f {
+            Function::Unary(op) => (self.graph.unary(op, lowered[0]), op.spec().undefined),
+            Function::Binary(op) => (
+                self.graph.binary(op, lowered[0], lowered[1]),
+                op.spec().undefined,
+            ),
+        };
+        self.note_undefined(node, span, why);
+        Ok(node)
     }
 }

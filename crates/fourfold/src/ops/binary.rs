@@ -24,6 +24,8 @@ pub struct BinarySpec {
     pub wgsl: fn(&str, &str) -> String,
     /// Its rigorous interval function in `templates/interval.wgsl`.
     pub wgsl_interval: &'static str,
+    /// Where defined arguments give an undefined value, as a message says it.
+    pub undefined: &'static str,
 }
 
 /// What a binary derivative rule is given.
@@ -66,6 +68,7 @@ pub static BINARY: [BinarySpec; 8] = [
         derivative: |b, o| branch(b, o, BinaryOp::Min),
         wgsl: |a, b| format!("min({a}, {b})"),
         wgsl_interval: "iv_min",
+        undefined: "min is defined everywhere",
     },
     BinarySpec {
         op: BinaryOp::Max,
@@ -77,6 +80,7 @@ pub static BINARY: [BinarySpec; 8] = [
         derivative: |b, o| branch(b, o, BinaryOp::Max),
         wgsl: |a, b| format!("max({a}, {b})"),
         wgsl_interval: "iv_max",
+        undefined: "max is defined everywhere",
     },
     BinarySpec {
         op: BinaryOp::Pow,
@@ -100,6 +104,7 @@ pub static BINARY: [BinarySpec; 8] = [
             )
         },
         wgsl_interval: "iv_pow",
+        undefined: "a real power of a negative number, or of 0 to a power ≤ 0, is undefined",
     },
     BinarySpec {
         op: BinaryOp::Atan2,
@@ -121,6 +126,7 @@ pub static BINARY: [BinarySpec; 8] = [
         },
         wgsl: |a, b| format!("atan2({a}, {b})"),
         wgsl_interval: "iv_atan2",
+        undefined: "atan2 is defined everywhere",
     },
     BinarySpec {
         op: BinaryOp::Add,
@@ -132,6 +138,7 @@ pub static BINARY: [BinarySpec; 8] = [
         derivative: |b, o| b.add(o.du, o.dv),
         wgsl: |a, b| format!("{a} + {b}"),
         wgsl_interval: "iv_add",
+        undefined: "∞ + (−∞) is undefined",
     },
     BinarySpec {
         op: BinaryOp::Sub,
@@ -143,6 +150,7 @@ pub static BINARY: [BinarySpec; 8] = [
         derivative: |b, o| b.sub(o.du, o.dv),
         wgsl: |a, b| format!("{a} - {b}"),
         wgsl_interval: "iv_sub",
+        undefined: "∞ − ∞ is undefined",
     },
     BinarySpec {
         op: BinaryOp::Mul,
@@ -158,6 +166,7 @@ pub static BINARY: [BinarySpec; 8] = [
         },
         wgsl: |a, b| format!("{a} * {b}"),
         wgsl_interval: "iv_mul",
+        undefined: "0 · ∞ is undefined",
     },
     BinarySpec {
         op: BinaryOp::Div,
@@ -171,6 +180,7 @@ pub static BINARY: [BinarySpec; 8] = [
         derivative: quotient,
         wgsl: |a, b| format!("select({a} / {b}, ff_nan(), {b} == 0.0)"),
         wgsl_interval: "iv_div",
+        undefined: "division by 0 is undefined",
     },
 ];
 
@@ -194,6 +204,10 @@ fn power(b: &mut dyn Builder, Operands { u, v, f, du, dv }: Operands) -> NodeId 
         let p = b.binary(BinaryOp::Pow, u, vm1);
         let vp = b.mul(v, p);
         return b.mul(vp, du);
+    }
+    if b.is_const(u, 0.0) {
+        // 0^v is 0 wherever it is defined (v > 0): its ln u term would be undefined.
+        return b.constant(0.0);
     }
     let ln = b.unary(UnaryOp::Ln, u);
     let x = b.mul(dv, ln);

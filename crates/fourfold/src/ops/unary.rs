@@ -28,6 +28,8 @@ pub struct UnarySpec {
     pub wgsl: fn(&str) -> String,
     /// Its rigorous interval function in `templates/interval.wgsl`.
     pub wgsl_interval: &'static str,
+    /// Where a defined argument gives an undefined value, as a message says it.
+    pub undefined: &'static str,
 }
 
 impl UnaryOp {
@@ -75,6 +77,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| chain(b, du, |b| b.unary(UnaryOp::Cos, u)),
         wgsl: |a| format!("sin({a})"),
         wgsl_interval: "iv_sin",
+        undefined: "sin is undefined at ±∞",
     },
     UnarySpec {
         op: UnaryOp::Cos,
@@ -92,6 +95,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("cos({a})"),
         wgsl_interval: "iv_cos",
+        undefined: "cos is undefined at ±∞",
     },
     UnarySpec {
         op: UnaryOp::Tan,
@@ -108,6 +112,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("tan({a})"),
         wgsl_interval: "iv_tan",
+        undefined: "tan is undefined at ±∞",
     },
     UnarySpec {
         op: UnaryOp::Asin,
@@ -120,6 +125,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| over_root_of_one_minus_square(b, u, du),
         wgsl: |a| format!("select(asin({a}), ff_nan(), abs({a}) > 1.0)"),
         wgsl_interval: "iv_asin",
+        undefined: "asin is undefined outside [−1, 1]",
     },
     UnarySpec {
         op: UnaryOp::Acos,
@@ -135,6 +141,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("select(acos({a}), ff_nan(), abs({a}) > 1.0)"),
         wgsl_interval: "iv_acos",
+        undefined: "acos is undefined outside [−1, 1]",
     },
     UnarySpec {
         op: UnaryOp::Atan,
@@ -152,6 +159,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("atan({a})"),
         wgsl_interval: "iv_atan",
+        undefined: "atan is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Sinh,
@@ -164,6 +172,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| chain(b, du, |b| b.unary(UnaryOp::Cosh, u)),
         wgsl: |a| format!("sinh({a})"),
         wgsl_interval: "iv_sinh",
+        undefined: "sinh is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Cosh,
@@ -176,6 +185,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| chain(b, du, |b| b.unary(UnaryOp::Sinh, u)),
         wgsl: |a| format!("cosh({a})"),
         wgsl_interval: "iv_cosh",
+        undefined: "cosh is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Tanh,
@@ -194,6 +204,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("tanh({a})"),
         wgsl_interval: "iv_tanh",
+        undefined: "tanh is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Exp,
@@ -206,6 +217,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, _, f, du| b.mul(f, du),
         wgsl: |a| format!("exp({a})"),
         wgsl_interval: "iv_exp",
+        undefined: "exp is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Ln,
@@ -219,6 +231,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| b.div(du, u),
         wgsl: |a| format!("select(log({a}), ff_nan(), {a} <= 0.0)"),
         wgsl_interval: "iv_ln",
+        undefined: "ln is undefined at 0 and below",
     },
     UnarySpec {
         op: UnaryOp::Sqrt,
@@ -236,6 +249,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("select(sqrt({a}), ff_nan(), {a} < 0.0)"),
         wgsl_interval: "iv_sqrt",
+        undefined: "sqrt is undefined below 0",
     },
     UnarySpec {
         op: UnaryOp::Cbrt,
@@ -253,6 +267,7 @@ pub static UNARY: [UnarySpec; 17] = [
         },
         wgsl: |a| format!("sign({a}) * pow(abs({a}), 1.0 / 3.0)"),
         wgsl_interval: "iv_cbrt",
+        undefined: "cbrt is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Abs,
@@ -265,6 +280,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, u, _, du| chain(b, du, |b| b.unary(UnaryOp::Sign, u)),
         wgsl: |a| format!("abs({a})"),
         wgsl_interval: "iv_abs",
+        undefined: "abs is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Sign,
@@ -287,6 +303,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, _, _, _| b.constant(0.0),
         wgsl: |a| format!("sign({a})"),
         wgsl_interval: "iv_sign",
+        undefined: "sign is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Step,
@@ -309,6 +326,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, _, _, _| b.constant(0.0),
         wgsl: |a| format!("select(select(0.0, 1.0, {a} > 0.0), 0.5, {a} == 0.0)"),
         wgsl_interval: "iv_step",
+        undefined: "step is defined everywhere",
     },
     UnarySpec {
         op: UnaryOp::Neg,
@@ -321,6 +339,7 @@ pub static UNARY: [UnarySpec; 17] = [
         derivative: |b, _, _, du| b.neg(du),
         wgsl: |a| format!("-{a}"),
         wgsl_interval: "iv_neg",
+        undefined: "negation is defined everywhere",
     },
 ];
 

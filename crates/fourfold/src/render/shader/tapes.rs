@@ -6,8 +6,8 @@
 //! CPU point evaluator: sqrt/ln/asin/acos outside their domain, division by 0, a negative or
 //! zero base of a real power with an exponent that needs a positive one — all give NaN (from
 //! the uniform, `ff_nan()`), and a NaN sample never makes a sign change, so no root is drawn
-//! there. Constants that do not fit in f32 are clamped to ±f32::MAX so every literal is
-//! finite.
+//! there. The graph folds every operation on constants, so no WGSL operation here has
+//! constant operands only; a constant beyond f32's range is the run-time ±∞.
 
 use std::fmt::Write as _;
 
@@ -128,20 +128,23 @@ fn interval_powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
     let _ = writeln!(body, "    let s{i} = {value};");
 }
 
-/// A finite f32 literal.
+/// `v` in f32 as WGSL: a literal where f32 holds it finite, else the run-time NaN or ±∞ of
+/// the settings buffer (an infinite or NaN literal is a WGSL error).
 fn literal(v: f64) -> String {
-    let v = if v.is_nan() {
+    let v32 = v as f32;
+    if v.is_nan() {
         return "ff_nan()".into();
-    } else {
-        v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
-    };
-    let text = format!("{v:?}");
+    }
+    if v32.is_infinite() {
+        return if v32 > 0.0 { "ff_inf()" } else { "(-ff_inf())" }.into();
+    }
+    let text = format!("{v32:?}");
     let text = if text.contains(['.', 'e']) {
         text
     } else {
         format!("{text}.0")
     };
-    if v < 0.0 { format!("({text})") } else { text }
+    if v32 < 0.0 { format!("({text})") } else { text }
 }
 
 fn expression(instr: Instr) -> String {
