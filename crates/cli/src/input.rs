@@ -15,6 +15,7 @@ use crate::failure::Failure;
 #[derive(Debug, Clone, Args)]
 pub struct Input {
     /// A formula such as "x^2 + y^2 + z^2 + w^2 = 1", or the path of a .toml scene file.
+    #[arg(allow_hyphen_values = true)]
     pub formula_or_scene: String,
     /// Set a parameter, as NAME=VALUE (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]

@@ -585,3 +585,71 @@ fn the_device_takes_the_largest_picture_its_adapter_can_draw() {
         assert!(stderr.contains("over this GPU's limit"), "{stderr}");
     }
 }
+
+#[test]
+fn constants_outside_a_domain_draw_or_are_refused_with_the_culprit() {
+    // The formulas that ended in a raw wgpu error (wgpu's pipeline creation evaluated
+    // asin(2), ln(0), an infinite literal... and refused the shader): each is now refused
+    // with F's undefined part underlined (exit 2), or drawn on the GPU (exit 0).
+    let dir = std::env::temp_dir().join("fourfold-undefined");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        ("max(asin(2), x^2+y^2+z^2+w^2-1)", Some("asin(2)")),
+        ("sqrt(-1) + x^2+y^2+z^2+w^2-1", Some("sqrt(-1)")),
+        ("ln(0) + x", Some("ln(0)")),
+        ("min(ln(-1), 0) + x^2+y^2+z^2+w^2-1", Some("ln(-1)")),
+        ("acos(-3)*x + y^2 + z^2 + w^2 - 1", Some("acos(-3)")),
+        ("(e - pi)^(x^a)", Some("(e - pi)^(x^a)")),
+        ("x^2 + y^2 + z^2 + w^2 - 1/0", Some("1/0")),
+        ("exp(1e9) = R - pow(z, e)", None),
+        ("x^2 + y^2 + z^2 + w^2 = 1e300*1e300", None),
+        ("x/(1e-30*1e-30) + y", None),
+        ("pow(0, x) - y", None),
+        ("x + y + tan(pi/2)*1e-16", None),
+    ];
+    for (formula, culprit) in cases {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+            .args([
+                "render",
+                formula,
+                "--size",
+                "16x12",
+                "--max-level",
+                "4",
+                "-o",
+            ])
+            .arg(dir.join("picture.png"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        for raw in [
+            "Validation Error",
+            "Caused by",
+            "panicked",
+            "internal error",
+        ] {
+            assert!(!stderr.contains(raw), "{formula}: {stderr}");
+        }
+        match culprit {
+            Some(part) => {
+                assert_eq!(out.status.code(), Some(2), "{formula}: {stderr}");
+                assert!(
+                    stderr.contains("F is undefined everywhere in the domain"),
+                    "{formula}: {stderr}"
+                );
+                let line = stderr.lines().find(|l| l.contains('^')).unwrap_or("");
+                let carets = line.matches('^').count();
+                assert_eq!(carets, part.chars().count(), "{formula}: {stderr}");
+            }
+            None => assert!(out.status.success(), "{formula}: {stderr}"),
+        }
+    }
+}
+
+#[test]
+fn a_formula_may_start_with_a_minus_sign() {
+    let args = parse_render(&["render", "-x^2 - y^2 + z + w", "-o", "x.png"]);
+    assert_eq!(args.input.formula_or_scene, "-x^2 - y^2 + z + w");
+    let args = parse_render(&["render", "--size", "8x8", "-1 + x", "-o", "x.png"]);
+    assert_eq!(args.input.formula_or_scene, "-1 + x");
+}
