@@ -237,3 +237,20 @@ fn the_caret_window_keeps_the_caret_and_its_label_in_view_at_any_width() {
         }
     }
 }
+
+#[test]
+fn a_control_character_gets_a_caret_too() {
+    // A NUL has no width: shown as it is, the caret under it vanished.
+    let source = "x + \u{0} y";
+    let error = CompiledFormula::compile(source).expect_err("a NUL is not in the language");
+    let shown = error.render("formula", source);
+    assert!(
+        shown.contains("^ not part of the formula language"),
+        "{shown}"
+    );
+    assert!(
+        shown.contains("'\\u{0}'"),
+        "the character is named: {shown}"
+    );
+    assert!(!shown.contains('\u{0}'), "{shown}");
+}

@@ -107,29 +107,45 @@ impl Scene {
             Ok(Value::Table(t)) => t,
             _ => unreachable!("a scene serialises to a table"),
         };
-        for (key, value) in pairs.iter().filter(|(k, _)| k != "formula") {
-            let mut tried = table.clone();
-            let applied = apply(&mut tried, key, value).and_then(|()| {
-                let scene: Scene = Value::Table(tried.clone())
-                    .try_into()
-                    .map_err(|e: toml::de::Error| e.message().to_string())?;
-                scene
-                    .check()
-                    .map_err(|invalid| invalid.message(Speaker::Link))
-            });
-            match applied {
-                Ok(()) => table = tried,
-                Err(message) => problems.push(LinkProblem {
+        // A key that breaks a rule with another (tree.max_level below the default
+        // tree.min_level, before the link's own min_level) is tried again after the rest;
+        // such rules pair two keys, so a few rounds settle every link.
+        let mut pending: Vec<&(String, String)> =
+            pairs.iter().filter(|(k, _)| k != "formula").collect();
+        for round in 1..=3 {
+            let mut refused = Vec::new();
+            for &pair in &pending {
+                let mut tried = table.clone();
+                match apply_checked(&mut tried, &pair.0, &pair.1) {
+                    Ok(()) => table = tried,
+                    Err(message) => refused.push((pair, message)),
+                }
+            }
+            if refused.len() == pending.len() || round == 3 {
+                problems.extend(refused.into_iter().map(|((key, _), message)| LinkProblem {
                     key: key.clone(),
                     message,
-                }),
+                }));
+                break;
             }
+            pending = refused.into_iter().map(|(pair, _)| pair).collect();
         }
         let scene = Value::Table(table)
             .try_into()
             .expect("every key kept was checked with the ones before it");
         (scene, problems)
     }
+}
+
+/// Sets `key` to `value` in a scene's table, if the scene it makes is one the rules accept.
+fn apply_checked(table: &mut Table, key: &str, value: &str) -> Result<(), String> {
+    apply(table, key, value)?;
+    let scene: Scene = Value::Table(table.clone())
+        .try_into()
+        .map_err(|e: toml::de::Error| e.message().to_string())?;
+    scene
+        .check()
+        .map_err(|invalid| invalid.message(Speaker::Link))
 }
 
 /// A name the formula language reads as a parameter: a letter or `_`, then letters, digits
@@ -295,6 +311,26 @@ mod tests {
         let (back, problems) = Scene::from_link(&link, &Scene::from_formula("0"));
         assert!(problems.is_empty(), "{problems:?}");
         assert_eq!(back.to_toml(), scene.to_toml());
+    }
+
+    #[test]
+    fn keys_that_depend_on_each_other_open_in_any_order() {
+        // max_level 3 is below the default min_level 4 until the link's min_level comes.
+        let mut scene = Scene::from_formula("x + y");
+        scene.tree.max_level = 3;
+        scene.tree.min_level = 2;
+        let (back, problems) = Scene::from_link(&scene.to_link(), &Scene::from_formula("0"));
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!(back.tree, scene.tree);
+        let reversed = "formula=x&tree.min_level=9&tree.max_level=9";
+        let (back, problems) = Scene::from_link(reversed, &Scene::from_formula("0"));
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!((back.tree.min_level, back.tree.max_level), (9, 9));
+        // A pair no order can settle is refused, and the scene stays one the rules accept.
+        let (back, problems) =
+            Scene::from_link("formula=x&tree.min_level=8&tree.max_level=2", &back);
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert!(back.check().is_ok());
     }
 
     #[test]

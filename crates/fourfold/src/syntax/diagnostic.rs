@@ -56,6 +56,17 @@ impl SourceError {
         } else {
             (source.to_string(), start, end)
         };
+        // A control character has no width: the caret under it would vanish.
+        let shown: String = shown
+            .chars()
+            .map(|c| {
+                if c.is_ascii_control() && !matches!(c, '\n' | '\r' | '\t') {
+                    ' '
+                } else {
+                    c
+                }
+            })
+            .collect();
         let file = SimpleFile::new(source_name, shown.as_str());
         let mut diagnostic = Diagnostic::error()
             .with_message(&self.message)
@@ -106,7 +117,10 @@ impl SourceError {
         let line_end = source[start..]
             .find('\n')
             .map_or(source.len(), |i| start + i);
-        let line: Vec<char> = source[line_start..line_end].chars().collect();
+        let line: Vec<char> = source[line_start..line_end]
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
         // Columns of the span in the line (one caret at least, maybe just past its end).
         let s = source[line_start..start].chars().count();
         let e = (s + source[start..end.min(line_end)].chars().count()).max(s + 1);

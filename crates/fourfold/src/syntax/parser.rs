@@ -198,8 +198,14 @@ fn prescan(source: &str) -> Result<(), SourceError> {
                     '[' | ']' | '{' | '}' => "use ( and ) for grouping".to_string(),
                     _ => "formulas use x y z w, numbers, names, + - * / ^ ( ) | and =".to_string(),
                 };
+                // An invisible one is named by its escape (`'\u{0}'`).
+                let shown = if other.is_control() {
+                    other.escape_unicode().to_string()
+                } else {
+                    other.to_string()
+                };
                 return Err(SourceError::new(
-                    format!("unexpected character '{other}'"),
+                    format!("unexpected character '{shown}'"),
                     span,
                     "not part of the formula language",
                 )
