@@ -7,8 +7,9 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link asking for certified pixels draws plain and says why; without WebGPU the
-// page says what it needs. With --measure it also prints the wasm's size, load
+// error; a link asking for certified pixels draws plain and says why; an undefined constant
+// is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
+// compiles in Chromium's WebGPU; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
 
 import { chromium } from 'playwright-core';
@@ -58,6 +59,35 @@ const check = (ok, what) => {
   console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
   if (!ok) failures += 1;
 };
+
+/** In the page: WebGPU's errors for a shader module and its pipelines (two variants of the
+ * pipeline constants, as the ray caster makes them). */
+async function compile_in_webgpu(code) {
+  const adapter = await navigator.gpu.requestAdapter();
+  const device = await adapter.requestDevice();
+  const problems = [];
+  device.pushErrorScope('validation');
+  const module = device.createShaderModule({ code });
+  const info = await module.getCompilationInfo();
+  problems.push(...info.messages.filter((m) => m.type === 'error').map((m) => m.message));
+  const variants = [{ MODE: 1, SLOTS: 4, SAMPLING: 0, SECTION: 0, CERTIFY: 0 },
+    { MODE: 0, SLOTS: 16, SAMPLING: 1, SECTION: 2, CERTIFY: 1 }];
+  for (const constants of variants) {
+    try {
+      await device.createRenderPipelineAsync({
+        layout: 'auto',
+        vertex: { module, entryPoint: 'vs_main' },
+        fragment: { module, entryPoint: 'fs_main', targets: [{ format: 'rgba8unorm' }], constants },
+      });
+    } catch (e) {
+      problems.push(String(e.message ?? e));
+    }
+  }
+  const scope = await device.popErrorScope();
+  if (scope) problems.push(scope.message);
+  device.destroy();
+  return problems;
+}
 
 /** A new page at `hash`, with its console errors collected. */
 async function open(hash = '') {
@@ -202,6 +232,24 @@ try {
   check(/\^/.test(wrong.error) && wrong.formula === typed.formula,
     `the error is shown with its caret: ${JSON.stringify(wrong.error.split('\n')[0])}`);
 
+  // A constant outside its function's domain: refused with the culprit underlined, as the
+  // command line refuses it; the last picture stays. An overflow is ∞: no surface, no error.
+  await type(page, 'max(asin(2), x^2 + y^2 + z^2 + w^2 - 1)');
+  await page.waitForFunction(() => /undefined/.test(JSON.parse(window.fourfold.status()).error ?? ''),
+    null, { timeout: TIMEOUT });
+  const undefinedF = await status(page);
+  check(/F is undefined everywhere/.test(undefinedF.error) && /\^\^\^\^\^\^\^/.test(undefinedF.error)
+    && undefinedF.generation === typed.generation && changed(glome, await picture(page)) < 0.002,
+    `an undefined constant is refused with its culprit, the picture kept: ${JSON.stringify(undefinedF.error.split('\n')[0])}`);
+  const huge = 'exp(1e9) = R - pow(z, e)';
+  await type(page, huge);
+  await page.waitForFunction((f) => {
+    const s = JSON.parse(window.fourfold.status());
+    return s.panic || (s.formula === f && !s.building && !s.drawing);
+  }, huge, { timeout: TIMEOUT, polling: 50 });
+  const overflow = await status(page);
+  check(!overflow.panic && overflow.error === null, 'an overflowing constant is taken, without an error');
+
   // The deepest formulas the page accepts parse on the browser's stack; a longer one is refused.
   for (const [what, deep] of [['4 KiB of unary minus', '-'.repeat(4095) + 'x'],
     ['a 4 KiB tower of powers', 'x^'.repeat(2047) + 'x'], ['a 4 KiB sum', 'x+'.repeat(2047) + 'x']]) {
@@ -252,6 +300,23 @@ try {
     check(c.share > 0.001 && !done.error, `example ${name} draws (${(100 * c.share).toFixed(1)}% covered)`);
   }
   check(shared.errors.length === 0, `no error in the console for any example (${shared.errors.join(' | ') || 'none'})`);
+
+  // The WGSL of fuzzed formulas (written by `fourfold-fuzz --wgsl-out`, see .ci/run)
+  // compiles in Chromium's WebGPU, pipeline constants and all: its compiler evaluates
+  // constant expressions more strictly than naga.
+  const samples = process.env.FOURFOLD_WGSL_SAMPLES;
+  if (samples) {
+    const files = fs.readdirSync(samples).filter((f) => f.endsWith('.wgsl')).sort();
+    let compiled = 0;
+    for (const file of files) {
+      const code = fs.readFileSync(path.join(samples, file), 'utf8');
+      const problems = await shared.page.evaluate(compile_in_webgpu, code);
+      if (problems.length === 0) compiled += 1;
+      else check(false, `fuzzed WGSL ${file} (${code.split('\n')[0]}) compiles: ${problems.join(' | ')}`);
+    }
+    check(files.length > 0 && compiled === files.length,
+      `the WGSL of ${files.length} fuzzed formulas compiles in Chromium's WebGPU (${compiled} did)`);
+  }
 
   // Without WebGPU the page says what it needs, never a blank canvas.
   const plain = await chromium.launch({

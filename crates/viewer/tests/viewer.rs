@@ -127,6 +127,45 @@ fn a_mistyped_formula_shows_the_error_and_keeps_the_picture() {
 }
 
 #[test]
+fn an_undefined_constant_says_so_and_keeps_the_picture() {
+    // asin(2) has no value, so F has none anywhere: the editor says so and underlines it,
+    // as the command line does; no shader is made for it and the last picture stays.
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let before = h.state().session.picture_generation;
+    let pipelines = h.state().session.counters.pipelines;
+
+    replace_formula(&mut h, "max(asin(2), x^2 + y^2 + z^2 + w^2 - 1)");
+    for _ in 0..5 {
+        h.step();
+    }
+    let app = h.state();
+    let error = app.session.error.as_deref().expect("an error is shown");
+    assert!(
+        error.contains("F is undefined everywhere in the domain"),
+        "{error}"
+    );
+    assert!(
+        error.contains("asin is undefined outside [−1, 1]"),
+        "{error}"
+    );
+    assert!(error.contains("^^^^^^^"), "asin(2) is underlined: {error}");
+    assert_eq!(
+        app.session.picture_generation, before,
+        "the picture was replaced"
+    );
+    assert_eq!(
+        app.session.counters.pipelines, pipelines,
+        "a pipeline was made"
+    );
+    assert!(
+        !app.progressive.paint().layers.is_empty(),
+        "the last picture is gone"
+    );
+    h.get_by_label_contains("F is undefined everywhere");
+}
+
+#[test]
 fn moving_a_parameter_slider_rebuilds_the_tree_not_the_shader() {
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = a");
     scene.params.insert("a".into(), 1.0);

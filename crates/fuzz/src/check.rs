@@ -1,0 +1,199 @@
+//! Running a formula case through every path a user has: `fourfold check`, `wgsl` and
+//! `render` (on the CPU twin, and on the GPU where the case says), in process, through the
+//! command line's own parser; and beneath them wgpu's own evaluation of the shader's
+//! pipeline constants and its SPIR-V output, which need no GPU. A case passes when every
+//! path draws or refuses it with the same clear message.
+
+use std::path::Path;
+
+use clap::Parser as _;
+use fourfold::render::Program;
+use fourfold_cli::Cli;
+
+use crate::cases::{FormulaCase, Mode};
+
+/// Text that only a raw wgpu or naga error, or a panic, prints: never a user's message.
+const RAW_MARKERS: &[&str] = &[
+    "Validation Error",
+    "Caused by",
+    "In Device::",
+    "Pipeline constant error",
+    "Shader validation error",
+    "panicked at",
+    "internal error",
+];
+
+/// The most pixels of a picture the GPU and the CPU twin may see differently (one covered,
+/// the other background): f32 on the GPU against f64 on the CPU moves the odd root across a
+/// pixel's edge, where a formula has thin parts or a huge slope.
+pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
+
+/// What a case did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    /// Every path drew it.
+    Drew,
+    /// Every path refused it, with this message (its first line).
+    Refused(String),
+}
+
+/// The exit code and text of `fourfold ARGS…`, run in this process.
+pub fn cli(args: &[String]) -> (i32, String) {
+    let argv = std::iter::once("fourfold".to_string()).chain(args.iter().cloned());
+    match Cli::try_parse_from(argv) {
+        Err(e) => (e.exit_code(), e.to_string()),
+        Ok(parsed) => match fourfold_cli::run(&parsed) {
+            Ok(text) => (0, text),
+            Err(failure) => (failure.code, failure.message),
+        },
+    }
+}
+
+/// Fails where `text` is raw: a GPU compiler's, naga's or a panic's words.
+fn clean(what: &str, code: i32, text: &str) -> Result<(), String> {
+    if let Some(marker) = RAW_MARKERS.iter().find(|m| text.contains(*m)) {
+        return Err(format!("{what}: raw text ({marker:?}) in:\n{text}"));
+    }
+    if code != 0 && code != 2 {
+        return Err(format!("{what}: exit code {code}:\n{text}"));
+    }
+    Ok(())
+}
+
+/// The first line of a refusal: what every path must agree on.
+fn headline(text: &str) -> &str {
+    text.lines().next().unwrap_or("").trim()
+}
+
+/// Runs `case` through every path, writing pictures under `dir`.
+pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> {
+    let text = case.text();
+    let mut input = vec![text.clone()];
+    input.extend(case.param_args());
+    let with = |command: &str| {
+        let mut args = vec![command.to_string()];
+        args.extend(input.iter().cloned());
+        args
+    };
+    let (checked, said) = cli(&with("check"));
+    clean("check", checked, &said)?;
+    let (exported, wgsl) = cli(&with("wgsl"));
+    clean("wgsl", exported, &wgsl)?;
+    if exported != checked {
+        return Err(format!(
+            "check exits {checked}, wgsl {exported}:\n{said}\n{wgsl}"
+        ));
+    }
+    if checked == 0 {
+        pipeline_constants(&text, case)?;
+    }
+    let cpu_png = dir.join("cpu.png");
+    let (cpu, cpu_said) = cli(&case.render_args(&cpu_png, true));
+    clean("render --cpu", cpu, &cpu_said)?;
+    if checked == 2 && (cpu != 2 || headline(&cpu_said) != headline(&said)) {
+        return Err(format!(
+            "check refuses it, render --cpu exits {cpu}:\n{said}\n{cpu_said}"
+        ));
+    }
+    if case.gpu {
+        let gpu_png = dir.join("gpu.png");
+        let (gpu, gpu_said) = cli(&case.render_args(&gpu_png, false));
+        clean("render", gpu, &gpu_said)?;
+        if gpu != cpu || (gpu == 2 && headline(&gpu_said) != headline(&cpu_said)) {
+            return Err(format!(
+                "render exits {gpu}, render --cpu {cpu}:\n{gpu_said}\n{cpu_said}"
+            ));
+        }
+        if gpu == 0 && !gpu_said.contains("cut short") {
+            compare(&gpu_png, &cpu_png)?;
+        }
+    }
+    Ok(if cpu == 0 {
+        Verdict::Drew
+    } else {
+        Verdict::Refused(headline(&cpu_said).to_string())
+    })
+}
+
+/// What wgpu does to the shader when it makes a pipeline, without a GPU: evaluate the
+/// pipeline constants (where the formulas were refused) and write SPIR-V, for the
+/// constants of the case's mode and for the pipeline every caster makes first.
+fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
+    let program = Program::new(text).map_err(|e| format!("check accepts it, but: {e}"))?;
+    let module = &program.shader.module;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(module)
+    .map_err(|e| format!("naga: {e}"))?;
+    let section = match case.mode {
+        Mode::Slab(..) => 1.0,
+        Mode::Slice(_) => 2.0,
+        _ => 0.0,
+    };
+    let mode = if case.mode == Mode::BruteForce {
+        0.0
+    } else {
+        1.0
+    };
+    let certify = f64::from(u8::from(matches!(case.mode, Mode::Certified { .. })));
+    for values in [
+        [1.0, 4.0, 0.0, 0.0, 0.0],
+        [mode, 16.0, 1.0, section, certify],
+    ] {
+        let names = ["MODE", "SLOTS", "SAMPLING", "SECTION", "CERTIFY"];
+        let constants = names
+            .iter()
+            .zip(values)
+            .map(|(n, v)| (n.to_string(), v))
+            .collect();
+        let stage = naga::ShaderStage::Fragment;
+        let (module, info) = naga::back::pipeline_constants::process_overrides(
+            module,
+            &info,
+            Some((stage, "fs_main")),
+            &constants,
+        )
+        .map_err(|e| format!("pipeline constants {values:?}: {e}"))?;
+        let options = naga::back::spv::PipelineOptions {
+            shader_stage: stage,
+            entry_point: "fs_main".into(),
+        };
+        naga::back::spv::write_vec(&module, &info, &Default::default(), Some(&options))
+            .map_err(|e| format!("SPIR-V {values:?}: {e}"))?;
+    }
+    Ok(())
+}
+
+/// The GPU's picture and the CPU twin's cover the same pixels, but for a few.
+fn compare(gpu: &Path, cpu: &Path) -> Result<(), String> {
+    let read = |p: &Path| {
+        image::open(p)
+            .map(|i| i.to_rgba8())
+            .map_err(|e| format!("reading {}: {e}", p.display()))
+    };
+    let (a, b) = (read(gpu)?, read(cpu)?);
+    if a.dimensions() != b.dimensions() {
+        return Err(format!(
+            "GPU picture {:?}, CPU {:?}",
+            a.dimensions(),
+            b.dimensions()
+        ));
+    }
+    let background = fourfold::scene::RenderSettings::default().background.0;
+    let covered = |p: &image::Rgba<u8>| p.0[..3] != background;
+    let differ = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| covered(p) != covered(q))
+        .count();
+    let share = differ as f64 / f64::from(a.width() * a.height());
+    if share > MAX_COVERAGE_DISAGREEMENT {
+        return Err(format!(
+            "the GPU and the CPU twin disagree on {:.0}% of the pixels",
+            share * 100.0
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,123 @@
+//! The issue's class of formulas: every function of the language at constants outside its
+//! domain or where it overflows, alone and inside a formula that has a surface. Each is
+//! refused with "F is undefined everywhere" and the culprit underlined, or drawn; none
+//! reaches wgpu's evaluation of the shader's pipeline constants with an out-of-range
+//! builtin or an infinite literal (what refused these formulas before).
+
+use fourfold::CompiledFormula;
+use fourfold::ops::{BINARY, UNARY};
+use fourfold_fuzz::cases::{FormulaCase, Mode};
+use fourfold_fuzz::check::{Verdict, check_formula};
+use fourfold_fuzz::formulas::{Formula, Term};
+
+/// Outside a domain, at an edge, overflowing f32 or f64, ±∞ (a literal over f64's range is
+/// refused as written, so ∞ is made by a product), and one that underflows to 0.
+const CONSTANTS: &[&str] = &[
+    "2",
+    "-3",
+    "0",
+    "-1",
+    "710",
+    "1e39",
+    "(1e308*10)",
+    "(-1e308*10)",
+    "1e-400",
+];
+
+fn case(text: &str) -> FormulaCase {
+    FormulaCase {
+        formula: Formula {
+            lhs: Term::Text(text.to_string()),
+            rhs: None,
+        },
+        params: Vec::new(),
+        angles: [0.3, 0.5, 0.7, 0.1, 0.2, 0.3],
+        size: [6, 5],
+        max_level: 3,
+        mode: Mode::Plain,
+        gpu: false,
+    }
+}
+
+/// `formula` draws or is refused on every path; refused, it says F is undefined and
+/// underlines `culprit`.
+fn drawn_or_refused(formula: &str, culprit: &str, dir: &std::path::Path) {
+    let verdict = check_formula(&case(formula), dir).unwrap_or_else(|e| panic!("{formula}: {e}"));
+    if let Verdict::Refused(_) = verdict {
+        let error = CompiledFormula::compile(formula).expect_err(formula);
+        assert_eq!(
+            error.message, "F is undefined everywhere in the domain",
+            "{formula}"
+        );
+        assert_eq!(&formula[error.span.clone()], culprit, "{formula}");
+    }
+}
+
+#[test]
+fn every_function_at_every_edge_constant_draws_or_says_why() {
+    let dir = std::env::temp_dir().join("fourfold-undefined-constants");
+    std::fs::create_dir_all(&dir).unwrap();
+    for row in UNARY.iter().filter(|r| r.callable) {
+        for c in CONSTANTS {
+            let call = format!("{}({c})", row.name);
+            drawn_or_refused(
+                &format!("max({call}, x^2 + y^2 + z^2 + w^2 - 1)"),
+                &call,
+                &dir,
+            );
+            drawn_or_refused(&format!("{call}*x + y"), &call, &dir);
+        }
+    }
+    for row in BINARY.iter() {
+        for (a, b) in [
+            ("-2", "0.5"),
+            ("0", "-1"),
+            ("2", "0"),
+            ("1e308*10", "-1e308*10"),
+            ("0", "1e308*10"),
+        ] {
+            let call = if row.callable {
+                format!("{}({a}, {b})", row.name)
+            } else {
+                format!("({a}){}({b})", row.name)
+            };
+            drawn_or_refused(&format!("{call} + x^2 + y^2 + z^2 + w^2 - 1"), &call, &dir);
+        }
+    }
+}
+
+#[test]
+fn the_issue_s_formulas_draw_or_say_why() {
+    let dir = std::env::temp_dir().join("fourfold-issue-formulas");
+    std::fs::create_dir_all(&dir).unwrap();
+    let refused = [
+        ("max(asin(2), x^2+y^2+z^2+w^2-1)", "asin(2)"),
+        ("sqrt(-1) + x^2+y^2+z^2+w^2-1", "sqrt(-1)"),
+        ("ln(0) + x", "ln(0)"),
+        ("min(ln(-1), 0) + x^2+y^2+z^2+w^2-1", "ln(-1)"),
+        ("acos(-3)*x + y", "acos(-3)"),
+        ("(e - pi)^(x^a)", "(e - pi)^(x^a)"),
+        ("x/0 + y", "x/0"),
+    ];
+    for (formula, culprit) in refused {
+        let verdict = check_formula(&case(formula), &dir);
+        assert!(
+            matches!(verdict, Ok(Verdict::Refused(_))),
+            "{formula}: {verdict:?}"
+        );
+        drawn_or_refused(formula, culprit, &dir);
+    }
+    // An overflow is ±∞, not undefined: these draw (nothing, or where F is finite).
+    for formula in [
+        "exp(1e9) = R - pow(z, e)",
+        "1e300*1e300 = x",
+        "x^2 + y^2 + z^2 + w^2 = 1e39",
+        "pow(0, x) - y",
+    ] {
+        assert_eq!(
+            check_formula(&case(formula), &dir),
+            Ok(Verdict::Drew),
+            "{formula}"
+        );
+    }
+}
