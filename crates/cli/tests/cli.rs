@@ -637,8 +637,13 @@ fn constants_outside_a_domain_draw_or_are_refused_with_the_culprit() {
                     stderr.contains("F is undefined everywhere in the domain"),
                     "{formula}: {stderr}"
                 );
-                let line = stderr.lines().find(|l| l.contains('^')).unwrap_or("");
-                let carets = line.matches('^').count();
+                // The caret line: after the gutter's bar, spaces then carets.
+                let carets = stderr
+                    .lines()
+                    .filter_map(|l| l.split('│').nth(1))
+                    .map(|rest| rest.trim_start())
+                    .find(|rest| rest.starts_with('^'))
+                    .map_or(0, |rest| rest.chars().take_while(|c| *c == '^').count());
                 assert_eq!(carets, part.chars().count(), "{formula}: {stderr}");
             }
             None => assert!(out.status.success(), "{formula}: {stderr}"),
