@@ -12,7 +12,7 @@ use fourfold::render::animation::{
 };
 
 use crate::failure::Failure;
-use crate::input::{compile, parameter_warnings};
+use crate::input::{Warn, compile_warning};
 use crate::render::{RenderArgs, cut_warning, parse_size, render_scene_of};
 
 #[derive(Debug, Clone, Args)]
@@ -99,16 +99,13 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
 }
 
 /// `fourfold animate`.
-pub fn animate(args: &AnimateArgs) -> Result<String, Failure> {
+pub fn animate(args: &AnimateArgs, warn: Warn) -> Result<String, Failure> {
     use std::io::IsTerminal;
     use std::sync::Arc;
     use std::sync::atomic::AtomicBool;
     let scene = render_scene_of(&args.render)?;
     let (width, height) = parse_size(&args.render.size)?;
-    let formula = compile(&scene)?;
-    for w in parameter_warnings(&scene, &formula) {
-        eprintln!("{w}");
-    }
+    let formula = compile_warning(&scene, warn)?;
     let animation = animation_of(args, &formula)?;
     let output = Output::from_path(&args.render.output).map_err(Failure::usage)?;
     let mut writer = output

@@ -2,15 +2,12 @@
 //! four partial derivatives.
 
 use crate::failure::Failure;
-use crate::input::{Input, compile, load_scene, parameter_warnings};
+use crate::input::{Input, Warn, compile_warning, load_scene};
 
 /// `fourfold check`.
-pub fn check(input: &Input) -> Result<String, Failure> {
+pub fn check(input: &Input, warn: Warn) -> Result<String, Failure> {
     let scene = load_scene(input)?;
-    let formula = compile(&scene)?;
-    for w in parameter_warnings(&scene, &formula) {
-        eprintln!("{w}");
-    }
+    let formula = compile_warning(&scene, warn)?;
     let params = formula.param_names();
     Ok(format!(
         "ok: F = {}\n{} graph nodes ({} evaluated for F, {} for F and its gradient, {} with the second derivatives); parameters: {}",
@@ -28,12 +25,9 @@ pub fn check(input: &Input) -> Result<String, Failure> {
 }
 
 /// `fourfold grad`.
-pub fn grad(input: &Input) -> Result<String, Failure> {
+pub fn grad(input: &Input, warn: Warn) -> Result<String, Failure> {
     let scene = load_scene(input)?;
-    let formula = compile(&scene)?;
-    for w in parameter_warnings(&scene, &formula) {
-        eprintln!("{w}");
-    }
+    let formula = compile_warning(&scene, warn)?;
     let [dx, dy, dz, dw] = formula.gradient_text();
     Ok(format!(
         "F     = {}\ndF/dx = {dx}\ndF/dy = {dy}\ndF/dz = {dz}\ndF/dw = {dw}",

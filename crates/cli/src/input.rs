@@ -72,12 +72,17 @@ pub fn compile(scene: &Scene) -> Result<CompiledFormula, Failure> {
         .map_err(|e| Failure::usage(e.render("formula", &scene.formula)))
 }
 
-/// Warnings about parameters the formula uses but the scene does not set, or the reverse.
-pub fn parameter_warnings(scene: &Scene, formula: &CompiledFormula) -> Vec<String> {
-    let mut warnings = Vec::new();
+/// Where a command's warnings go as they arise: the binary prints them on stderr, the fuzzer
+/// reads them with the rest of what a case says.
+pub type Warn<'a> = &'a mut dyn FnMut(&str);
+
+/// Compiles the scene's formula as [`compile`] does, and warns of parameters the formula
+/// uses but the scene does not set, or the reverse.
+pub fn compile_warning(scene: &Scene, warn: Warn) -> Result<CompiledFormula, Failure> {
+    let formula = compile(scene)?;
     for p in &formula.params {
         if !scene.params.contains_key(&p.name) {
-            warnings.push(format!(
+            warn(&format!(
                 "warning: parameter {} has no value; using 1.0 (set it with --param {}=VALUE)",
                 p.name, p.name
             ));
@@ -85,12 +90,12 @@ pub fn parameter_warnings(scene: &Scene, formula: &CompiledFormula) -> Vec<Strin
     }
     for name in scene.params.keys() {
         if !formula.params.iter().any(|p| &p.name == name) {
-            warnings.push(format!(
+            warn(&format!(
                 "warning: parameter {name} is set but the formula does not use it"
             ));
         }
     }
-    warnings
+    Ok(formula)
 }
 
 /// Sets the tree levels and node budget given on the command line. A lower max level alone

@@ -16,7 +16,7 @@ use clap::{Parser, Subcommand};
 pub use animate::{AnimateArgs, animate, animation_of};
 pub use check::{check, grad};
 pub use failure::Failure;
-pub use input::{Input, compile, load_scene, parameter_warnings};
+pub use input::{Input, Warn};
 pub use render::{RenderArgs, render, render_scene_of};
 pub use tree::{TreeArgs, tree};
 pub use view::{ViewArgs, view};
@@ -53,15 +53,16 @@ pub enum Command {
 }
 
 /// Runs the command `cli` names (the viewer without one): the text to print, or the failure.
-pub fn run(cli: &Cli) -> Result<String, Failure> {
+/// Warnings go to `warn` as they arise.
+pub fn run(cli: &Cli, warn: Warn) -> Result<String, Failure> {
     match &cli.command {
-        Some(Command::Check(input)) => check(input),
-        Some(Command::Grad(input)) => grad(input),
-        Some(Command::Tree(args)) => tree(args),
+        Some(Command::Check(input)) => check(input, warn),
+        Some(Command::Grad(input)) => grad(input, warn),
+        Some(Command::Tree(args)) => tree(args, warn),
         Some(Command::Wgsl(args)) => wgsl(args),
-        Some(Command::Render(args)) => render(args),
-        Some(Command::Animate(args)) => animate(args),
-        Some(Command::View(args)) => view(args),
-        None => view(&ViewArgs::default()),
+        Some(Command::Render(args)) => render(args, warn),
+        Some(Command::Animate(args)) => animate(args, warn),
+        Some(Command::View(args)) => view(args, warn),
+        None => view(&ViewArgs::default(), warn),
     }
 }

@@ -3,7 +3,7 @@ use fourfold_cli::Cli;
 
 fn main() {
     let cli = Cli::parse();
-    match fourfold_cli::run(&cli) {
+    match fourfold_cli::run(&cli, &mut |warning| eprintln!("{warning}")) {
         Ok(text) => {
             // A reader that stops early (`fourfold wgsl scene.toml | head`) is not an error.
             use std::io::Write as _;

@@ -12,7 +12,7 @@ use fourfold::render::{Device, Gpu, Prepared};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
 use crate::failure::Failure;
-use crate::input::{Input, checked, compile, load_scene, override_tree, parameter_warnings};
+use crate::input::{Input, Warn, checked, compile_warning, load_scene, override_tree};
 
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
@@ -233,15 +233,12 @@ fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
 }
 
 /// `fourfold render`.
-pub fn render(args: &RenderArgs) -> Result<String, Failure> {
+pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let mut scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
     let t = std::time::Instant::now();
-    let formula = compile(&scene)?;
+    let formula = compile_warning(&scene, warn)?;
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
-    for w in parameter_warnings(&scene, &formula) {
-        eprintln!("{w}");
-    }
     let gpu = if args.cpu {
         None
     } else {

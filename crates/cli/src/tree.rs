@@ -6,7 +6,7 @@ use fourfold::render::Prepared;
 use fourfold::tree::BuildSettings;
 
 use crate::failure::Failure;
-use crate::input::{Input, checked, compile, load_scene, override_tree, parameter_warnings};
+use crate::input::{Input, Warn, checked, compile_warning, load_scene, override_tree};
 
 #[derive(Debug, Clone, Args)]
 pub struct TreeArgs {
@@ -32,14 +32,11 @@ pub struct TreeArgs {
 }
 
 /// `fourfold tree`.
-pub fn tree(args: &TreeArgs) -> Result<String, Failure> {
+pub fn tree(args: &TreeArgs, warn: Warn) -> Result<String, Failure> {
     let mut scene = load_scene(&args.input)?;
     override_tree(&mut scene, args.max_level, args.min_level, args.node_budget);
     let scene = checked(scene)?;
-    let formula = compile(&scene)?;
-    for w in parameter_warnings(&scene, &formula) {
-        eprintln!("{w}");
-    }
+    let formula = compile_warning(&scene, warn)?;
     let settings: BuildSettings = scene.tree.into();
     let build = || Prepared::new(&formula, &scene);
     let Prepared {

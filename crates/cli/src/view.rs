@@ -8,6 +8,7 @@ use clap::Args;
 use fourfold::scene::Scene;
 
 use crate::failure::Failure;
+use crate::input::Warn;
 
 #[derive(Debug, Clone, Args, Default)]
 pub struct ViewArgs {
@@ -16,7 +17,7 @@ pub struct ViewArgs {
 }
 
 /// `fourfold` / `fourfold view [FORMULA_OR_SCENE]`: opens the viewer window.
-pub fn view(args: &ViewArgs) -> Result<String, Failure> {
+pub fn view(args: &ViewArgs, warn: Warn) -> Result<String, Failure> {
     let linked = args
         .formula_or_scene
         .as_deref()
@@ -30,7 +31,7 @@ pub fn view(args: &ViewArgs) -> Result<String, Failure> {
             let (scene, problems) = Scene::from_link(text, &fourfold_viewer::app::default_scene());
             // As the web page does: open what the link says, and tell what it left out.
             for problem in problems {
-                eprintln!("{problem} (left at its default)");
+                warn(&format!("{problem} (left at its default)"));
             }
             Some(scene)
         }

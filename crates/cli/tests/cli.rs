@@ -270,7 +270,7 @@ fn render_fit_frames_the_manifold_not_the_domain() {
                 argv.push("--fit".into());
             }
             let args = parse_render(&argv);
-            fourfold_cli::render(&args).unwrap_or_else(|f| panic!("{}", f.message));
+            fourfold_cli::render(&args, &mut |_| {}).unwrap_or_else(|f| panic!("{}", f.message));
             let image = image::open(&out).unwrap().to_rgba8();
             let background = Scene::from_formula("x").render.background.0;
             let xs: Vec<u32> = image
@@ -322,7 +322,8 @@ fn certified_render_says_why_pixels_stay_undecided() {
             "-o",
             out.to_str().unwrap(),
         ];
-        fourfold_cli::render(&parse_render(&argv)).unwrap_or_else(|f| panic!("{}", f.message))
+        fourfold_cli::render(&parse_render(&argv), &mut |_| {})
+            .unwrap_or_else(|f| panic!("{}", f.message))
     };
     let pole = report("1/x - y = 0");
     assert!(pole.contains("may have a pole"), "{pole}");
@@ -391,8 +392,8 @@ fn a_certified_animation_counts_every_frame_s_pixels() {
         "-o",
         &out,
     ];
-    let said =
-        fourfold_cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message));
+    let said = fourfold_cli::animate(&animate_args(&flags), &mut |_| {})
+        .unwrap_or_else(|f| panic!("{}", f.message));
     std::fs::remove_dir_all(&dir).ok();
     let counts = said
         .lines()
@@ -416,7 +417,8 @@ fn animate_writes_frames_that_differ_in_every_format() {
         let mut flags = vec![SCENE, "--size", "40x32", "--rays", "4", "--frames", "4"];
         flags.extend(motion);
         flags.extend(["-o", &out]);
-        fourfold_cli::animate(&animate_args(&flags)).unwrap_or_else(|f| panic!("{}", f.message))
+        fourfold_cli::animate(&animate_args(&flags), &mut |_| {})
+            .unwrap_or_else(|f| panic!("{}", f.message))
     };
     let distinct = |frames: &[Vec<u8>]| {
         frames
@@ -495,7 +497,7 @@ fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
     for (flags, expected) in cases {
         let mut argv = vec![SCENE, "-o", &gif];
         argv.extend(*flags);
-        let failure = fourfold_cli::animate(&animate_args(&argv)).expect_err(expected);
+        let failure = fourfold_cli::animate(&animate_args(&argv), &mut |_| {}).expect_err(expected);
         assert_eq!(failure.code, 2, "{flags:?}: {}", failure.message);
         assert!(
             failure.message.contains(expected),
@@ -511,8 +513,11 @@ fn bad_animate_flags_are_usage_errors_that_say_what_to_do() {
         ),
         ("x.jpg", "unknown kind of file '.jpg'"),
     ] {
-        let failure = fourfold_cli::animate(&animate_args(&[SCENE, "--turn", "xw", "-o", out]))
-            .expect_err(out);
+        let failure = fourfold_cli::animate(
+            &animate_args(&[SCENE, "--turn", "xw", "-o", out]),
+            &mut |_| {},
+        )
+        .expect_err(out);
         assert_eq!(failure.code, 2);
         assert!(failure.message.contains(expected), "{}", failure.message);
     }
@@ -657,4 +662,32 @@ fn a_formula_may_start_with_a_minus_sign() {
     assert_eq!(args.input.formula_or_scene, "-x^2 - y^2 + z + w");
     let args = parse_render(&["render", "--size", "8x8", "-1 + x", "-o", "x.png"]);
     assert_eq!(args.input.formula_or_scene, "-1 + x");
+}
+
+#[test]
+fn parameter_warnings_reach_the_caller_and_the_binary_s_stderr() {
+    // A parameter without a value and a value without a parameter: both are warned of, and
+    // the command still succeeds.
+    let argv = ["fourfold", "check", "x + a*y", "--param", "b=2"];
+    let mut warnings = Vec::new();
+    let text = fourfold_cli::run(&Cli::try_parse_from(argv).unwrap(), &mut |w| {
+        warnings.push(w.to_string())
+    })
+    .unwrap_or_else(|f| panic!("{}", f.message));
+    assert!(text.starts_with("ok: F = "), "{text}");
+    assert_eq!(
+        warnings,
+        [
+            "warning: parameter a has no value; using 1.0 (set it with --param a=VALUE)",
+            "warning: parameter b is set but the formula does not use it",
+        ]
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(&argv[1..])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.lines().collect::<Vec<_>>(), warnings, "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("ok: F = "));
 }

@@ -37,16 +37,24 @@ pub enum Verdict {
     Refused(String),
 }
 
-/// The exit code and text of `fourfold ARGS…`, run in this process.
+/// The exit code and text of `fourfold ARGS…`, run in this process: what it prints, then
+/// its warnings (which are held to the same standard).
 pub fn cli(args: &[String]) -> (i32, String) {
     let argv = std::iter::once("fourfold".to_string()).chain(args.iter().cloned());
-    match Cli::try_parse_from(argv) {
-        Err(e) => (e.exit_code(), e.to_string()),
-        Ok(parsed) => match fourfold_cli::run(&parsed) {
-            Ok(text) => (0, text),
-            Err(failure) => (failure.code, failure.message),
-        },
-    }
+    let parsed = match Cli::try_parse_from(argv) {
+        Err(e) => return (e.exit_code(), e.to_string()),
+        Ok(parsed) => parsed,
+    };
+    let mut warnings = String::new();
+    let (code, mut text) = match fourfold_cli::run(&parsed, &mut |w| {
+        warnings.push('\n');
+        warnings.push_str(w);
+    }) {
+        Ok(text) => (0, text),
+        Err(failure) => (failure.code, failure.message),
+    };
+    text.push_str(&warnings);
+    (code, text)
 }
 
 /// Fails where `text` is raw: a GPU compiler's, naga's or a panic's words.
