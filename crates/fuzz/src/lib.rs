@@ -103,6 +103,9 @@ impl std::fmt::Display for Report {
     }
 }
 
+/// How a case that did not answer in time is told.
+const HANG: &str = "a hang";
+
 /// Runs `work` on its own thread: its result, or a failure if it panics or takes longer
 /// than `timeout` (the thread is left behind: a hang is reported, not waited for).
 pub fn within<T: Send + 'static>(
@@ -130,7 +133,7 @@ pub fn within<T: Send + 'static>(
                 .unwrap_or_default();
             Err(format!("panicked: {text}"))
         }
-        Err(_) => Err(format!("no answer after {} s (a hang)", timeout.as_secs())),
+        Err(_) => Err(format!("no answer after {} s ({HANG})", timeout.as_secs())),
     }
 }
 
@@ -161,7 +164,9 @@ pub fn run(config: &Config, mut progress: impl FnMut(&Report)) -> Report {
                 *report.refusals.entry(kind_of(&why)).or_default() += 1;
             }
             Err(reason) => {
-                let shrunk = shrink::shrink(&case.formula, 150, |f| {
+                // A hang is not shrunk: each try could take the whole time limit.
+                let tries = if reason.contains(HANG) { 0 } else { 150 };
+                let shrunk = shrink::shrink(&case.formula, tries, |f| {
                     let mut smaller = case.clone();
                     smaller.formula = f.clone();
                     run_case(&smaller, config).is_err()

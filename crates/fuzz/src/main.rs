@@ -50,8 +50,13 @@ fn main() {
             .unwrap_or_else(|| std::env::temp_dir().join(format!("fourfold-fuzz-{}", args.seed))),
         wgsl_sample: args.wgsl_out.map(|dir| (dir, args.wgsl_every)),
     };
-    let mut shown = 0;
+    let (mut shown, mut failures_shown) = (0, 0);
     let report = run(&config, |r| {
+        // A failure is told when it is found: a long run's last line may be hours away.
+        for failure in &r.failures[failures_shown..] {
+            eprint!("{failure}");
+        }
+        failures_shown = r.failures.len();
         let done = r.formulas + r.scene_files;
         if done >= shown + 500 {
             shown = done;
