@@ -161,6 +161,7 @@ fn an_undefined_constant_says_so_and_keeps_the_picture() {
     for (formula, culprit) in cases {
         let before = h.state().session.picture_generation;
         let pipelines = h.state().session.counters.pipelines;
+        let place = h.state().picture_rect;
         replace_formula(&mut h, formula);
         for _ in 0..5 {
             h.step();
@@ -204,6 +205,8 @@ fn an_undefined_constant_says_so_and_keeps_the_picture() {
             !app.progressive.paint().layers.is_empty(),
             "{formula}: the last picture is gone"
         );
+        // A long message wraps in the panel: the picture keeps its place and size.
+        assert_eq!(app.picture_rect, place, "{formula}: the picture moved");
         h.get_by_label_contains("F is undefined everywhere");
     }
 }

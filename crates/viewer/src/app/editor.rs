@@ -182,19 +182,27 @@ fn caret_message(ui: &mut egui::Ui, error: &SourceError, text: &str) {
     let columns = (ui.available_width() / char_width).floor() as usize;
     let window = error.caret_window(text, columns.saturating_sub(1));
     ui.label(RichText::new(format!("error: {}", error.message)).color(ERROR_COLOR));
-    let line = |ui: &mut egui::Ui, text: &str, color: Option<Color32>| {
+    // The source and its carets are cut to the panel's width and must not wrap (the carets
+    // would leave their place); the label on a line of its own wraps, so that a long one
+    // does not widen the panel and shrink the picture.
+    let line = |ui: &mut egui::Ui, text: &str, color: Option<Color32>, wrap| {
         let mut rich = RichText::new(text).font(font.clone());
         if let Some(c) = color {
             rich = rich.color(c);
         }
-        ui.add(egui::Label::new(rich).wrap_mode(egui::TextWrapMode::Extend));
+        ui.add(egui::Label::new(rich).wrap_mode(wrap));
     };
     ui.scope(|ui| {
         ui.spacing_mut().item_spacing.y = 0.0;
-        line(ui, &window.source, None);
-        line(ui, &window.carets, Some(ERROR_COLOR));
+        line(ui, &window.source, None, egui::TextWrapMode::Extend);
+        line(
+            ui,
+            &window.carets,
+            Some(ERROR_COLOR),
+            egui::TextWrapMode::Extend,
+        );
         if let Some(label) = &window.label {
-            line(ui, label, Some(ERROR_COLOR));
+            line(ui, label, Some(ERROR_COLOR), egui::TextWrapMode::Wrap);
         }
     });
     if let Some(hint) = &error.hint {
