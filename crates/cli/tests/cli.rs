@@ -686,3 +686,44 @@ fn parameter_warnings_reach_the_caller_and_the_binary_s_stderr() {
     assert_eq!(stderr.lines().collect::<Vec<_>>(), warnings, "{stderr}");
     assert!(String::from_utf8_lossy(&out.stdout).starts_with("ok: F = "));
 }
+
+#[test]
+fn a_tiny_constant_f_draws_nothing_on_the_gpu_as_on_the_cpu() {
+    // Found by the fuzzer: F is the constant 7e-22, so there is no surface. The march's
+    // sign-change test multiplied two such samples; the product, below f32's normals, was
+    // flushed to 0 on the GPU and taken for a sign change.
+    let dir = std::env::temp_dir().join("fourfold-tiny-constant");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut pictures = Vec::new();
+    for cpu in [false, true] {
+        let png = dir.join(format!("cpu-{cpu}.png"));
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"));
+        command.args([
+            "render",
+            "atan2(t, 1.52)^90",
+            "--size",
+            "22x18",
+            "--angles",
+            "-2.8298,1.3799,-2.8522,-0.2305,3.1545,-0.6284",
+            "--max-level",
+            "5",
+            "--min-level",
+            "2",
+            "--brute-force",
+            "-o",
+        ]);
+        command.arg(&png);
+        if cpu {
+            command.arg("--cpu");
+        }
+        let out = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        pictures.push(image::open(&png).unwrap().to_rgba8());
+    }
+    let background = pictures[1].get_pixel(0, 0);
+    for picture in &pictures {
+        let covered = picture.pixels().filter(|p| *p != background).count();
+        assert_eq!(covered, 0, "pixels drawn where F is 7e-22 everywhere");
+    }
+}

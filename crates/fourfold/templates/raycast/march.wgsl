@@ -88,7 +88,9 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
             }
             tb = t0 + f32(s) * dt;
             fb = sample(tr, d, tb);
-            if (fa.x * fb.x <= 0.0 && !(fa.x == 0.0 && fb.x == 0.0)) {
+            // Signs compared, not multiplied: the product of two tiny values of one sign
+            // is below f32's normals, which a GPU may flush to 0.
+            if (((fa.x <= 0.0 && fb.x >= 0.0) || (fa.x >= 0.0 && fb.x <= 0.0)) && !(fa.x == 0.0 && fb.x == 0.0)) {
                 found = true;
                 break;
             }

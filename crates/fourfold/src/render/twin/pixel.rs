@@ -168,7 +168,8 @@ impl Pixel<'_> {
             }
             let tb = t0 + s as f32 * dt;
             let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
-            if fa * fb <= 0.0 && !(fa == 0.0 && fb == 0.0) {
+            // Signs compared, as the shader does (a product of tiny values underflows to 0).
+            if ((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0) {
                 if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
                     let at = |t: f32| {
                         let p = sub(add(o, scale(d, t)), self.plane);
