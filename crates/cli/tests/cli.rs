@@ -5,6 +5,10 @@ use clap::Parser;
 use fourfold::scene::{Sampling, Scene};
 use fourfold_cli::{Cli, Command, Failure, RenderArgs, render_scene_of};
 
+#[path = "../../fourfold/tests/support/undefined_constants.rs"]
+mod support;
+use support::{carets, undefined_constants};
+
 const SCENE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../examples/scenes/fig-3-9-left.toml"
@@ -598,14 +602,7 @@ fn constants_outside_a_domain_draw_or_are_refused_with_the_culprit() {
     // with F's undefined part underlined (exit 2), or drawn on the GPU (exit 0).
     let dir = std::env::temp_dir().join("fourfold-undefined");
     std::fs::create_dir_all(&dir).unwrap();
-    let cases = include_str!("../../fourfold/tests/data/undefined-constants.txt")
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| match l.split_once('\t') {
-            Some((formula, culprit)) => (formula, Some(culprit)),
-            None => (l, None),
-        })
-        .collect::<Vec<_>>();
+    let cases = undefined_constants();
     assert_eq!(cases.len(), 12, "the issue's twelve formulas");
     for (formula, culprit) in cases {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
@@ -637,14 +634,7 @@ fn constants_outside_a_domain_draw_or_are_refused_with_the_culprit() {
                     stderr.contains("F is undefined everywhere in the domain"),
                     "{formula}: {stderr}"
                 );
-                // The caret line: after the gutter's bar, spaces then carets.
-                let carets = stderr
-                    .lines()
-                    .filter_map(|l| l.split('│').nth(1))
-                    .map(|rest| rest.trim_start())
-                    .find(|rest| rest.starts_with('^'))
-                    .map_or(0, |rest| rest.chars().take_while(|c| *c == '^').count());
-                assert_eq!(carets, part.chars().count(), "{formula}: {stderr}");
+                assert_eq!(carets(&stderr), part.chars().count(), "{formula}: {stderr}");
             }
             None => assert!(out.status.success(), "{formula}: {stderr}"),
         }

@@ -10,6 +10,10 @@ use fourfold_fuzz::cases::{FormulaCase, Mode};
 use fourfold_fuzz::check::{Verdict, check_formula};
 use fourfold_fuzz::formulas::{Formula, Term};
 
+#[path = "../../fourfold/tests/support/undefined_constants.rs"]
+mod support;
+use support::undefined_constants;
+
 /// Outside a domain, at an edge, overflowing f32 or f64, ±∞ (a literal over f64's range is
 /// refused as written, so ∞ is made by a product), and one that underflows to 0.
 const CONSTANTS: &[&str] = &[
@@ -91,10 +95,9 @@ fn the_issue_s_formulas_draw_or_say_why() {
     let dir = std::env::temp_dir().join("fourfold-issue-formulas");
     std::fs::create_dir_all(&dir).unwrap();
     // The issue's list (which every front end's test reads), and a few more of its kinds.
-    let listed = include_str!("../../fourfold/tests/data/undefined-constants.txt")
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| l.split_once('\t').unwrap_or((l, "")));
+    let listed = undefined_constants()
+        .into_iter()
+        .map(|(formula, culprit)| (formula, culprit.unwrap_or("")));
     let more = [
         ("acos(-3)*x + y", "acos(-3)"),
         ("x/0 + y", "x/0"),

@@ -9,6 +9,10 @@ use egui_kittest::kittest::Queryable;
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold_viewer::FourfoldApp;
 
+#[path = "../../fourfold/tests/support/undefined_constants.rs"]
+mod support;
+use support::{carets, undefined_constants};
+
 /// A small, quick scene: the glome at a coarse level with few rays.
 fn small_scene() -> Scene {
     let mut scene = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
@@ -42,6 +46,13 @@ fn settle(h: &mut Harness<'static, FourfoldApp>) {
         std::thread::sleep(Duration::from_millis(5));
     }
     h.step();
+}
+
+/// Settles the picture and checks that no error is shown (`what`: the case, for the message).
+fn settle_without_error(h: &mut Harness<'static, FourfoldApp>, what: &str) {
+    settle(h);
+    let error = &h.state().session.error;
+    assert!(error.is_none(), "{what}: {error:?}");
 }
 
 /// Steps the UI until the picture has taken all its passes.
@@ -126,29 +137,6 @@ fn a_mistyped_formula_shows_the_error_and_keeps_the_picture() {
     h.get_by_label_contains("did you mean sin");
 }
 
-/// Issue 38's formulas, each with the part its refusal underlines (None: it draws).
-fn undefined_constants() -> Vec<(&'static str, Option<&'static str>)> {
-    include_str!("../../fourfold/tests/data/undefined-constants.txt")
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| match l.split_once('\t') {
-            Some((formula, culprit)) => (formula, Some(culprit)),
-            None => (l, None),
-        })
-        .collect()
-}
-
-/// How many carets an error puts under the formula (after the gutter's bar: the formula's
-/// own `^` are on the line above).
-fn carets(error: &str) -> usize {
-    error
-        .lines()
-        .filter_map(|l| l.split('│').nth(1))
-        .map(str::trim_start)
-        .find(|rest| rest.starts_with('^'))
-        .map_or(0, |rest| rest.chars().take_while(|c| *c == '^').count())
-}
-
 #[test]
 fn an_undefined_constant_says_so_and_keeps_the_picture() {
     // asin(2) has no value, so F has none anywhere: the editor says so and underlines it,
@@ -167,15 +155,9 @@ fn an_undefined_constant_says_so_and_keeps_the_picture() {
             h.step();
         }
         let Some(culprit) = culprit else {
-            settle(&mut h);
-            let app = h.state();
+            settle_without_error(&mut h, formula);
             assert!(
-                app.session.error.is_none(),
-                "{formula}: {:?}",
-                app.session.error
-            );
-            assert!(
-                app.session.picture_generation > before,
+                h.state().session.picture_generation > before,
                 "{formula}: no new picture"
             );
             continue;
@@ -261,13 +243,8 @@ fn every_preset_loads() {
         h.state_mut().load_preset(name);
         // Keep the previews cheap on the software GPU.
         h.state_mut().session.scene.render.rays = 2;
-        settle(&mut h);
+        settle_without_error(&mut h, name);
         let app = h.state();
-        assert!(
-            app.session.error.is_none(),
-            "{name}: {:?}",
-            app.session.error
-        );
         assert_eq!(app.session.counters.pipelines, pipelines + 1, "{name}");
         assert!(
             app.session.stats.as_ref().unwrap().leaves > 0,
