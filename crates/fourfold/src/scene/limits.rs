@@ -31,6 +31,9 @@ pub const ZOOM: RangeInclusive<f64> = 0.01..=100.0;
 pub const PICTURE_SIDE: RangeInclusive<u32> = 1..=8192;
 /// The largest picture side.
 pub const MAX_PICTURE_SIDE: u32 = *PICTURE_SIDE.end();
+/// Keys a share link may set: far more than a scene has (its settings and a formula's
+/// parameters), few enough that checking them one by one stays instant.
+pub const LINK_KEYS: usize = 256;
 /// Frames of an animation.
 pub const FRAMES: RangeInclusive<u32> = 1..=10_000;
 /// The most frames per second of an animation's file (any rate above 0 up to it).

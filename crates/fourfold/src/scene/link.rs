@@ -13,6 +13,7 @@ use percent_encoding::{AsciiSet, NON_ALPHANUMERIC, percent_decode_str, utf8_perc
 use toml::{Table, Value};
 
 use super::keys::{Speaker, TABLES, VIEW_KEYS, link_key};
+use super::limits::LINK_KEYS;
 use super::settings::{Domain, Scene};
 
 /// Bytes written as they are in a link; everything else is percent-encoded (`+`, `&`, `=`,
@@ -107,28 +108,25 @@ impl Scene {
             Ok(Value::Table(t)) => t,
             _ => unreachable!("a scene serialises to a table"),
         };
-        // A key that breaks a rule with another (tree.max_level below the default
-        // tree.min_level, before the link's own min_level) is tried again after the rest;
-        // such rules pair two keys, so a few rounds settle every link.
-        let mut pending: Vec<&(String, String)> =
+        let mut keys: Vec<&(String, String)> =
             pairs.iter().filter(|(k, _)| k != "formula").collect();
-        for round in 1..=3 {
-            let mut refused = Vec::new();
-            for &pair in &pending {
-                let mut tried = table.clone();
-                match apply_checked(&mut tried, &pair.0, &pair.1) {
-                    Ok(()) => table = tried,
-                    Err(message) => refused.push((pair, message)),
-                }
-            }
-            if refused.len() == pending.len() || round == 3 {
-                problems.extend(refused.into_iter().map(|((key, _), message)| LinkProblem {
-                    key: key.clone(),
-                    message,
-                }));
-                break;
-            }
-            pending = refused.into_iter().map(|(pair, _)| pair).collect();
+        if keys.len() > LINK_KEYS {
+            problems.push(LinkProblem {
+                key: keys[LINK_KEYS].0.clone(),
+                message: format!(
+                    "a link holds at most {LINK_KEYS} keys: this one and the {} after it are \
+                     left out",
+                    keys.len() - LINK_KEYS - 1
+                ),
+            });
+            keys.truncate(LINK_KEYS);
+        }
+        // Most links are whole: every key at once, checked once.
+        let mut whole = table.clone();
+        if keys.iter().all(|(k, v)| apply(&mut whole, k, v).is_ok()) && checked(&whole).is_ok() {
+            table = whole;
+        } else {
+            problems.extend(apply_each(&mut table, keys));
         }
         let scene = Value::Table(table)
             .try_into()
@@ -137,9 +135,37 @@ impl Scene {
     }
 }
 
-/// Sets `key` to `value` in a scene's table, if the scene it makes is one the rules accept.
-fn apply_checked(table: &mut Table, key: &str, value: &str) -> Result<(), String> {
-    apply(table, key, value)?;
+/// Applies the keys one by one, each kept only if the scene it makes is one the rules
+/// accept; the problems of those left out. A key that breaks a rule with another
+/// (tree.max_level below the default tree.min_level, before the link's own min_level) is
+/// tried again after the rest; such rules pair two keys, so a few rounds settle every link.
+fn apply_each(table: &mut Table, keys: Vec<&(String, String)>) -> Vec<LinkProblem> {
+    let mut pending = keys;
+    for round in 1..=3 {
+        let mut refused = Vec::new();
+        for &pair in &pending {
+            let mut tried = table.clone();
+            match apply(&mut tried, &pair.0, &pair.1).and_then(|()| checked(&tried)) {
+                Ok(()) => *table = tried,
+                Err(message) => refused.push((pair, message)),
+            }
+        }
+        if refused.len() == pending.len() || round == 3 {
+            return refused
+                .into_iter()
+                .map(|((key, _), message)| LinkProblem {
+                    key: key.clone(),
+                    message,
+                })
+                .collect();
+        }
+        pending = refused.into_iter().map(|(pair, _)| pair).collect();
+    }
+    unreachable!("the last round returns")
+}
+
+/// Whether a scene's table makes a scene the rules accept; the first problem if not.
+fn checked(table: &Table) -> Result<(), String> {
     let scene: Scene = Value::Table(table.clone())
         .try_into()
         .map_err(|e: toml::de::Error| e.message().to_string())?;
@@ -383,6 +409,25 @@ mod tests {
             "{}",
             said[6]
         );
+    }
+
+    #[test]
+    fn a_link_with_too_many_keys_keeps_the_first_ones_and_says_so() {
+        // Ten thousand parameters, one of them wrong: before, each key was checked against
+        // all those before it (quadratic, minutes for a link anyone can send).
+        let mut link = String::from("formula=x-a0");
+        for i in 0..10_000 {
+            link.push_str(&format!("&a{i}={}", if i == 7 { "nan" } else { "0.5" }));
+        }
+        let (scene, problems) = Scene::from_link(&link, &Scene::from_formula("0"));
+        assert_eq!(scene.params.len(), LINK_KEYS - 1);
+        assert_eq!((scene.params["a0"], scene.params.get("a7")), (0.5, None));
+        let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
+        assert_eq!(said.len(), 2, "{said:?}");
+        assert!(said[0].contains("at most 256 keys"), "{}", said[0]);
+        assert!(said[0].starts_with("in the link, a256:"), "{}", said[0]);
+        assert!(said[0].contains("the 9743 after it"), "{}", said[0]);
+        assert!(said[1].starts_with("in the link, a7:"), "{}", said[1]);
     }
 
     #[test]
