@@ -161,6 +161,12 @@ fn ff_inf() -> f32 {
     return bitcast<f32>(u.counts.z & 0xff800000u);
 }
 
+// Whether `v` is NaN, from its bits: a builtin may turn a NaN into a number and a compiler
+// may fold a float comparison with one, but not an integer test.
+fn ff_undefined(v: f32) -> bool {
+    return (bitcast<u32>(v) & 0x7fffffffu) > 0x7f800000u;
+}
+
 fn ff_param(i: u32) -> f32 {
     return u.params[i / 4u][i % 4u];
 }

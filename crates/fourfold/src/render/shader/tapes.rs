@@ -8,6 +8,11 @@
 //! the uniform, `ff_nan()`), and a NaN sample never makes a sign change, so no root is drawn
 //! there. The graph folds every operation on constants, so no WGSL operation here has
 //! constant operands only; a constant beyond f32's range is the run-time ±∞.
+//!
+//! WGSL leaves a builtin's value on a NaN indeterminate (lavapipe's `pow(NaN, x)` is a
+//! number), so at a point each value carries a flag, `n{i}`, set where it or a value it was
+//! made from was NaN before a builtin saw it; an output whose flag is set is NaN. The flags
+//! are booleans tested on the values' bits (integer work no compiler treats as NaN-free).
 
 use std::fmt::Write as _;
 
@@ -21,12 +26,15 @@ pub(super) struct Flavour {
     expression: fn(Instr) -> String,
     /// `let s{i} = s{a}^n`, through helper lets as needed.
     powi_lets: fn(&mut String, usize, u32, i32),
+    /// Carry the undefined flags (at a point; intervals carry emptiness instead).
+    flags: bool,
 }
 
 pub(super) const POINT: Flavour = Flavour {
     params: "p: vec4<f32>",
     expression,
     powi_lets,
+    flags: true,
 };
 
 /// With the operations of `templates/interval.wgsl` (see docs/method.md §5.9).
@@ -34,6 +42,7 @@ pub(super) const INTERVAL: Flavour = Flavour {
     params: "lo: vec4<f32>, hi: vec4<f32>",
     expression: interval_expression,
     powi_lets: interval_powi_lets,
+    flags: false,
 };
 
 /// The WGSL function `name` computing `tape` in `flavour`: one `let` per instruction, then
@@ -47,17 +56,100 @@ pub(super) fn tape_function(
 ) -> String {
     let mut body = String::new();
     let _ = writeln!(body, "fn {name}({}) -> {ret} {{", flavour.params);
+    let mut flags = Flags::new(tape.len());
     for (i, instr) in tape.instrs().iter().enumerate() {
+        if flavour.flags {
+            flags.write(&mut body, i, *instr);
+        }
         if let Instr::Powi(a, n) = *instr {
             (flavour.powi_lets)(&mut body, i, a, n);
         } else {
             let _ = writeln!(body, "    let s{i} = {};", (flavour.expression)(*instr));
         }
     }
-    let outputs: Vec<String> = tape.outputs().iter().map(|o| format!("s{o}")).collect();
+    let outputs: Vec<String> = tape
+        .outputs()
+        .iter()
+        .map(|&o| {
+            if flavour.flags {
+                flags.guarded(o)
+            } else {
+                format!("s{o}")
+            }
+        })
+        .collect();
     let _ = writeln!(body, "    return {};", result(&outputs));
     body.push('}');
     body
+}
+
+/// Which values carry an undefined flag (those made, at any depth, from a value a builtin
+/// takes), and which are leaves: a coordinate, a parameter or a defined constant, never NaN.
+struct Flags {
+    flagged: Vec<bool>,
+    leaf: Vec<bool>,
+}
+
+impl Flags {
+    fn new(len: usize) -> Self {
+        Self {
+            flagged: vec![false; len],
+            leaf: vec![false; len],
+        }
+    }
+
+    /// The flag of value `a` OR'd with a test of its bits: what an operation on it inherits.
+    fn of_input(&self, a: u32, test_bits: bool) -> Option<String> {
+        let mut parts = Vec::new();
+        if self.flagged[a as usize] {
+            parts.push(format!("n{a}"));
+        }
+        if test_bits && !self.leaf[a as usize] {
+            parts.push(format!("ff_undefined(s{a})"));
+        }
+        (!parts.is_empty()).then(|| parts.join(" || "))
+    }
+
+    /// `let n{i} = …;` for instruction i, where it carries a flag. Arithmetic (+, −, ×,
+    /// negation, integer powers) keeps a NaN in hardware, so only its inputs' flags pass
+    /// on; every other operation is a builtin or a select, and its inputs' bits are tested.
+    fn write(&mut self, body: &mut String, i: usize, instr: Instr) {
+        use crate::expr::{BinaryOp, UnaryOp};
+        let (inputs, builtin): (Vec<u32>, bool) = match instr {
+            // An undefined constant is the run-time NaN: tested like a computed value.
+            Instr::Const(v) => {
+                self.leaf[i] = !v.is_nan();
+                return;
+            }
+            Instr::Var(_) | Instr::Param(_) => {
+                self.leaf[i] = true;
+                return;
+            }
+            Instr::Powi(a, _) | Instr::Unary(UnaryOp::Neg, a) => (vec![a], false),
+            Instr::Binary(BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul, a, b) => {
+                (vec![a, b], false)
+            }
+            Instr::Unary(_, a) => (vec![a], true),
+            Instr::Binary(_, a, b) => (vec![a, b], true),
+        };
+        let parts: Vec<String> = inputs
+            .iter()
+            .filter_map(|&a| self.of_input(a, builtin))
+            .collect();
+        if !parts.is_empty() {
+            let _ = writeln!(body, "    let n{i} = {};", parts.join(" || "));
+            self.flagged[i] = true;
+        }
+    }
+
+    /// Output `o`: NaN where its flag is set (a NaN it is itself stays one).
+    fn guarded(&self, o: u32) -> String {
+        if self.flagged[o as usize] {
+            format!("select(s{o}, ff_nan(), n{o})")
+        } else {
+            format!("s{o}")
+        }
+    }
 }
 
 /// An interval holding the real number `v`: the point where f32 holds it exactly, else its

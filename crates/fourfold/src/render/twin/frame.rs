@@ -131,7 +131,7 @@ fn render_pixel(
         u,
         formula,
         params,
-        eval: PointEvaluator::new(),
+        eval: PointEvaluator::single_precision(),
         seed,
         offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
         hits: Vec::with_capacity(16),
