@@ -6,6 +6,7 @@ mod animate;
 mod check;
 mod failure;
 mod input;
+mod mesh;
 mod render;
 mod tree;
 mod view;
@@ -17,6 +18,7 @@ pub use animate::{AnimateArgs, animate, animation_of};
 pub use check::{check, grad};
 pub use failure::Failure;
 pub use input::{Input, Warn};
+pub use mesh::{MeshArgs, mesh};
 pub use render::{RenderArgs, render, render_scene_of};
 pub use tree::{TreeArgs, tree};
 pub use view::{ViewArgs, view};
@@ -48,6 +50,9 @@ pub enum Command {
     /// Render an animation (the manifold turning, or a parameter sweeping) to a GIF, an
     /// animated PNG or a folder of PNGs.
     Animate(AnimateArgs),
+    /// Write the mesh of a slice (the cut of M by the hyperplane at --slice C along n2) to
+    /// an STL, OBJ or PLY file, for printing or for other programs.
+    Mesh(MeshArgs),
     /// Open the interactive viewer (the default with no command).
     View(ViewArgs),
 }
@@ -62,6 +67,7 @@ pub fn run(cli: &Cli, warn: Warn) -> Result<String, Failure> {
         Some(Command::Wgsl(args)) => wgsl(args),
         Some(Command::Render(args)) => render(args, warn),
         Some(Command::Animate(args)) => animate(args, warn),
+        Some(Command::Mesh(args)) => mesh(args, warn),
         Some(Command::View(args)) => view(args, warn),
         None => view(&ViewArgs::default(), warn),
     }

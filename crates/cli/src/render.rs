@@ -216,7 +216,7 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
 }
 
 /// `--angles a,b,c,d,e,f`.
-fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
+pub(crate) fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
     let values: Vec<f64> = text
         .split(',')
         .map(|v| v.trim().parse::<f64>())

@@ -717,3 +717,113 @@ fn a_tiny_constant_f_draws_nothing_on_the_gpu_as_on_the_cpu() {
         assert_eq!(covered, 0, "pixels drawn where F is 7e-22 everywhere");
     }
 }
+
+/// Runs the `fourfold` binary with `args`: its exit code, stdout and stderr.
+fn fourfold(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+        .args(args)
+        .output()
+        .unwrap();
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (out.status.code(), text(&out.stdout), text(&out.stderr))
+}
+
+#[test]
+fn mesh_writes_the_glome_s_slice_as_a_closed_sphere() {
+    // The command: the glome's slice at 0.3 is a ball of radius √0.91.
+    let dir = std::env::temp_dir().join("fourfold-mesh-cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("s.stl");
+    let _ = std::fs::remove_file(&path);
+    let glome = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scenes/glome.toml"
+    );
+    let (code, stdout, stderr) = fourfold(&[
+        "mesh",
+        glome,
+        "--slice",
+        "0.3",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let bytes = std::fs::read(&path).unwrap();
+    let triangles = u32::from_le_bytes(bytes[80..84].try_into().unwrap());
+    assert!(triangles > 1000 && bytes.len() == 84 + 50 * triangles as usize);
+    assert!(
+        stdout.contains(&format!("{triangles} triangles")),
+        "{stdout}"
+    );
+    assert!(stdout.contains("closed"), "{stdout}");
+    let volume: f64 = stdout
+        .split("volume ")
+        .nth(1)
+        .and_then(|v| v.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no volume in {stdout}"));
+    let exact = 4.0 / 3.0 * std::f64::consts::PI * 0.91f64.powf(1.5);
+    assert!(
+        (volume - exact).abs() / exact < 0.005,
+        "{volume} against {exact}"
+    );
+    // In millimetres, the longest side is the size asked for.
+    let mm = dir.join("s.obj");
+    let (code, stdout, stderr) = fourfold(&[
+        "mesh",
+        glome,
+        "--slice",
+        "0.3",
+        "--units",
+        "mm",
+        "--size",
+        "80",
+        "-o",
+        mm.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("80.0000 ×") || stdout.contains("× 80.0000"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
+    let dir = std::env::temp_dir().join("fourfold-mesh-cli-bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("m.stl");
+    let out = out.to_str().unwrap();
+    let glome = "x^2 + y^2 + z^2 + w^2 = 1";
+    for (args, said) in [
+        (vec!["--slice", "3"], "misses the domain"),
+        (vec!["--slice", "1.5"], "does not cut M inside the domain"),
+        (vec![], "give --slice C"),
+        (vec!["--slice", "0", "--max-level", "0"], "--max-level 0"),
+        (vec!["--slice", "0", "--tolerance", "0"], "--tolerance 0"),
+        (
+            vec!["--slice", "0", "--units", "cm"],
+            "expected model or mm",
+        ),
+        (vec!["--slice", "0", "--size", "80"], "with --units mm"),
+        (
+            vec!["--slice", "0", "--units", "mm", "--size", "-1"],
+            "above 0",
+        ),
+        (vec!["--slice", "nan"], "a finite number"),
+    ] {
+        let _ = std::fs::remove_file(out);
+        let mut argv = vec!["mesh", glome, "-o", out];
+        argv.extend(args.iter());
+        let (code, _, stderr) = fourfold(&argv);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(said), "{args:?}: {stderr}");
+        assert!(!std::path::Path::new(out).exists(), "{args:?} wrote a file");
+    }
+    let (code, _, stderr) = fourfold(&["mesh", glome, "--slice", "0", "-o", "m.gltf"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        stderr.contains("write a .stl, .obj or .ply file"),
+        "{stderr}"
+    );
+}

@@ -16,6 +16,7 @@ pub mod expr;
 pub mod formula;
 pub mod gpu_layout;
 pub mod interval;
+pub mod mesh;
 pub mod ops;
 pub mod platform;
 pub mod render;

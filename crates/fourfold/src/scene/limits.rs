@@ -31,6 +31,11 @@ pub const ZOOM: RangeInclusive<f64> = 0.01..=100.0;
 pub const PICTURE_SIDE: RangeInclusive<u32> = 1..=8192;
 /// The largest picture side.
 pub const MAX_PICTURE_SIDE: u32 = *PICTURE_SIDE.end();
+/// Levels of a slice's mesh octree: 2^level finest cells along the slice's extent.
+pub const MESH_LEVELS: RangeInclusive<u32> = 1..=10;
+/// Cells a mesh's octree may keep at one level (a few hundred bytes each, in all the
+/// mesher's tables).
+pub const MESH_CELL_BUDGET: usize = 4_000_000;
 /// Keys a share link may set: far more than a scene has (its settings and a formula's
 /// parameters), few enough that checking them one by one stays instant.
 pub const LINK_KEYS: usize = 256;
