@@ -28,11 +28,18 @@ const RAW_MARKERS: &[&str] = &[
 /// pixel's edge, where a formula has thin parts or a huge slope.
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
+/// Beyond this, the GPU's sin, cos and tan are not the twin's to compare: WGSL bounds their
+/// error on [−π, π] only, and each implementation reduces a larger argument with its own
+/// precision (`cos(1e30 xyz)` is noise on either, a different noise).
+pub const TRIG_ARGUMENT_BOUND: f64 = 1e4;
+
 /// What a case did.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Verdict {
     /// Every path drew it.
     Drew,
+    /// Every path drew it, but the GPU's picture was not compared with the twin's: why.
+    DrewUncompared(String),
     /// Every path refused it, with this message (its first line).
     Refused(String),
 }
@@ -113,6 +120,9 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
             ));
         }
         if gpu == 0 && !gpu_said.contains("cut short") {
+            if let Some(why) = precision_unspecified(case) {
+                return Ok(Verdict::DrewUncompared(why));
+            }
             compare(&gpu_png, &cpu_png)?;
         }
     }
@@ -172,6 +182,53 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
             .map_err(|e| format!("SPIR-V {values:?}: {e}"))?;
     }
     Ok(())
+}
+
+/// Why the GPU's picture of `case` is not the twin's to compare, if it is not: a sin, cos
+/// or tan whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an
+/// enclosure over the whole domain, so a formula may be left uncompared that never gets
+/// there).
+fn precision_unspecified(case: &FormulaCase) -> Option<String> {
+    use fourfold::eval::{IntervalEvaluator, Tape};
+    use fourfold::expr::{Node, UnaryOp};
+    let args = case.render_args(Path::new("unused.png"), true);
+    let argv = std::iter::once("fourfold".to_string()).chain(args);
+    let Ok(Cli {
+        command: Some(fourfold_cli::Command::Render(render)),
+    }) = Cli::try_parse_from(argv)
+    else {
+        return None;
+    };
+    let scene = fourfold_cli::render_scene_of(&render).ok()?;
+    let formula = fourfold::CompiledFormula::compile(&scene.formula).ok()?;
+    let graph = &formula.graph;
+    let mut roots = vec![formula.f];
+    roots.extend(formula.gradient);
+    let reached = graph.reachable(&roots);
+    let arguments: Vec<_> = graph
+        .nodes()
+        .iter()
+        .zip(reached)
+        .filter_map(|(node, reached)| match *node {
+            Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) if reached => Some(a),
+            _ => None,
+        })
+        .collect();
+    if arguments.is_empty() {
+        return None;
+    }
+    let tape = Tape::new(graph, &arguments);
+    let params = scene.param_values(&formula.param_names());
+    let mut out = vec![fourfold::interval::Interval::EMPTY; arguments.len()];
+    IntervalEvaluator::new().eval_into(&tape, &scene.domain.to_box(), &params, &mut out);
+    let reach = out
+        .iter()
+        .filter(|v| !v.is_empty())
+        .map(|v| v.lo().abs().max(v.hi().abs()))
+        .fold(0.0, f64::max);
+    (reach > TRIG_ARGUMENT_BOUND).then(|| {
+        format!("sin, cos or tan of arguments up to {reach:.1e}, beyond ±{TRIG_ARGUMENT_BOUND:e}")
+    })
 }
 
 /// The GPU's picture and the CPU twin's cover the same pixels, but for a few.

@@ -70,6 +70,9 @@ pub struct Report {
     /// How many formulas each refusal (its message's first words) turned away.
     pub refusals: std::collections::BTreeMap<String, usize>,
     pub on_gpu: usize,
+    /// Drawn on the GPU, but its picture not compared with the twin's (see
+    /// `check::TRIG_ARGUMENT_BOUND`).
+    pub uncompared: usize,
     pub scene_files: usize,
     pub links: usize,
     pub failures: Vec<Failure>,
@@ -82,12 +85,15 @@ impl std::fmt::Display for Report {
         let rate = self.formulas as f64 / self.formula_seconds.max(1e-9);
         writeln!(
             f,
-            "{} formulas ({} drawn, {} refused, {} also on the GPU) at {rate:.1} per second; \
+            "{} formulas ({} drawn, {} refused, {} also on the GPU, {} of whose pictures \
+             were not compared: trigonometry beyond ±{:e}) at {rate:.1} per second; \
              {} scene files, {} links; {} failures in {:.0} s",
             self.formulas,
             self.drawn,
             self.refused,
             self.on_gpu,
+            self.uncompared,
+            check::TRIG_ARGUMENT_BOUND,
             self.scene_files,
             self.links,
             self.failures.len(),
@@ -155,8 +161,9 @@ pub fn run(config: &Config, mut progress: impl FnMut(&Report)) -> Report {
         report.formulas += 1;
         report.on_gpu += usize::from(gpu);
         match run_case(&case, config) {
-            Ok(Verdict::Drew) => {
+            Ok(verdict @ (Verdict::Drew | Verdict::DrewUncompared(_))) => {
                 report.drawn += 1;
+                report.uncompared += usize::from(verdict != Verdict::Drew);
                 sample_wgsl(config, &case, report.drawn);
             }
             Ok(Verdict::Refused(why)) => {

@@ -122,3 +122,26 @@ fn the_issue_s_formulas_draw_or_say_why() {
     }
     assert_eq!((refused, drawn), (9, 7));
 }
+
+#[test]
+fn huge_trigonometry_draws_on_the_gpu_but_is_not_compared_with_the_twin() {
+    // Found by the long run: cos(1e30 xyz) is noise on the GPU and on the twin, a different
+    // noise (WGSL bounds cos's error on [−π, π] only). It must still draw cleanly on both;
+    // its pictures are not compared, and the run counts it. A moderate frequency is.
+    let dir = std::env::temp_dir().join("fourfold-huge-trigonometry");
+    std::fs::create_dir_all(&dir).unwrap();
+    let on_gpu = |text: &str| FormulaCase {
+        gpu: true,
+        size: [12, 10],
+        ..case(text)
+    };
+    let verdict = check_formula(&on_gpu("cos(1e30 xyz)"), &dir);
+    assert!(
+        matches!(&verdict, Ok(Verdict::DrewUncompared(why)) if why.contains("beyond ±1e4")),
+        "{verdict:?}"
+    );
+    assert_eq!(
+        check_formula(&on_gpu("sin(40x) - y"), &dir),
+        Ok(Verdict::Drew)
+    );
+}
