@@ -162,8 +162,8 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
     );
     if s.over_tolerance > 0 {
         out.push_str(&format!(
-            "\n{} vertices stay farther than the tolerance from the surface (it bends within \
-             their cell): raise --max-level",
+            "\n{} vertices stay farther than the tolerance from M (where it bends, meets a cap \
+             or stops being defined within their cell): a higher --max-level brings them closer",
             s.over_tolerance
         ));
     }

@@ -594,3 +594,40 @@ fn a_slice_is_shown_beside_the_projection() {
     h.step();
     assert!(!h.state().side_by_side());
 }
+
+#[test]
+fn export_mesh_writes_the_slice_shown() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    let path = std::env::temp_dir().join(format!("fourfold-viewer-{}.stl", std::process::id()));
+    std::fs::remove_file(&path).ok();
+    h.state_mut().ui.mesh_path = path.display().to_string();
+    // With no slice shown, the button does nothing.
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "Export mesh")
+        .click();
+    h.step();
+    h.step();
+    assert!(!path.exists() && h.state().message.is_none());
+    h.state_mut().session.scene.view.slice = Some(0.3);
+    h.step();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "Export mesh")
+        .click();
+    h.step();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let said = loop {
+        h.step();
+        let message = h.state().message.clone();
+        if let Some(m) = message.filter(|m| m.text.starts_with("saved")) {
+            assert!(!m.is_error, "{}", m.text);
+            break m.text;
+        }
+        assert!(Instant::now() < deadline, "the mesh export did not end");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    // The unit glome's slice at 0.3: a binary STL of a sphere, its triangles counted.
+    let bytes = std::fs::read(&path).unwrap();
+    let triangles = u32::from_le_bytes(bytes[80..84].try_into().unwrap());
+    assert_eq!(bytes.len(), 84 + 50 * triangles as usize);
+    assert!(said.contains(&format!("{triangles} triangles")), "{said}");
+    std::fs::remove_file(&path).ok();
+}

@@ -72,8 +72,9 @@ pub struct MeshStats {
     /// domain's face on a cap).
     pub tolerance: f64,
     pub max_residual: f64,
-    /// Vertices farther than the tolerance (where the boundary bends within a cell more
-    /// than Newton steps inside it can follow: a finer level helps).
+    /// Vertices farther than the tolerance (where M bends, meets a cap or stops being
+    /// defined within their cell, Newton steps inside it cannot reach it: a finer level
+    /// brings them closer).
     pub over_tolerance: usize,
 }
 

@@ -7,7 +7,8 @@
 //!   `warm_up`, `pause`;
 //! - `State`: the platform's own part of the app, with `top_bar`, `file_actions`,
 //!   `sections` (panels only one side has), `end_frame` and `busy`;
-//! - `PngExport`: a picture of the scene exported (a file, or a download);
+//! - the exports of `file_actions`: a picture of the scene, the slice's mesh (a file
+//!   written off the window's thread, or a download);
 //! - `page_address`: the web page's address, for share links.
 
 #[cfg(not(target_arch = "wasm32"))]

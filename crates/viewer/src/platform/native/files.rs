@@ -1,12 +1,14 @@
 //! The desktop's file actions: scene files opened and saved at paths typed in, the shader
-//! written out, and a PNG drawn on a device of its own off the window's thread (from the
-//! program and tree the viewer already has) and written to a path.
+//! written out, a PNG drawn on a device of its own off the window's thread (from the
+//! program and tree the viewer already has) and the slice's mesh made off it too, each
+//! written to a path.
 
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use eframe::egui;
 
+use fourfold::mesh::MeshFormat;
 use fourfold::render::{Device, FrameOptions, Gpu, Painter, Program, Source};
 use fourfold::scene::Scene;
 use fourfold::tree::{Hierarchy, TreeStats};
@@ -16,8 +18,16 @@ use crate::outcome::{Outcome, Window};
 use crate::session::Session;
 use crate::settings::export_size_fields;
 
-/// Open, save and export, with paths typed in; `png` is the PNG export in flight.
-pub fn actions(png: &mut Option<PngExport>, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
+/// The level of the mesh "Export mesh" writes (`fourfold mesh`'s default).
+const MESH_LEVEL: u32 = 7;
+
+/// Open, save and export, with paths typed in; `png` and `mesh` are the exports in flight.
+pub fn actions(
+    png: &mut Option<Export>,
+    mesh: &mut Option<Export>,
+    ui: &mut egui::Ui,
+    window: Window<'_>,
+) -> Outcome {
     let Window {
         session, settings, ..
     } = window;
@@ -50,10 +60,29 @@ pub fn actions(png: &mut Option<PngExport>, ui: &mut egui::Ui, window: Window<'_
         .clicked()
     {
         let ([w, h], path) = (settings.export_size, settings.png_path.clone());
-        outcome = Outcome::said(match PngExport::start(session, [w, h], path.clone()) {
+        outcome = Outcome::said(match Export::png(session, [w, h], path.clone()) {
             Ok(export) => {
                 *png = Some(export);
                 Notice::done(format!("rendering {w}x{h} to {path}…"))
+            }
+            Err(e) => Notice::error(e),
+        });
+    }
+    ui.separator();
+    ui.add(egui::TextEdit::singleline(&mut settings.mesh_path).desired_width(120.0))
+        .on_hover_text("the slice's mesh file: .stl, .obj or .ply");
+    let slicing = session.scene.view.slice.is_some();
+    if ui
+        .add_enabled(slicing && mesh.is_none(), egui::Button::new("Export mesh"))
+        .on_hover_text("the slice shown, as a closed mesh in the slice's own units (as fourfold mesh writes it)")
+        .on_disabled_hover_text("choose \"slice\" in the view to export its mesh")
+        .clicked()
+    {
+        let path = settings.mesh_path.clone();
+        outcome = Outcome::said(match Export::mesh(session, path.clone()) {
+            Ok(export) => {
+                *mesh = Some(export);
+                Notice::done(format!("meshing the slice to {path}…"))
             }
             Err(e) => Notice::error(e),
         });
@@ -74,15 +103,29 @@ pub fn actions(png: &mut Option<PngExport>, ui: &mut egui::Ui, window: Window<'_
     outcome
 }
 
-/// A PNG export running in the background.
-pub struct PngExport {
+/// An export running in the background: a PNG, or the slice's mesh.
+pub struct Export {
     result: Receiver<Result<Notice, String>>,
 }
 
-impl PngExport {
+impl Export {
+    /// Runs `work` on a thread of its own; its outcome comes back through [`Self::poll`].
+    fn spawn(
+        work: impl FnOnce() -> Result<Notice, String> + Send + 'static,
+    ) -> Result<Self, String> {
+        let (tx, rx) = channel();
+        std::thread::Builder::new()
+            .name("fourfold export".into())
+            .spawn(move || {
+                let _ = tx.send(work());
+            })
+            .map_err(|e| format!("could not start the export: {e}"))?;
+        Ok(Self { result: rx })
+    }
+
     /// Draws the session's scene at `size` on a GPU device of its own, off the window's
     /// thread, and writes it to `path`.
-    pub fn start(s: &Session, size: [u32; 2], path: String) -> Result<Self, String> {
+    pub fn png(s: &Session, size: [u32; 2], path: String) -> Result<Self, String> {
         let (Some(program), Some(hierarchy), Some(stats)) = (&s.program, &s.hierarchy, &s.stats)
         else {
             return Err("no picture yet: wait for the tree to be built".into());
@@ -96,14 +139,18 @@ impl PngExport {
             scene: s.scene.clone(),
             size,
         };
-        let (tx, rx) = channel();
-        std::thread::Builder::new()
-            .name("fourfold export".into())
-            .spawn(move || {
-                let _ = tx.send(job.write(&path));
-            })
-            .map_err(|e| format!("could not start the export: {e}"))?;
-        Ok(Self { result: rx })
+        Self::spawn(move || job.write(&path))
+    }
+
+    /// Meshes the slice shown and writes it to `path` (STL, OBJ or PLY by its extension).
+    pub fn mesh(s: &Session, path: String) -> Result<Self, String> {
+        let format = MeshFormat::from_path(std::path::Path::new(&path))?;
+        let (formula, scene) = crate::export::mesh_job(s)?;
+        Self::spawn(move || {
+            let (mesh, said) = crate::export::slice_mesh(&formula, &scene, MESH_LEVEL, format)?;
+            std::fs::write(&path, mesh).map_err(|e| format!("cannot write {path}: {e}"))?;
+            Ok(Notice::done(format!("saved {path}: {said}")))
+        })
     }
 
     /// The export's outcome once it is done.
@@ -111,9 +158,9 @@ impl PngExport {
         match self.result.try_recv() {
             Ok(result) => Some(result.unwrap_or_else(Notice::error)),
             Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Notice::error(
-                "the export stopped before writing its picture",
-            )),
+            Err(TryRecvError::Disconnected) => {
+                Some(Notice::error("the export stopped before writing its file"))
+            }
         }
     }
 }

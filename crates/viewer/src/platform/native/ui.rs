@@ -17,14 +17,15 @@ pub struct State {
     gallery: gallery::Gallery,
     /// Whether the gallery's window is open.
     pub gallery_open: bool,
-    png: Option<files::PngExport>,
+    png: Option<files::Export>,
+    mesh: Option<files::Export>,
     animation: Option<animation::AnimationExport>,
 }
 
 impl State {
     /// Whether something runs in the background that the window should keep polling.
     pub fn busy(&self) -> bool {
-        self.png.is_some() || self.animation.is_some() || self.gallery.busy()
+        self.png.is_some() || self.mesh.is_some() || self.animation.is_some() || self.gallery.busy()
     }
 }
 
@@ -53,7 +54,7 @@ pub fn sections(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Out
 
 /// Open, save and export, with paths typed in.
 pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
-    files::actions(&mut state.png, ui, window)
+    files::actions(&mut state.png, &mut state.mesh, ui, window)
 }
 
 /// At the end of each frame: the gallery's window, and the exports' outcomes.
@@ -63,9 +64,11 @@ pub fn end_frame(state: &mut State, ctx: &egui::Context, _window: Window<'_>) ->
         outcome.preset = Some(name);
         state.gallery_open = false;
     }
-    if let Some(notice) = state.png.as_ref().and_then(files::PngExport::poll) {
-        outcome.notice = Some(notice);
-        state.png = None;
+    for export in [&mut state.png, &mut state.mesh] {
+        if let Some(notice) = export.as_ref().and_then(files::Export::poll) {
+            outcome.notice = Some(notice);
+            *export = None;
+        }
     }
     let animation = state.animation.as_ref();
     if let Some(notice) = animation.and_then(animation::AnimationExport::poll) {

@@ -1,6 +1,6 @@
-//! The web page's file actions: "Open…" as an upload, scene and shader as downloads, and a
-//! PNG drawn on the page's own GPU, read back over the next frames (a page cannot wait for
-//! the GPU), then downloaded.
+//! The web page's file actions: "Open…" as an upload, scene and shader as downloads, a PNG
+//! drawn on the page's own GPU, read back over the next frames (a page cannot wait for the
+//! GPU), then downloaded, and the slice's mesh as an STL download.
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -9,6 +9,7 @@ use eframe::egui;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
+use fourfold::mesh::MeshFormat;
 use fourfold::render::{Device, FrameOptions, Gpu, Painter, PendingPicture, Source};
 use fourfold::scene::Scene;
 
@@ -16,6 +17,10 @@ use crate::notice::Notice;
 use crate::outcome::{Outcome, Window};
 use crate::session::Session;
 use crate::settings::export_size_fields;
+
+/// The level of the page's slice meshes: one coarser than the desktop's, since the page
+/// meshes on its one thread while the window waits.
+const MESH_LEVEL: u32 = 6;
 
 /// Open as an upload; save and export as downloads; `png` is the PNG on its way back.
 pub fn actions(
@@ -75,6 +80,25 @@ pub fn actions(
                 Err(e) => Notice::error(e),
             },
         );
+    }
+    let slicing = session.scene.view.slice.is_some();
+    if ui
+        .add_enabled(slicing, egui::Button::new("Export mesh"))
+        .on_hover_text("the slice shown, as a closed STL mesh in the slice's own units")
+        .on_disabled_hover_text("choose \"slice\" in the view to export its mesh")
+        .clicked()
+    {
+        let name = "fourfold-slice.stl";
+        let made = crate::export::mesh_job(session).and_then(|(formula, scene)| {
+            crate::export::slice_mesh(&formula, &scene, MESH_LEVEL, MeshFormat::Stl)
+        });
+        outcome = Outcome::said(match made {
+            Ok((bytes, said)) => match download(name, "model/stl", &bytes) {
+                Ok(()) => Notice::done(format!("{name} downloaded: {said}")),
+                Err(e) => Notice::error(e),
+            },
+            Err(e) => Notice::error(e),
+        });
     }
     if ui.button("Export WGSL").clicked() {
         outcome = Outcome::said(match &session.program {
