@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use fourfold::mesh::{MeshFormat, MeshSettings, mesh_slice};
-use fourfold::scene::limits::MESH_LEVELS;
+use fourfold::scene::limits::{DEFAULT_MESH_LEVEL, MESH_LEVELS};
 
 use crate::failure::Failure;
 use crate::input::{Input, Warn, checked, compile_warning, load_scene};
@@ -30,7 +30,7 @@ pub struct MeshArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub angles: Option<String>,
     /// Levels of the octree, 1 to 10: the finest cells are the slice's extent / 2^level.
-    #[arg(long, default_value_t = 7, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULT_MESH_LEVEL, allow_hyphen_values = true)]
     pub max_level: u32,
     /// How far a vertex may lie from the surface (|F|/|∇F| in the slice's units) before it
     /// is moved onto it (default: a hundredth of a finest cell).

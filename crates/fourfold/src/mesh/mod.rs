@@ -20,7 +20,7 @@ pub mod solid;
 
 use crate::formula::CompiledFormula;
 use crate::scene::Scene;
-use crate::scene::limits::{MESH_CELL_BUDGET, MESH_LEVELS};
+use crate::scene::limits::{DEFAULT_MESH_LEVEL, MESH_CELL_BUDGET, MESH_LEVELS};
 
 pub use file::MeshFormat;
 pub use frame::SliceFrame;
@@ -44,7 +44,7 @@ impl MeshSettings {
     pub fn new(offset: f64) -> Self {
         Self {
             offset,
-            max_level: 7,
+            max_level: DEFAULT_MESH_LEVEL,
             tolerance: None,
             caps: true,
         }

@@ -33,6 +33,8 @@ pub const PICTURE_SIDE: RangeInclusive<u32> = 1..=8192;
 pub const MAX_PICTURE_SIDE: u32 = *PICTURE_SIDE.end();
 /// Levels of a slice's mesh octree: 2^level finest cells along the slice's extent.
 pub const MESH_LEVELS: RangeInclusive<u32> = 1..=10;
+/// The level a mesh takes unless told: cells about a hundredth of the slice's width.
+pub const DEFAULT_MESH_LEVEL: u32 = 7;
 /// Cells a mesh's octree may keep at one level (a few hundred bytes each, in all the
 /// mesher's tables).
 pub const MESH_CELL_BUDGET: usize = 4_000_000;

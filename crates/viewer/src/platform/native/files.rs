@@ -11,15 +11,13 @@ use eframe::egui;
 use fourfold::mesh::MeshFormat;
 use fourfold::render::{Device, FrameOptions, Gpu, Painter, Program, Source};
 use fourfold::scene::Scene;
+use fourfold::scene::limits::DEFAULT_MESH_LEVEL;
 use fourfold::tree::{Hierarchy, TreeStats};
 
 use crate::notice::Notice;
 use crate::outcome::{Outcome, Window};
 use crate::session::Session;
 use crate::settings::export_size_fields;
-
-/// The level of the mesh "Export mesh" writes (`fourfold mesh`'s default).
-const MESH_LEVEL: u32 = 7;
 
 /// Open, save and export, with paths typed in; `png` and `mesh` are the exports in flight.
 pub fn actions(
@@ -147,7 +145,8 @@ impl Export {
         let format = MeshFormat::from_path(std::path::Path::new(&path))?;
         let (formula, scene) = crate::export::mesh_job(s)?;
         Self::spawn(move || {
-            let (mesh, said) = crate::export::slice_mesh(&formula, &scene, MESH_LEVEL, format)?;
+            let (mesh, said) =
+                crate::export::slice_mesh(&formula, &scene, DEFAULT_MESH_LEVEL, format)?;
             std::fs::write(&path, mesh).map_err(|e| format!("cannot write {path}: {e}"))?;
             Ok(Notice::done(format!("saved {path}: {said}")))
         })

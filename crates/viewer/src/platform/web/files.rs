@@ -20,7 +20,7 @@ use crate::settings::export_size_fields;
 
 /// The level of the page's slice meshes: one coarser than the desktop's, since the page
 /// meshes on its one thread while the window waits.
-const MESH_LEVEL: u32 = 6;
+const MESH_LEVEL: u32 = fourfold::scene::limits::DEFAULT_MESH_LEVEL - 1;
 
 /// Open as an upload; save and export as downloads; `png` is the PNG on its way back.
 pub fn actions(
