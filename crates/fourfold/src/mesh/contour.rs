@@ -89,18 +89,12 @@ pub fn contour(solid: &Solid, grid: &Grid, seeds: &[[i32; 3]], tolerance: f64) -
         place_vertices(solid, grid, &cells, &order, &crossings, tolerance);
     let mut polygons = Vec::with_capacity(crossings.edges.len());
     for (&(corner, axis), crossing) in crossings.iter() {
-        let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
-        // The four cells around the edge, counter-clockwise seen from its axis's + end.
-        let around = [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(db, dc)| {
-            let mut cell = corner;
-            cell[b] -= db;
-            cell[c] -= dc;
-            let local = edge_at(axis, (db as usize) << b | (dc as usize) << c);
+        let ring = around((corner, axis)).map(|(cell, local)| {
             cells
                 .get(&cell)
                 .and_then(|k| k.piece[local].map(|p| k.first_vertex + u32::from(p)))
         });
-        let [Some(v0), Some(v1), Some(v2), Some(v3)] = around else {
+        let [Some(v0), Some(v1), Some(v2), Some(v3)] = ring else {
             continue; // a cell beyond the grid: only where M reaches the grid's own faces.
         };
         polygons.push(Polygon {
@@ -122,6 +116,18 @@ pub fn contour(solid: &Solid, grid: &Grid, seeds: &[[i32; 3]], tolerance: f64) -
         inside,
         crossings,
     }
+}
+
+/// The four cells around a grid edge, counter-clockwise seen from its axis's + end, each
+/// with the edge's number in that cell.
+fn around((corner, axis): Edge) -> [([i32; 3], usize); 4] {
+    let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
+    [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(db, dc)| {
+        let mut cell = corner;
+        cell[b] -= db;
+        cell[c] -= dc;
+        (cell, edge_at(axis, (db as usize) << b | (dc as usize) << c))
+    })
 }
 
 /// Whether each corner of the seed cells is inside the solid.
@@ -174,14 +180,8 @@ fn close_cells(
             },
         );
         for e in (0..12).filter(|&e| piece[e].is_some()) {
-            let (lo, _) = edge_corners(e);
-            let axis = e / 4;
-            let corner = corner_of(cell, lo);
-            let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
-            for (db, dc) in [(0, 0), (1, 0), (1, 1), (0, 1)] {
-                let mut next = corner;
-                next[b] -= db;
-                next[c] -= dc;
+            let edge = (corner_of(cell, edge_corners(e).0), e / 4);
+            for (next, _) in around(edge) {
                 if !cells.contains_key(&next) {
                     queue.push(next);
                 }
