@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use fourfold::mesh::{MeshFormat, MeshSettings, mesh_slice};
-use fourfold::scene::limits::{DEFAULT_MESH_LEVEL, MESH_LEVELS};
+use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, mesh_slice};
+use fourfold::scene::limits::DEFAULT_MESH_LEVEL;
 
 use crate::failure::Failure;
 use crate::input::{Input, Warn, checked, compile_warning, load_scene};
@@ -76,33 +76,21 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
             )));
         }
     };
-    if !MESH_LEVELS.contains(&args.max_level) {
-        return Err(Failure::usage(format!(
-            "--max-level {}: the mesh's octree takes {} to {} levels",
-            args.max_level,
-            MESH_LEVELS.start(),
-            MESH_LEVELS.end()
-        )));
-    }
-    if let Some(t) = args.tolerance.filter(|t| !(*t > 0.0 && t.is_finite())) {
-        return Err(Failure::usage(format!(
-            "--tolerance {t}: a distance above 0, in the slice's units"
-        )));
-    }
     let mut scene = load_scene(&args.input)?;
     if let Some(text) = &args.angles {
         scene.view.angles = parse_angles(text)?;
     }
+    if let Some(c) = args.slice {
+        scene.view.slice = Some(c);
+        scene.view.slab = None;
+    }
     let scene = checked(scene)?;
-    let offset = args.slice.or(scene.view.slice).ok_or_else(|| {
+    let offset = scene.view.slice.ok_or_else(|| {
         Failure::usage(
             "a mesh is of a slice: give --slice C (where the hyperplane cuts along n2, from \
              the domain's centre), or a scene with a slice",
         )
     })?;
-    if !offset.is_finite() {
-        return Err(Failure::usage(format!("--slice {offset}: a finite number")));
-    }
     let formula = compile_warning(&scene, warn)?;
     let settings = MeshSettings {
         offset,
@@ -111,8 +99,17 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
         caps: !args.open,
     };
     let t = std::time::Instant::now();
-    let mesh =
-        mesh_slice(&formula, &scene, &settings).map_err(|e| Failure::usage(e.to_string()))?;
+    let mesh = mesh_slice(&formula, &scene, &settings).map_err(|e| {
+        Failure::usage(match e {
+            MeshError::Level { level, lo, hi } => {
+                format!("--max-level {level}: the mesh's octree takes {lo} to {hi} levels")
+            }
+            MeshError::Tolerance(t) => {
+                format!("--tolerance {t}: a distance above 0, in the slice's units")
+            }
+            e => e.to_string(),
+        })
+    })?;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let (lo, hi) = mesh.bounds();
     let sides: [f64; 3] = std::array::from_fn(|a| hi[a] - lo[a]);

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use fourfold::CompiledFormula;
 use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, SliceMesh, mesh_slice};
 use fourfold::render::view::Rotation4;
-use fourfold::scene::{Domain, Scene};
+use fourfold::scene::{AxisRange, Domain, Scene};
 
 use common::Rng;
 
@@ -21,15 +21,7 @@ fn mesh(scene: &Scene, settings: MeshSettings) -> Result<SliceMesh, MeshError> {
 
 fn scene(formula: &str, half: f64, angles: [f64; 6]) -> Scene {
     let mut scene = Scene::from_formula(formula);
-    scene.domain = Domain::parse_list(
-        &[-half, half]
-            .repeat(4)
-            .iter()
-            .map(f64::to_string)
-            .collect::<Vec<_>>()
-            .join(","),
-    )
-    .unwrap();
+    scene.domain = Domain::from_axes([AxisRange::new(-half, half).unwrap(); 4]);
     scene.view.angles = angles;
     scene
 }

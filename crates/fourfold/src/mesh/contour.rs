@@ -84,7 +84,7 @@ pub struct Contour {
 pub fn contour(solid: &Solid, grid: &Grid, seeds: &[[i32; 3]], tolerance: f64) -> Contour {
     let mut inside = corner_signs(solid, grid, seeds);
     let (cells, order) = close_cells(solid, grid, seeds, &mut inside);
-    let crossings = crossings(solid, grid, &cells, &order);
+    let crossings = crossings(solid, grid, &cells, &order, &inside);
     let (vertices, vertex_cells) =
         place_vertices(solid, grid, &cells, &order, &crossings, tolerance);
     let mut polygons = Vec::with_capacity(crossings.edges.len());
@@ -207,6 +207,7 @@ fn crossings(
     grid: &Grid,
     cells: &HashMap<[i32; 3], Cell>,
     order: &[[i32; 3]],
+    inside: &HashMap<[i32; 3], bool>,
 ) -> Crossings {
     let mut edges: Vec<Edge> = order
         .iter()
@@ -226,7 +227,7 @@ fn crossings(
             let mut upper = corner;
             upper[axis] += 1;
             let b = grid.corner(upper);
-            let lower_inside = solid.inside(eval, a);
+            let lower_inside = inside[&corner];
             let point = if lower_inside {
                 solid.crossing(eval, a, b)
             } else {

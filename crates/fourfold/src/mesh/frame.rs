@@ -96,9 +96,8 @@ impl SliceFrame {
                     .abs()
                     .sub(Interval::point(self.half[i]))
             })
-            .fold(Interval::point(f64::NEG_INFINITY), |m, d| {
-                Interval::new(m.lo().max(d.lo()), m.hi().max(d.hi()))
-            })
+            .reduce(Interval::max)
+            .expect("four axes")
     }
 
     /// How far from the domain's centre, along n2, the domain reaches: the slices within it
