@@ -11,6 +11,7 @@
 //! the GPU. The front ends (the viewer, the command line, the web page) are crates of their
 //! own over this one: docs/architecture.md maps it all.
 
+pub mod critical;
 pub mod eval;
 pub mod expr;
 pub mod formula;

@@ -38,6 +38,11 @@ pub const DEFAULT_MESH_LEVEL: u32 = 7;
 /// Cells a mesh's octree may keep at one level (a few hundred bytes each, in all the
 /// mesher's tables).
 pub const MESH_CELL_BUDGET: usize = 4_000_000;
+/// Levels of the critical-value search: its finest boxes are the domain / 2^level.
+pub const CRITICAL_LEVELS: RangeInclusive<u32> = 2..=14;
+pub const DEFAULT_CRITICAL_LEVEL: u32 = 7;
+/// Boxes the critical-value search may look at (a few microseconds each).
+pub const CRITICAL_BOX_BUDGET: usize = 1_000_000;
 /// Keys a share link may set: far more than a scene has (its settings and a formula's
 /// parameters), few enough that checking them one by one stays instant.
 pub const LINK_KEYS: usize = 256;

@@ -1,0 +1,336 @@
+//! The proved critical values of the slice sweep: the places c along the view's n2 where
+//! the slice of M (within the domain) can change its topology. They are the critical values
+//! of the height h(p) = ⟨p − o, n2⟩ (o the domain's centre) on M, and on M's cut by each
+//! face of the domain. Boxes of R⁴ are split until each is proved to hold no critical
+//! point or exactly one ([`system`]: Krawczyk's operator on F = 0, ∇F = λ n2), whose Morse
+//! index is proved from the restricted Hessian's inertia ([`inertia`]); what stays
+//! undecided at the finest boxes is reported as such (docs/critical.md).
+
+mod inertia;
+mod linalg;
+mod search;
+mod system;
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::eval::Box4;
+use crate::formula::CompiledFormula;
+use crate::interval::Interval;
+use crate::render::view::Rotation4;
+use crate::scene::Scene;
+use crate::scene::limits::{CRITICAL_BOX_BUDGET, CRITICAL_LEVELS, DEFAULT_CRITICAL_LEVEL};
+
+use system::{Stratum, System};
+
+/// How hard to look.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CriticalSettings {
+    /// The finest boxes are the domain / 2^level along each axis.
+    pub max_level: u32,
+    /// The most boxes looked at, over all strata; what is pending then is undecided.
+    pub box_budget: usize,
+    /// Also the critical points on M's cut by the domain's faces.
+    pub faces: bool,
+}
+
+impl Default for CriticalSettings {
+    fn default() -> Self {
+        Self {
+            max_level: DEFAULT_CRITICAL_LEVEL,
+            box_budget: CRITICAL_BOX_BUDGET,
+            faces: true,
+        }
+    }
+}
+
+/// What is known about a reported place.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Exactly one critical point in the enclosure, non-degenerate.
+    Proved,
+    /// F is smooth there, but down to the finest boxes the critical points could not be
+    /// isolated: a degenerate or non-isolated critical point (a cylinder's line, a circle
+    /// of tops), or critical points closer together than a finest box.
+    Degenerate,
+    /// F is not smooth on some of these boxes (a kink, the edge of where it is defined), or
+    /// the budget ran out before they were decided.
+    Undecided,
+}
+
+impl Status {
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Proved => "proved",
+            Status::Degenerate => "degenerate",
+            Status::Undecided => "undecided",
+        }
+    }
+}
+
+/// Where in the domain a critical point lies.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Place {
+    Interior,
+    /// On the domain's face where coordinate `axis` (0..4 for x, y, z, w) is `value`.
+    Face {
+        axis: usize,
+        value: f64,
+    },
+}
+
+/// One critical point, or one cluster of undecided boxes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalPoint {
+    /// An enclosure of the critical value c (the slice's place along n2).
+    pub value: Interval,
+    /// An enclosure of the point (for a cluster, of all its boxes).
+    pub enclosure: Box4,
+    /// The height's Morse index there (on the face's cut for a face's point), where proved.
+    pub index: Option<u8>,
+    pub status: Status,
+    pub place: Place,
+    /// How many finest boxes a degenerate or undecided cluster holds (1 for a point).
+    pub boxes: usize,
+}
+
+impl CriticalPoint {
+    /// The enclosure's centre.
+    pub fn point(&self) -> [f64; 4] {
+        self.enclosure.map(Interval::midpoint)
+    }
+
+    /// What happens to the slice as c passes this value upwards, in words.
+    pub fn meaning(&self) -> &'static str {
+        match (self.status, self.place, self.index) {
+            (Status::Proved, Place::Interior, Some(0)) => "a component is born",
+            (Status::Proved, Place::Interior, Some(1)) => "a handle appears (index 1)",
+            (Status::Proved, Place::Interior, Some(2)) => "a handle closes (index 2)",
+            (Status::Proved, Place::Interior, Some(3)) => "a component vanishes",
+            (Status::Proved, Place::Face { .. }, Some(_)) => {
+                "M's cut by the domain's face changes here"
+            }
+            (Status::Proved, _, _) => "a critical point whose index is not proved",
+            (Status::Degenerate, _, _) => "a degenerate or non-isolated critical point",
+            (Status::Undecided, _, _) => "undecided: the slice may change here",
+        }
+    }
+}
+
+/// Every place where the slice's topology can change, in increasing order of value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalReport {
+    pub points: Vec<CriticalPoint>,
+    /// Boxes looked at, in all strata.
+    pub visited: usize,
+    /// Finest boxes left degenerate or undecided.
+    pub degenerate_boxes: usize,
+    pub undecided_boxes: usize,
+    /// Whether the box budget ran out (the rest is reported undecided).
+    pub budget_spent: bool,
+    /// The slices within ±reach of the domain's centre meet the domain.
+    pub reach: f64,
+}
+
+impl CriticalReport {
+    /// The first value above `c` (by its enclosure's lower end), if any.
+    pub fn next_after(&self, c: f64) -> Option<&CriticalPoint> {
+        self.points.iter().find(|p| p.value.lo() > c)
+    }
+
+    /// The last value below `c` (by its enclosure's upper end), if any.
+    pub fn next_before(&self, c: f64) -> Option<&CriticalPoint> {
+        self.points.iter().rev().find(|p| p.value.hi() < c)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CriticalError {
+    #[error("the search's level must be within {lo}..={hi}, not {level}")]
+    Level { level: u32, lo: u32, hi: u32 },
+}
+
+/// The critical values of the slice sweep for `formula` in `scene`'s view and domain.
+pub fn critical_values(
+    formula: &CompiledFormula,
+    scene: &Scene,
+    settings: &CriticalSettings,
+) -> Result<CriticalReport, CriticalError> {
+    if !CRITICAL_LEVELS.contains(&settings.max_level) {
+        return Err(CriticalError::Level {
+            level: settings.max_level,
+            lo: *CRITICAL_LEVELS.start(),
+            hi: *CRITICAL_LEVELS.end(),
+        });
+    }
+    let params = scene.param_values(&formula.param_names());
+    let normal = Rotation4::from_angles(scene.view.angles).row(3);
+    let domain = scene.domain.to_box();
+    let centre = scene.domain.center();
+    let scale = 0.5f64.powi(settings.max_level as i32);
+    let finest = domain.map(|r| r.width() * scale);
+    let mut strata = vec![Stratum::interior()];
+    if settings.faces {
+        for axis in 0..4 {
+            for value in [domain[axis].lo(), domain[axis].hi()] {
+                strata.push(Stratum::face(axis, value));
+            }
+        }
+    }
+    let budget = AtomicUsize::new(settings.box_budget);
+    let mut report = CriticalReport {
+        points: Vec::new(),
+        visited: 0,
+        degenerate_boxes: 0,
+        undecided_boxes: 0,
+        budget_spent: false,
+        reach: (0..4)
+            .map(|i| normal[i].abs() * 0.5 * domain[i].width())
+            .sum(),
+    };
+    for stratum in strata {
+        // A face across which n2 has no component is a level set of the height: the
+        // slice meets it only at the end of its range.
+        if stratum.free.iter().all(|&i| normal[i].abs() < 1e-9) {
+            continue;
+        }
+        let place = match stratum.free.len() {
+            4 => Place::Interior,
+            _ => {
+                let axis = (0..4)
+                    .find(|&a| stratum.fixed[a].is_some())
+                    .expect("a face");
+                Place::Face {
+                    axis,
+                    value: stratum.fixed[axis].expect("fixed"),
+                }
+            }
+        };
+        let mut start = domain;
+        for (axis, v) in stratum.fixed.iter().enumerate() {
+            if let Some(v) = v {
+                start[axis] = Interval::point(*v);
+            }
+        }
+        let system = System::new(formula, &params, normal, stratum);
+        let outcome = search_stratum(&system, start, finest, &budget);
+        report.visited += outcome.visited;
+        let height = |b: &Box4| {
+            (0..4).fold(Interval::ZERO, |acc, i| {
+                acc.add(
+                    b[i].sub(Interval::point(centre[i]))
+                        .mul(Interval::point(normal[i])),
+                )
+            })
+        };
+        for p in &outcome.proved {
+            let enclosure = system.space_box(&p.tight);
+            // Grown boxes reach past the domain: keep only points that may lie in it.
+            let meets = (0..4).all(|i| {
+                enclosure[i].hi() >= domain[i].lo() && enclosure[i].lo() <= domain[i].hi()
+            });
+            if meets {
+                report.points.push(CriticalPoint {
+                    value: height(&enclosure),
+                    enclosure,
+                    index: p.index,
+                    status: Status::Proved,
+                    place,
+                    boxes: 1,
+                });
+            }
+        }
+        for cluster in search::clusters(&outcome.leftovers) {
+            let boxes: Vec<&search::Leftover> =
+                cluster.iter().map(|&i| &outcome.leftovers[i]).collect();
+            let enclosure = boxes
+                .iter()
+                .map(|l| l.space)
+                .reduce(|a, b| std::array::from_fn(|i| a[i].hull(b[i])))
+                .expect("a cluster has a box");
+            let value = boxes
+                .iter()
+                .map(|l| height(&l.space))
+                .reduce(Interval::hull)
+                .expect("a cluster has a box");
+            let status = if boxes.iter().all(|l| l.smooth) {
+                report.degenerate_boxes += boxes.len();
+                Status::Degenerate
+            } else {
+                report.undecided_boxes += boxes.len();
+                Status::Undecided
+            };
+            report.points.push(CriticalPoint {
+                value,
+                enclosure,
+                index: None,
+                status,
+                place,
+                boxes: boxes.len(),
+            });
+        }
+    }
+    report.budget_spent = budget.load(Ordering::Relaxed) == 0;
+    report
+        .points
+        .sort_by(|a, b| a.value.lo().total_cmp(&b.value.lo()));
+    Ok(report)
+}
+
+/// The search over one stratum from `start`: split once along every free axis, the parts
+/// searched in parallel; then each small cluster of boxes left over searched three levels
+/// deeper (often boxes beside a point proved from a neighbour, too far from it for its
+/// region to hold them; a large cluster is a degenerate set, and would take long).
+fn search_stratum(
+    system: &System,
+    start: Box4,
+    finest: [f64; 4],
+    budget: &AtomicUsize,
+) -> search::Outcome {
+    let run = |parts: Vec<Box4>, finest: [f64; 4], known: &[search::Proved]| {
+        let outcomes = parts
+            .into_par_iter()
+            .map(|part| search::search(&mut system.clone(), part, finest, budget, known))
+            .collect();
+        search::merge(outcomes, system)
+    };
+    let mut outcome = run(split_once(start, &system.stratum.free), finest, &[]);
+    let (mut kept, mut deeper) = (Vec::new(), Vec::new());
+    for cluster in search::clusters(&outcome.leftovers) {
+        let boxes = cluster.iter().map(|&i| outcome.leftovers[i].clone());
+        if cluster.len() <= SMALL_CLUSTER && cluster.iter().all(|&i| outcome.leftovers[i].smooth) {
+            deeper.extend(boxes.map(|l| l.space));
+        } else {
+            kept.extend(boxes);
+        }
+    }
+    if deeper.is_empty() {
+        return outcome;
+    }
+    outcome.leftovers = kept;
+    let again = run(deeper, finest.map(|f| f / 8.0), &outcome.proved);
+    search::merge(vec![outcome, again], system)
+}
+
+/// The most boxes in a cluster searched deeper.
+const SMALL_CLUSTER: usize = 16;
+
+/// The 2^k boxes of `b` halved along each of the k `free` axes.
+fn split_once(b: Box4, free: &[usize]) -> Vec<Box4> {
+    free.iter().fold(vec![b], |boxes, &axis| {
+        boxes
+            .into_iter()
+            .flat_map(|b| {
+                let mid = b[axis].midpoint();
+                let (mut low, mut high) = (b, b);
+                low[axis] = Interval::new(b[axis].lo(), mid);
+                high[axis] = Interval::new(mid, b[axis].hi());
+                [low, high]
+            })
+            .collect()
+    })
+}
