@@ -4,6 +4,7 @@
 
 mod animate;
 mod check;
+mod critical;
 mod failure;
 mod input;
 mod mesh;
@@ -16,6 +17,7 @@ use clap::{Parser, Subcommand};
 
 pub use animate::{AnimateArgs, animate, animation_of};
 pub use check::{check, grad};
+pub use critical::{CriticalArgs, critical};
 pub use failure::Failure;
 pub use input::{Input, Warn};
 pub use mesh::{MeshArgs, mesh};
@@ -53,6 +55,9 @@ pub enum Command {
     /// Write the mesh of a slice (the cut of M by the hyperplane at --slice C along n2) to
     /// an STL, OBJ or PLY file, for printing or for other programs.
     Mesh(MeshArgs),
+    /// Print the proved critical values of the slice sweep: the places along n2 where the
+    /// slice's topology can change, with each point's Morse index.
+    Critical(CriticalArgs),
     /// Open the interactive viewer (the default with no command).
     View(ViewArgs),
 }
@@ -68,6 +73,7 @@ pub fn run(cli: &Cli, warn: Warn) -> Result<String, Failure> {
         Some(Command::Render(args)) => render(args, warn),
         Some(Command::Animate(args)) => animate(args, warn),
         Some(Command::Mesh(args)) => mesh(args, warn),
+        Some(Command::Critical(args)) => critical(args, warn),
         Some(Command::View(args)) => view(args, warn),
         None => view(&ViewArgs::default(), warn),
     }

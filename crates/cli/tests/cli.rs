@@ -5,6 +5,9 @@ use clap::Parser;
 use fourfold::scene::{Sampling, Scene};
 use fourfold_cli::{Cli, Command, Failure, RenderArgs, render_scene_of};
 
+mod common;
+use common::fourfold;
+
 #[path = "../../fourfold/tests/support/undefined_constants.rs"]
 mod support;
 use support::{carets, undefined_constants};
@@ -716,16 +719,6 @@ fn a_tiny_constant_f_draws_nothing_on_the_gpu_as_on_the_cpu() {
         let covered = picture.pixels().filter(|p| *p != background).count();
         assert_eq!(covered, 0, "pixels drawn where F is 7e-22 everywhere");
     }
-}
-
-/// Runs the `fourfold` binary with `args`: its exit code, stdout and stderr.
-fn fourfold(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
-        .args(args)
-        .output()
-        .unwrap();
-    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
-    (out.status.code(), text(&out.stdout), text(&out.stderr))
 }
 
 #[test]

@@ -281,8 +281,5 @@ fn slice_meshes_change_topology_exactly_at_the_critical_values() {
         [0.4, -0.3, 0.8, 0.1, 0.2, -0.6],
     );
     let gaps = check_sweep(&peanut);
-    assert!(
-        gaps.contains(&4),
-        "two spheres at once: {gaps:?}"
-    );
+    assert!(gaps.contains(&4), "two spheres at once: {gaps:?}");
 }

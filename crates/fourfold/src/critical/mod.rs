@@ -108,8 +108,8 @@ impl CriticalPoint {
     pub fn meaning(&self) -> &'static str {
         match (self.status, self.place, self.index) {
             (Status::Proved, Place::Interior, Some(0)) => "a component is born",
-            (Status::Proved, Place::Interior, Some(1)) => "a handle appears (index 1)",
-            (Status::Proved, Place::Interior, Some(2)) => "a handle closes (index 2)",
+            (Status::Proved, Place::Interior, Some(1)) => "two pieces join, or a tunnel opens",
+            (Status::Proved, Place::Interior, Some(2)) => "a tunnel closes, or a piece splits",
             (Status::Proved, Place::Interior, Some(3)) => "a component vanishes",
             (Status::Proved, Place::Face { .. }, Some(_)) => {
                 "M's cut by the domain's face changes here"
