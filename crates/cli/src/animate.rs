@@ -4,6 +4,7 @@
 
 use clap::Args;
 
+use fourfold::critical::sweep::{place_frames, straddle_lines};
 use fourfold::formula::CompiledFormula;
 use fourfold::headless::{Drawn, FrameDevice, Output, draw};
 use fourfold::render::Gpu;
@@ -93,6 +94,7 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
         turn,
         sweep,
         slice_sweep,
+        slice_places: Vec::new(),
         frames: args.frames,
         fps: args.fps,
     })
@@ -106,7 +108,8 @@ pub fn animate(args: &AnimateArgs, warn: Warn) -> Result<String, Failure> {
     let scene = render_scene_of(&args.render)?;
     let (width, height) = parse_size(&args.render.size)?;
     let formula = compile_warning(&scene, warn)?;
-    let animation = animation_of(args, &formula)?;
+    let mut animation = animation_of(args, &formula)?;
+    let critical = place_frames(&mut animation, &formula, &scene);
     let output = Output::from_path(&args.render.output).map_err(Failure::usage)?;
     let mut writer = output
         .open(width, height, animation.fps, animation.frames)
@@ -184,6 +187,17 @@ drew {drawn} frames in {seconds:.1} s ({:.1} frames per second)",
     }
     if cut > 0 {
         out.push_str(&cut_warning(&format!("{cut} pixels over {drawn} frames")));
+    }
+    if let Some(report) = critical {
+        let lines = straddle_lines(&animation.slice_places, &report);
+        if lines.is_empty() {
+            out.push_str(
+                "\nno critical value within the sweep: every frame's slice has the same topology",
+            );
+        }
+        for line in lines {
+            out.push_str(&format!("\n{line}"));
+        }
     }
     if drawn < animation.frames {
         out.push_str(&format!(

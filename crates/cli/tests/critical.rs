@@ -94,3 +94,35 @@ fn bad_critical_requests_name_the_flag() {
         assert!(stdout.is_empty());
     }
 }
+
+#[test]
+fn a_slice_sweep_says_which_frames_straddle_each_critical_value() {
+    let dir = std::env::temp_dir().join("fourfold-critical-sweep");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("sweep.gif");
+    // Frames at -1.5, -1.25, ..., 1.5; the glome's poles are at ±1 exactly, where frames 3
+    // and 11 would fall: those move off them.
+    let (code, stdout, stderr) = fourfold(&[
+        "animate",
+        "x^2+y^2+z^2+w^2-1",
+        "--slice-sweep",
+        "-1.5..1.5",
+        "--frames",
+        "13",
+        "--size",
+        "32x32",
+        "--cpu",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let straddles: Vec<&str> = stdout.lines().filter(|l| l.contains("straddle")).collect();
+    assert_eq!(straddles.len(), 2, "{stdout}");
+    assert!(
+        straddles[0].starts_with("frames 2 and 3 straddle c = -1.000000")
+            || straddles[0].starts_with("frames 3 and 4 straddle c = -1.000000"),
+        "{stdout}"
+    );
+    assert!(straddles[0].contains("a component is born"), "{stdout}");
+    assert!(straddles[1].contains("a component vanishes"), "{stdout}");
+}

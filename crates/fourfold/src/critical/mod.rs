@@ -9,6 +9,7 @@
 mod inertia;
 mod linalg;
 mod search;
+pub mod sweep;
 mod system;
 
 use std::sync::atomic::{AtomicUsize, Ordering};

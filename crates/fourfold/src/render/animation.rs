@@ -123,6 +123,9 @@ pub struct Animation {
     pub sweep: Option<Sweep>,
     /// A slice moving from one place along n2 to another.
     pub slice_sweep: Option<(f64, f64)>,
+    /// The slice's place at each frame, where they are not even (placed around the
+    /// critical values: `critical::sweep::sweep_places`); empty for even steps.
+    pub slice_places: Vec<f64>,
     pub frames: u32,
     /// Frames per second of the file written.
     pub fps: f64,
@@ -161,7 +164,8 @@ impl Animation {
                 .insert(s.name.clone(), s.from + (s.to - s.from) * share);
         }
         if let Some((from, to)) = self.slice_sweep {
-            scene.view.slice = Some(from + (to - from) * share);
+            let place = self.slice_places.get(k as usize).copied();
+            scene.view.slice = Some(place.unwrap_or(from + (to - from) * share));
             scene.view.slab = None;
         }
         scene

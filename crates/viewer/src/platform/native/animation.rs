@@ -9,6 +9,7 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use eframe::egui;
 
 use fourfold::CompiledFormula;
+use fourfold::critical::sweep::{place_frames, straddle_lines};
 use fourfold::headless::{FrameDevice, Output, draw};
 use fourfold::render::Gpu;
 use fourfold::render::animation::{
@@ -154,6 +155,7 @@ fn chosen_animation(c: &AnimationChoice) -> Result<Animation, String> {
         turn,
         sweep,
         slice_sweep,
+        slice_places: Vec::new(),
         frames: c.frames,
         fps: c.fps,
     })
@@ -260,7 +262,9 @@ impl Job {
     /// Draws the frames into the file, counting them in `drawn`, until done or `stop`.
     fn write(&self, stop: &AtomicBool, drawn: &AtomicU32) -> Result<String, String> {
         let [width, height] = self.size;
-        let animation = &self.animation;
+        let mut animation = self.animation.clone();
+        let critical = place_frames(&mut animation, &self.formula, &self.scene);
+        let animation = &animation;
         let output = Output::from_path(std::path::Path::new(&self.path))?;
         let mut writer = output.open(width, height, animation.fps, animation.frames)?;
         let gpu = Gpu::new().map_err(|e| e.to_string())?;
@@ -281,13 +285,19 @@ impl Job {
         );
         let wrote = writer.finish()?;
         let done = done?.frames;
-        Ok(if done < animation.frames {
+        let mut said = if done < animation.frames {
             format!(
                 "stopped after {done} of {} frames: wrote {wrote}",
                 animation.frames
             )
         } else {
             format!("wrote {wrote}")
-        })
+        };
+        if let Some(report) = critical {
+            for line in straddle_lines(&animation.slice_places, &report) {
+                said.push_str(&format!("\n{line}"));
+            }
+        }
+        Ok(said)
     }
 }
