@@ -120,7 +120,8 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
 /// first frame was drawn, the last edit's latency and its stages, the editor's text, the
 /// formula on screen, the error shown, whether a build runs or the picture is still being
 /// drawn, the UI's frame time, where the editor, the controls' panel and the picture are
-/// (CSS pixels), and a panic if one happened.
+/// (CSS pixels), the slice's place and its critical values with where their ticks are, and a
+/// panic if one happened.
 #[wasm_bindgen]
 pub fn status() -> String {
     RUNNER.with(|runner| {
@@ -135,6 +136,24 @@ pub fn status() -> String {
         let app = &page.0;
         let times = &app.session.times;
         let rect = |r: Option<egui::Rect>| r.map(|r| [r.min.x, r.min.y, r.max.x, r.max.y]);
+        let critical = app.session.program.as_ref().and_then(|program| {
+            let report = app
+                .critical
+                .report(&program.formula, &app.session.scene)?
+                .ok()?;
+            let points: Vec<_> = report
+                .points
+                .iter()
+                .map(|p| {
+                    serde_json::json!({
+                        "value": [p.value.lo(), p.value.hi()],
+                        "index": p.index,
+                        "status": p.status,
+                    })
+                })
+                .collect();
+            Some(points)
+        });
         serde_json::json!({
             "started": true,
             "panic": panic,
@@ -159,6 +178,9 @@ pub fn status() -> String {
             "controls": rect(app.controls_rect),
             "picture": rect(app.picture_rect),
             "link": app.share_link(),
+            "slice": app.session.scene.view.slice,
+            "critical": critical,
+            "critical_strip": rect(app.critical_strip_rect),
         })
         .to_string()
     })

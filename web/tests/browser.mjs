@@ -7,7 +7,8 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link asking for certified pixels draws plain and says why; an undefined constant
+// error; a link asking for certified pixels draws plain and says why; a slice's critical
+// values are ticks under its slider that move the slice when clicked; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
 // compiles in Chromium's WebGPU; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
@@ -313,6 +314,46 @@ try {
   check(shown.share > 0.01 && /certified/.test(cs.notice ?? '') && certified.errors.length === 0,
     `a certified link draws, plain, and says why: ${JSON.stringify(cs.notice)}`);
   await certified.page.close();
+
+  // A slice's critical values: ticks under the slider, coloured by index; a click on one
+  // moves the slice there.
+  const sliced = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
+    '&angles=0.3,0.5,0.7,0.2,0.9,1.1&slice=-1.5');
+  await settled(sliced.page);
+  await sliced.page.waitForFunction(() => {
+    const s = JSON.parse(window.fourfold.status());
+    return s.panic || (s.critical && s.critical_strip);
+  }, null, { timeout: TIMEOUT, polling: 100 });
+  const cr = await status(sliced.page);
+  const poles = (cr.critical ?? []).map((c) => `${((c.value[0] + c.value[1]) / 2).toFixed(6)}:${c.index}:${c.status}`);
+  check(poles.join(' ') === '-1.000000:0:proved 1.000000:3:proved',
+    `the glome's slice has two proved critical values, ±1, indices 0 and 3: ${poles.join(' ')}`);
+  const [sx0, sy0, sx1, sy1] = cr.critical_strip;
+  const strip = PNG.sync.read(await sliced.page.screenshot({
+    clip: { x: sx0, y: sy0, width: sx1 - sx0, height: sy1 - sy0 },
+  }));
+  const columns = (want) => {
+    const found = [];
+    const y = strip.height - 2;
+    for (let x = 0; x < strip.width; x++) {
+      const i = 4 * (y * strip.width + x);
+      if (want(strip.data[i], strip.data[i + 1], strip.data[i + 2])) found.push(x);
+    }
+    return found;
+  };
+  const green = columns((r, g, b) => g > 150 && r < 140 && b < 170);
+  const red = columns((r, g, b) => r > 180 && g < 120 && b < 120);
+  check(green.length > 0 && red.length > 0 && green[0] < red[0],
+    `the ticks are drawn, green (born) left of red (vanishes): at ${green[0]} and ${red[0]} of ${strip.width}`);
+  if (red.length > 0) {
+    await sliced.page.mouse.click(sx0 + red[Math.floor(red.length / 2)] + 0.5, (sy0 + sy1) / 2);
+    await sliced.page.waitForFunction(() => Math.abs(JSON.parse(window.fourfold.status()).slice - 1) < 1e-9,
+      null, { timeout: 30_000, polling: 100 }).catch(() => {});
+    const moved = await status(sliced.page);
+    check(Math.abs(moved.slice - 1) < 1e-9, `a click on the red tick moves the slice to c = 1: ${moved.slice}`);
+  }
+  check(sliced.errors.length === 0, `no error in the console with critical values (${sliced.errors.join(' | ') || 'none'})`);
+  await sliced.page.close();
 
   // A link with a mistyped formula opens the editor on it, with the error.
   const bad = await open('#formula=' + encodeURIComponent('sn(x) + y') + '&zoom=nine');

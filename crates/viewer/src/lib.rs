@@ -7,6 +7,7 @@
 
 pub mod app;
 mod blit;
+pub mod critical;
 mod export;
 pub mod history;
 pub mod job;

@@ -631,3 +631,58 @@ fn export_mesh_writes_the_slice_shown() {
     assert!(said.contains(&format!("{triangles} triangles")), "{said}");
     std::fs::remove_file(&path).ok();
 }
+
+#[test]
+fn the_slice_slider_jumps_between_proved_critical_values() {
+    // The unit glome turned: its slices are born at c = -1 and vanish at c = 1.
+    let mut scene = small_scene();
+    scene.view.angles = [0.3, 0.5, 0.7, 0.2, 0.9, 1.1];
+    scene.view.slice = Some(-1.5);
+    let mut h = harness(scene);
+    settle(&mut h);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        h.step();
+        let app = h.state();
+        let program = app.session.program.as_ref().expect("drawn");
+        if let Some(report) = app.critical.report(&program.formula, &app.session.scene) {
+            let report = report.expect("a report");
+            let values: Vec<(f64, Option<u8>)> = report
+                .points
+                .iter()
+                .map(|p| (p.value.midpoint(), p.index))
+                .collect();
+            assert_eq!(values.len(), 2, "{values:?}");
+            assert!((values[0].0 + 1.0).abs() < 1e-9 && values[0].1 == Some(0));
+            assert!((values[1].0 - 1.0).abs() < 1e-9 && values[1].1 == Some(3));
+            break;
+        }
+        assert!(Instant::now() < deadline, "no critical values");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    h.step();
+    h.get_by_label("2 proved");
+    let slice = |h: &Harness<'static, FourfoldApp>| h.state().session.scene.view.slice.unwrap();
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "next change »")
+        .click();
+    h.step();
+    assert!((slice(&h) + 1.0).abs() < 1e-9, "{}", slice(&h));
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "next change »")
+        .click();
+    h.step();
+    assert!((slice(&h) - 1.0).abs() < 1e-9, "{}", slice(&h));
+    h.get_by_role_and_label(egui::accesskit::Role::Button, "« previous change")
+        .click();
+    h.step();
+    assert!((slice(&h) + 1.0).abs() < 1e-9, "{}", slice(&h));
+    // A turn changes n2: the values are searched again once the view is still.
+    h.state_mut().session.scene.view.angles[2] += 0.1;
+    h.step();
+    let app = h.state();
+    let program = app.session.program.as_ref().unwrap();
+    assert!(
+        app.critical
+            .report(&program.formula, &app.session.scene)
+            .is_none()
+    );
+}

@@ -3,6 +3,7 @@
 //! (how it reaches the screen); each panel is a file of its own, and what only one platform
 //! has comes from `crate::platform`.
 
+mod critical_strip;
 mod editor;
 mod inset;
 mod picture;
@@ -51,6 +52,10 @@ pub struct FourfoldApp {
     /// The picture's size in pixels at the last frame.
     pub picture_size: [u32; 2],
     pub history: History,
+    /// The slice sweep's critical values, for the slice slider's ticks, and where the
+    /// ticks were drawn at the last frame (the web page's tests click them).
+    pub critical: crate::critical::Critical,
+    pub critical_strip_rect: Option<egui::Rect>,
     /// The projection drawn beside a slice, and the ray caster it draws with.
     pub inset: Progressive,
     inset_caster: Option<InsetCaster>,
@@ -120,6 +125,8 @@ impl FourfoldApp {
             drawing: true,
             inset: Progressive::default(),
             inset_caster: None,
+            critical: Default::default(),
+            critical_strip_rect: None,
         };
         if app.gpu.is_none() {
             app.message = Some(Notice::error(
@@ -213,6 +220,10 @@ impl eframe::App for FourfoldApp {
                 .unwrap_or(least)
                 .clamp(least, most);
         self.session.poll(gpu.as_ref());
+        let searching = match (&self.session.program, self.session.scene.view.slice) {
+            (Some(program), Some(_)) => self.critical.poll(&program.formula, &self.session.scene),
+            _ => false,
+        };
         self.fit_when_ready();
         self.shortcuts(ui.ctx());
 
@@ -288,7 +299,7 @@ impl eframe::App for FourfoldApp {
             self.session.poll(gpu.as_ref());
         }
         self.record_history(ui.ctx());
-        let busy = self.session.building() || self.platform.busy();
+        let busy = self.session.building() || self.platform.busy() || searching;
         self.drawing = more || self.session.building();
         if more || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();

@@ -117,6 +117,7 @@ impl FourfoldApp {
         if let Some(c) = &mut view.slice {
             ui.add(egui::Slider::new(c, -reach..=reach).text("slice at"))
                 .on_hover_text("where the hyperplane cuts, along n2 from the domain's centre");
+            self.critical_controls(ui, (-reach, reach));
             ui.checkbox(&mut self.ui.side_by_side, "beside the projection")
                 .on_hover_text("the projection on the right, where the slice cuts in orange");
         }

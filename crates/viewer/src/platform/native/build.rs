@@ -16,6 +16,10 @@ use crate::job::{JobInputs, JobResult};
 /// The desktop draws certified pixels (the web page cannot yet: see its platform module).
 pub const CERTIFIED_PIXELS: bool = true;
 
+/// Boxes the slice slider's search for critical values may look at: on a thread of its
+/// own, the library's default.
+pub const CRITICAL_BOX_BUDGET: usize = fourfold::scene::limits::CRITICAL_BOX_BUDGET;
+
 /// Waits a moment between two looks at a build (`Session::wait`).
 pub fn pause() {
     std::thread::sleep(std::time::Duration::from_millis(2));

@@ -14,6 +14,11 @@ use crate::job::{JobInputs, JobResult};
 /// ([`certified_left_off`]).
 pub const CERTIFIED_PIXELS: bool = false;
 
+/// Boxes the slice slider's search for critical values may look at: a page searches in
+/// one of its frames (`Background`), so a few tenths of a second at most; what is left
+/// then is shown undecided.
+pub const CRITICAL_BOX_BUDGET: usize = 40_000;
+
 /// A page cannot sleep; `Session::wait` spins (only tests wait, natively).
 pub fn pause() {}
 
