@@ -282,4 +282,12 @@ fn slice_meshes_change_topology_exactly_at_the_critical_values() {
     );
     let gaps = check_sweep(&peanut);
     assert!(gaps.contains(&4), "two spheres at once: {gaps:?}");
+    // Three blobs of different sizes joined by thin necks (an invented product, whose
+    // interval enclosures are loose: its saddles are proved only below the finest level).
+    let blobs = scene(
+        "((x-0.7)^2+y^2+z^2+w^2-0.3)*((x+0.5)^2+(y-0.4)^2+z^2+w^2-0.25)\
+         *(x^2+(y+0.6)^2+z^2+(w-0.2)^2-0.2) - 0.01",
+        [0.4, -0.3, 0.8, 0.1, 0.2, -0.6],
+    );
+    assert_eq!(check_sweep(&blobs), [0, 2, 4, 6, 4, 2, 4, 6, 4, 2, 0]);
 }

@@ -283,9 +283,11 @@ pub fn critical_values(
 }
 
 /// The search over one stratum from `start`: split once along every free axis, the parts
-/// searched in parallel; then each small cluster of boxes left over searched three levels
-/// deeper (often boxes beside a point proved from a neighbour, too far from it for its
-/// region to hold them; a large cluster is a degenerate set, and would take long).
+/// searched in parallel; then the smooth clusters of boxes left over are searched deeper,
+/// a level at a time (a point beside one proved from a neighbour, or where the enclosures
+/// were too loose at the finest size, is often decided there), while the boxes left keep
+/// decreasing: a curve or surface of critical points doubles or quadruples them at each
+/// level, and is left as it is.
 fn search_stratum(
     system: &System,
     start: Box4,
@@ -300,25 +302,43 @@ fn search_stratum(
         search::merge(outcomes, system)
     };
     let mut outcome = run(split_once(start, &system.stratum.free), finest, &[]);
-    let (mut kept, mut deeper) = (Vec::new(), Vec::new());
-    for cluster in search::clusters(&outcome.leftovers) {
-        let boxes = cluster.iter().map(|&i| outcome.leftovers[i].clone());
-        if cluster.len() <= SMALL_CLUSTER && cluster.iter().all(|&i| outcome.leftovers[i].smooth) {
-            deeper.extend(boxes.map(|l| l.space));
-        } else {
-            kept.extend(boxes);
+    let mut kept = Vec::new();
+    let leftovers = std::mem::take(&mut outcome.leftovers);
+    for cluster in search::clusters(&leftovers) {
+        let mut boxes: Vec<search::Leftover> =
+            cluster.iter().map(|&i| leftovers[i].clone()).collect();
+        let smooth = boxes.iter().all(|l| l.smooth);
+        let mut finer = finest;
+        for _ in 0..DEEPER_LEVELS {
+            if !smooth || boxes.is_empty() || boxes.len() > DEEPER_CLUSTER {
+                break;
+            }
+            finer = finer.map(|f| f / 2.0);
+            let spaces = boxes.iter().map(|l| l.space).collect();
+            let again = run(spaces, finer, &outcome.proved);
+            outcome.visited += again.visited;
+            let shrank = again.leftovers.len() < boxes.len();
+            boxes = again.leftovers;
+            let dim = system.dim();
+            for p in again.proved {
+                if !outcome.proved.iter().any(|q| search::same(q, &p, dim)) {
+                    outcome.proved.push(p);
+                }
+            }
+            if !shrank {
+                break;
+            }
         }
-    }
-    if deeper.is_empty() {
-        return outcome;
+        kept.extend(boxes);
     }
     outcome.leftovers = kept;
-    let again = run(deeper, finest.map(|f| f / 8.0), &outcome.proved);
-    search::merge(vec![outcome, again], system)
+    outcome
 }
 
-/// The most boxes in a cluster searched deeper.
-const SMALL_CLUSTER: usize = 16;
+/// How many levels below the finest a cluster may be searched, and the most boxes it may
+/// have to be (a larger one is a surface of critical points, and would take long).
+const DEEPER_LEVELS: usize = 4;
+const DEEPER_CLUSTER: usize = 2048;
 
 /// The 2^k boxes of `b` halved along each of the k `free` axes.
 fn split_once(b: Box4, free: &[usize]) -> Vec<Box4> {

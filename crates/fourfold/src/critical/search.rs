@@ -151,8 +151,12 @@ fn decide(
             let Some((lambda, _)) = system.screen(&grown_space) else {
                 return Decision::Done;
             };
+            // λ's range, widened too: where ∇F is nearly constant it is a few ulps wide,
+            // and K(X) could never fall strictly inside it.
             let mut region = grown;
-            region[dim - 1] = lambda.hull(Interval::point(m[dim - 1]));
+            let lambda = lambda.hull(Interval::point(m[dim - 1]));
+            let d = 0.1 * lambda.width() + 1e-9 * (1.0 + m[dim - 1].abs());
+            region[dim - 1] = Interval::new(lambda.lo() - d, lambda.hi() + d);
             match system.krawczyk(&region, &m) {
                 Proof::Unique(k) => {
                     record(system, region, k, proved);
@@ -202,7 +206,7 @@ fn record(system: &mut System, region: Unknowns, k: Unknowns, proved: &mut Vec<P
 
 /// Whether two proved points are one: one's enclosure lies in the other's region of
 /// uniqueness.
-fn same(a: &Proved, b: &Proved, dim: usize) -> bool {
+pub fn same(a: &Proved, b: &Proved, dim: usize) -> bool {
     within(&a.tight, &b.region, dim) || within(&b.tight, &a.region, dim)
 }
 

@@ -56,6 +56,13 @@ struct Jet {
     smooth: bool,
 }
 
+/// G and its Jacobian over some unknowns, and whether F is smooth there.
+struct Linear {
+    g: [Interval; N],
+    j: [[Interval; N]; N],
+    smooth: bool,
+}
+
 /// What Krawczyk's operator proves about a box.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Proof {
@@ -161,36 +168,32 @@ impl<'a> System<'a> {
         dot.div(norm)
     }
 
-    /// G over the unknowns `x`, and whether F is smooth there.
-    fn residual(&mut self, x: &Unknowns) -> ([Interval; N], bool) {
-        let b = self.space_box(x);
-        let jet = self.jet(&b);
-        let lambda = x[self.dim() - 1];
-        let mut g = [Interval::ZERO; N];
-        g[0] = jet.f;
-        for (r, &i) in self.stratum.free.iter().enumerate() {
-            g[r + 1] = jet.gradient[i].sub(lambda.mul(Interval::point(self.normal[i])));
-        }
-        (g, jet.smooth)
-    }
-
-    /// The Jacobian of G over the unknowns `x`, and whether F is smooth there.
-    fn jacobian(&mut self, x: &Unknowns) -> ([[Interval; N]; N], bool) {
+    /// G and its Jacobian over the unknowns `x`, and whether F is smooth there.
+    fn linearise(&mut self, x: &Unknowns) -> Linear {
         let b = self.space_box(x);
         let jet = self.jet(&b);
         let free = &self.stratum.free;
         let last = self.dim() - 1;
+        let lambda = x[last];
+        let mut g = [Interval::ZERO; N];
         let mut j = [[Interval::ZERO; N]; N];
+        g[0] = jet.f;
         for (c, &i) in free.iter().enumerate() {
             j[0][c] = jet.gradient[i];
         }
         for (r, &i) in free.iter().enumerate() {
+            let n = Interval::point(self.normal[i]);
+            g[r + 1] = jet.gradient[i].sub(lambda.mul(n));
             for (c, &k) in free.iter().enumerate() {
                 j[r + 1][c] = jet.hessian[i][k];
             }
-            j[r + 1][last] = Interval::point(-self.normal[i]);
+            j[r + 1][last] = n.neg();
         }
-        (j, jet.smooth)
+        Linear {
+            g,
+            j,
+            smooth: jet.smooth,
+        }
     }
 
     /// Newton's method in floating point from `start`: an approximate solution, or None
@@ -198,10 +201,9 @@ impl<'a> System<'a> {
     pub fn newton(&mut self, start: [f64; N]) -> Option<[f64; N]> {
         let dim = self.dim();
         let mut x = start;
-        for _ in 0..12 {
+        for _ in 0..8 {
             let point: Unknowns = std::array::from_fn(|i| Interval::point(x[i]));
-            let (g, _) = self.residual(&point);
-            let (j, _) = self.jacobian(&point);
+            let Linear { g, j, .. } = self.linearise(&point);
             let inv = linalg::inverse(&midpoints(&j), dim)?;
             let g = g.map(Interval::midpoint);
             let mut size = 0.0f64;
@@ -225,7 +227,7 @@ impl<'a> System<'a> {
     /// interior, X holds exactly one. Needs F smooth on X.
     pub fn krawczyk(&mut self, x: &Unknowns, m: &[f64; N]) -> Proof {
         let dim = self.dim();
-        let (j, smooth) = self.jacobian(x);
+        let Linear { j, smooth, .. } = self.linearise(x);
         if !smooth {
             return Proof::Unknown;
         }
@@ -233,7 +235,11 @@ impl<'a> System<'a> {
             return Proof::Unknown;
         };
         let at_m: Unknowns = std::array::from_fn(|i| Interval::point(m[i]));
-        let (g, smooth_at_m) = self.residual(&at_m);
+        let Linear {
+            g,
+            smooth: smooth_at_m,
+            ..
+        } = self.linearise(&at_m);
         if !smooth_at_m || g.iter().take(dim).any(|v| v.is_empty()) {
             return Proof::Unknown;
         }
