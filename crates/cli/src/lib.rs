@@ -53,7 +53,7 @@ pub enum Command {
     /// animated PNG or a folder of PNGs.
     Animate(AnimateArgs),
     /// Write the mesh of a slice (the cut of M by the hyperplane at --slice C along n2) to
-    /// an STL, OBJ or PLY file, for printing or for other programs.
+    /// an STL, OBJ, PLY or GLB file, for printing or for other programs.
     Mesh(MeshArgs),
     /// Print the proved critical values of the slice sweep: the places along n2 where the
     /// slice's topology can change, with each point's Morse index.

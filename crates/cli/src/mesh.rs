@@ -1,4 +1,4 @@
-//! `fourfold mesh`: the slice's mesh to an STL, OBJ or PLY file, in the slice's own units or
+//! `fourfold mesh`: the slice's mesh to an STL, OBJ, PLY or GLB file, in the slice's own units or
 //! scaled to millimetres for a printer, and what the mesher found.
 
 use std::path::PathBuf;
@@ -19,7 +19,7 @@ const MAX_PRINT_MM: f64 = 10_000.0;
 pub struct MeshArgs {
     #[command(flatten)]
     pub input: Input,
-    /// The mesh file to write: .stl (binary), .obj or .ply (binary).
+    /// The mesh file to write: .stl (binary), .obj, .ply (binary) or .glb (binary glTF).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Where the hyperplane cuts, along n2 from the domain's centre (the scene's slice if
@@ -129,8 +129,14 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
             String::new()
         }
     );
+    // glTF's unit is the metre: a print's millimetres are written as such.
+    let file_scale = if format == MeshFormat::Glb && unit == "mm" {
+        scale / 1000.0
+    } else {
+        scale
+    };
     let mut bytes = Vec::new();
-    mesh.write(format, scale, &comment, &mut bytes)
+    mesh.write(format, file_scale, &comment, &mut bytes)
         .and_then(|()| std::fs::write(&args.output, &bytes))
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
     let s = &mesh.stats;

@@ -816,7 +816,7 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
     let (code, _, stderr) = fourfold(&["mesh", glome, "--slice", "0", "-o", "m.gltf"]);
     assert_eq!(code, Some(2));
     assert!(
-        stderr.contains("write a .stl, .obj or .ply file"),
+        stderr.contains("write a .stl, .obj, .ply or .glb file"),
         "{stderr}"
     );
 }

@@ -446,6 +446,25 @@ fn every_format_reads_back_with_the_same_triangles() {
         })
         .collect();
     assert_eq!(got, want);
+    // glTF: the gltf crate's validating reader, its accessors and bounds.
+    let glb = write(MeshFormat::Glb);
+    let gltf = gltf::Gltf::from_slice(&glb).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let primitive = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    assert_eq!(primitive.mode(), gltf::mesh::Mode::Triangles);
+    let reader = primitive.reader(|_| Some(blob));
+    let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+    let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
+    let got: Vec<[[f32; 3]; 3]> = indices
+        .chunks(3)
+        .map(|f| std::array::from_fn(|k| positions[f[k] as usize]))
+        .collect();
+    assert_eq!(got, want);
+    let bounds = primitive.bounding_box();
+    for (a, p) in positions.iter().flatten().enumerate() {
+        assert!(bounds.min[a % 3] <= *p && *p <= bounds.max[a % 3]);
+    }
+    assert_eq!(gltf.meshes().next().unwrap().name(), Some("fourfold test"));
 }
 
 #[test]

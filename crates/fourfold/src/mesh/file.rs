@@ -15,6 +15,8 @@ pub enum MeshFormat {
     Stl,
     Obj,
     Ply,
+    /// Binary glTF: one mesh of positions and indices, for Blender, three.js and the web.
+    Glb,
 }
 
 impl MeshFormat {
@@ -28,8 +30,9 @@ impl MeshFormat {
             Some("stl") => Ok(Self::Stl),
             Some("obj") => Ok(Self::Obj),
             Some("ply") => Ok(Self::Ply),
+            Some("glb") => Ok(Self::Glb),
             _ => Err(format!(
-                "'{}' has no mesh extension: write a .stl, .obj or .ply file",
+                "'{}' has no mesh extension: write a .stl, .obj, .ply or .glb file",
                 path.display()
             )),
         }
@@ -82,7 +85,151 @@ impl SliceMesh {
                     .write_ply(out, &mut ply)
                     .map(|_| ())
             }
+            MeshFormat::Glb => {
+                let bytes = self.glb(scale, comment).map_err(std::io::Error::other)?;
+                out.write_all(&bytes)
+            }
         }
+    }
+
+    /// The binary glTF file: a buffer of the positions (f32) then the indices (u32), a
+    /// view and an accessor for each, one triangle mesh in one node of one scene.
+    fn glb(&self, scale: f64, comment: &str) -> Result<Vec<u8>, gltf::Error> {
+        use gltf::json::validation::Checked::Valid;
+        use gltf::json::validation::USize64;
+        use gltf::json::{self, accessor, buffer, mesh};
+        let positions: Vec<[f32; 3]> = self
+            .vertices
+            .iter()
+            .map(|v| v.map(|x| (x * scale) as f32))
+            .collect();
+        let mut bin: Vec<u8> = positions
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        let index_offset = bin.len();
+        bin.extend(
+            self.triangles
+                .iter()
+                .flatten()
+                .flat_map(|i| i.to_le_bytes()),
+        );
+        let (lo, hi) = positions.iter().fold(
+            ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+            |(lo, hi), p| {
+                (
+                    std::array::from_fn(|a| lo[a].min(p[a])),
+                    std::array::from_fn(|a| hi[a].max(p[a])),
+                )
+            },
+        );
+        let mut root = json::Root {
+            asset: json::Asset {
+                generator: Some(format!("fourfold {}", env!("CARGO_PKG_VERSION"))),
+                copyright: None,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let buffer = root.push(json::Buffer {
+            byte_length: USize64::from(bin.len()),
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            uri: None,
+        });
+        let view = |root: &mut json::Root, offset: usize, length: usize, target| {
+            root.push(buffer::View {
+                buffer,
+                byte_length: USize64::from(length),
+                byte_offset: Some(USize64::from(offset)),
+                byte_stride: None,
+                extensions: None,
+                extras: Default::default(),
+                name: None,
+                target: Some(Valid(target)),
+            })
+        };
+        let position_view = view(&mut root, 0, index_offset, buffer::Target::ArrayBuffer);
+        let index_view = view(
+            &mut root,
+            index_offset,
+            bin.len() - index_offset,
+            buffer::Target::ElementArrayBuffer,
+        );
+        let accessor =
+            |view, count: usize, component, kind, bounds: Option<([f32; 3], [f32; 3])>| {
+                json::Accessor {
+                    buffer_view: Some(view),
+                    byte_offset: None,
+                    count: USize64::from(count),
+                    component_type: Valid(accessor::GenericComponentType(component)),
+                    extensions: None,
+                    extras: Default::default(),
+                    type_: Valid(kind),
+                    min: bounds.map(|(lo, _)| json::Value::from(lo.to_vec())),
+                    max: bounds.map(|(_, hi)| json::Value::from(hi.to_vec())),
+                    name: None,
+                    normalized: false,
+                    sparse: None,
+                }
+            };
+        let position_accessor = root.push(accessor(
+            position_view,
+            positions.len(),
+            accessor::ComponentType::F32,
+            accessor::Type::Vec3,
+            Some((lo, hi)),
+        ));
+        let index_accessor = root.push(accessor(
+            index_view,
+            3 * self.triangles.len(),
+            accessor::ComponentType::U32,
+            accessor::Type::Scalar,
+            None,
+        ));
+        let primitive = mesh::Primitive {
+            attributes: [(Valid(mesh::Semantic::Positions), position_accessor)].into(),
+            extensions: None,
+            extras: Default::default(),
+            indices: Some(index_accessor),
+            material: None,
+            mode: Valid(mesh::Mode::Triangles),
+            targets: None,
+        };
+        let name = comment.lines().next().map(String::from);
+        let the_mesh = root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: name.clone(),
+            primitives: vec![primitive],
+            weights: None,
+        });
+        let node = root.push(json::Node {
+            mesh: Some(the_mesh),
+            name,
+            ..Default::default()
+        });
+        let scene = root.push(json::Scene {
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            nodes: vec![node],
+        });
+        root.scene = Some(scene);
+        let text = json::serialize::to_vec(&root)?;
+        gltf::binary::Glb {
+            header: gltf::binary::Header {
+                magic: *b"glTF",
+                version: 2,
+                // Filled in by `to_vec`, which pads both chunks to four bytes.
+                length: 0,
+            },
+            json: std::borrow::Cow::Owned(text),
+            bin: Some(std::borrow::Cow::Owned(bin)),
+        }
+        .to_vec()
     }
 
     fn ply(&self, scale: f64, comment: &str) -> Ply<DefaultElement> {

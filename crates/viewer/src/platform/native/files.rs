@@ -68,7 +68,7 @@ pub fn actions(
     }
     ui.separator();
     ui.add(egui::TextEdit::singleline(&mut settings.mesh_path).desired_width(120.0))
-        .on_hover_text("the slice's mesh file: .stl, .obj or .ply");
+        .on_hover_text("the slice's mesh file: .stl, .obj, .ply or .glb");
     let slicing = session.scene.view.slice.is_some();
     if ui
         .add_enabled(slicing && mesh.is_none(), egui::Button::new("Export mesh"))
@@ -140,7 +140,7 @@ impl Export {
         Self::spawn(move || job.write(&path))
     }
 
-    /// Meshes the slice shown and writes it to `path` (STL, OBJ or PLY by its extension).
+    /// Meshes the slice shown and writes it to `path` (STL, OBJ, PLY or GLB by its extension).
     pub fn mesh(s: &Session, path: String) -> Result<Self, String> {
         let format = MeshFormat::from_path(std::path::Path::new(&path))?;
         let (formula, scene) = crate::export::mesh_job(s)?;
