@@ -181,6 +181,7 @@ pub fn status() -> String {
             "slice": app.session.scene.view.slice,
             "critical": critical,
             "critical_strip": rect(app.critical_strip_rect),
+            "mesh_button": rect(app.platform.mesh_button),
         })
         .to_string()
     })

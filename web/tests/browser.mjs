@@ -8,7 +8,8 @@
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
 // error; a link asking for certified pixels draws plain and says why; a slice's critical
-// values are ticks under its slider that move the slice when clicked; an undefined constant
+// values are ticks under its slider that move the slice when clicked, and Export mesh
+// downloads the slice as an STL; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
 // compiles in Chromium's WebGPU; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
@@ -352,6 +353,21 @@ try {
     const moved = await status(sliced.page);
     check(Math.abs(moved.slice - 1) < 1e-9, `a click on the red tick moves the slice to c = 1: ${moved.slice}`);
   }
+  // Export mesh: the slice shown as an STL download.
+  await sliced.page.evaluate(() => { location.hash = location.hash.replace(/slice=[^&]*/, 'slice=0.3'); });
+  await sliced.page.waitForFunction(() => Math.abs(JSON.parse(window.fourfold.status()).slice - 0.3) < 1e-12,
+    null, { timeout: TIMEOUT, polling: 100 });
+  const mb = (await status(sliced.page)).mesh_button;
+  const [download] = await Promise.all([
+    sliced.page.waitForEvent('download', { timeout: TIMEOUT }),
+    sliced.page.mouse.click((mb[0] + mb[2]) / 2, (mb[1] + mb[3]) / 2),
+  ]);
+  const stl = fs.readFileSync(await download.path());
+  const triangles = stl.length >= 84 ? stl.readUInt32LE(80) : 0;
+  const notice = (await status(sliced.page)).notice ?? '';
+  check(download.suggestedFilename() === 'fourfold-slice.stl' && triangles > 500 &&
+    stl.length === 84 + 50 * triangles && notice.includes(`${triangles} triangles`),
+    `Export mesh downloads the slice as a binary STL (${triangles} triangles): ${JSON.stringify(notice)}`);
   check(sliced.errors.length === 0, `no error in the console with critical values (${sliced.errors.join(' | ') || 'none'})`);
   await sliced.page.close();
 

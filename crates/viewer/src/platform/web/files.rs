@@ -22,10 +22,12 @@ use crate::settings::export_size_fields;
 /// meshes on its one thread while the window waits.
 const MESH_LEVEL: u32 = fourfold::scene::limits::DEFAULT_MESH_LEVEL - 1;
 
-/// Open as an upload; save and export as downloads; `png` is the PNG on its way back.
+/// Open as an upload; save and export as downloads; `png` is the PNG on its way back,
+/// `mesh_button` where "Export mesh" is drawn.
 pub fn actions(
     upload: &mut Upload,
     png: &mut Option<PngDownload>,
+    mesh_button: &mut Option<egui::Rect>,
     ui: &mut egui::Ui,
     window: Window<'_>,
 ) -> Outcome {
@@ -82,12 +84,12 @@ pub fn actions(
         );
     }
     let slicing = session.scene.view.slice.is_some();
-    if ui
+    let button = ui
         .add_enabled(slicing, egui::Button::new("Export mesh"))
         .on_hover_text("the slice shown, as a closed STL mesh in the slice's own units")
-        .on_disabled_hover_text("choose \"slice\" in the view to export its mesh")
-        .clicked()
-    {
+        .on_disabled_hover_text("choose \"slice\" in the view to export its mesh");
+    *mesh_button = Some(button.rect);
+    if button.clicked() {
         let name = "fourfold-slice.stl";
         let made = crate::export::mesh_job(session).and_then(|(formula, scene)| {
             crate::export::slice_mesh(&formula, &scene, MESH_LEVEL, MeshFormat::Stl)

@@ -22,6 +22,8 @@ pub struct State {
     upload: files::Upload,
     png: Option<files::PngDownload>,
     address: (String, Option<Instant>),
+    /// Where "Export mesh" was at the last frame (the page's tests click it).
+    pub mesh_button: Option<egui::Rect>,
 }
 
 impl State {
@@ -47,7 +49,13 @@ pub fn sections(_state: &mut State, _ui: &mut egui::Ui, _window: Window<'_>) -> 
 
 /// Open as an upload; save and export as downloads.
 pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
-    files::actions(&mut state.upload, &mut state.png, ui, window)
+    files::actions(
+        &mut state.upload,
+        &mut state.png,
+        &mut state.mesh_button,
+        ui,
+        window,
+    )
 }
 
 /// At the end of each frame: the PNG's read-back, and the address bar.
