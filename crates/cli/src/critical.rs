@@ -4,7 +4,7 @@
 use clap::Args;
 use serde_json::json;
 
-use fourfold::critical::{CriticalError, CriticalReport, CriticalSettings, Place, critical_values};
+use fourfold::critical::{CriticalError, CriticalReport, CriticalSettings, critical_values};
 use fourfold::scene::limits::{CRITICAL_BOX_BUDGET, DEFAULT_CRITICAL_LEVEL};
 
 use crate::failure::Failure;
@@ -24,9 +24,10 @@ pub struct CriticalArgs {
     /// The most boxes to look at; what is left then is reported undecided.
     #[arg(long, default_value_t = CRITICAL_BOX_BUDGET, allow_hyphen_values = true)]
     pub budget: usize,
-    /// Leave out the critical points of M's cut by the domain's faces.
+    /// Leave out the critical points of M's cut by the domain's boundary (its faces, where
+    /// they meet, its edges).
     #[arg(long)]
-    pub no_faces: bool,
+    pub no_boundary: bool,
     /// Print a JSON list of objects instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -48,7 +49,7 @@ pub fn critical(args: &CriticalArgs, warn: Warn) -> Result<String, Failure> {
     let settings = CriticalSettings {
         max_level: args.max_level,
         box_budget: args.budget,
-        faces: !args.no_faces,
+        boundary: !args.no_boundary,
     };
     let t = std::time::Instant::now();
     let report = critical_values(&formula, &scene, &settings).map_err(|e| match e {
@@ -61,13 +62,6 @@ pub fn critical(args: &CriticalArgs, warn: Warn) -> Result<String, Failure> {
         return Ok(to_json(&report).to_string());
     }
     Ok(table(&report, &formula.f_text(), scene.view.angles, ms))
-}
-
-fn place_name(place: Place) -> String {
-    match place {
-        Place::Interior => "inside".into(),
-        Place::Face { axis, value } => format!("face {}={value}", ["x", "y", "z", "w"][axis]),
-    }
 }
 
 fn to_json(report: &CriticalReport) -> serde_json::Value {
@@ -116,7 +110,7 @@ fn table(report: &CriticalReport, f: &str, angles: [f64; 6], ms: f64) -> String 
             0.5 * p.value.width(),
             index,
             p.status.name(),
-            place_name(p.place),
+            p.place.describe(),
             format!("({point})"),
             p.meaning(),
         ));

@@ -66,7 +66,8 @@ fn critical_lists_the_spheritorus_s_four_proved_values() {
 
 #[test]
 fn degenerate_values_have_no_index() {
-    let (code, stdout, stderr) = fourfold(&["critical", "x^2+y^2+w^2-1", "--json", "--no-faces"]);
+    let (code, stdout, stderr) =
+        fourfold(&["critical", "x^2+y^2+w^2-1", "--json", "--no-boundary"]);
     assert_eq!(code, Some(0), "{stderr}");
     let list: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let list = list.as_array().unwrap();

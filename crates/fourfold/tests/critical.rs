@@ -166,9 +166,12 @@ fn a_cylinder_is_degenerate_not_a_wrong_index() {
     // critical points (a disc's bottom and top).
     let faces: Vec<_> = proved(&report.points)
         .into_iter()
-        .filter(|p| matches!(p.place, Place::Face { axis: 2, .. }))
+        .filter(|p| {
+            matches!(p.place, Place::Boundary { fixed } if fixed == [None, None, Some(-2.0), None]
+                || fixed == [None, None, Some(2.0), None])
+        })
         .collect();
-    assert_eq!(faces.len(), 4);
+    assert_eq!(faces.len(), 4, "{:?}", report.points);
 }
 
 #[test]
@@ -290,4 +293,63 @@ fn slice_meshes_change_topology_exactly_at_the_critical_values() {
         [0.4, -0.3, 0.8, 0.1, 0.2, -0.6],
     );
     assert_eq!(check_sweep(&blobs), [0, 2, 4, 6, 4, 2, 4, 6, 4, 2, 0]);
+}
+
+#[test]
+fn every_change_of_an_invented_slice_s_topology_is_reported() {
+    // Formulas nobody tuned the search for, closed inside the domain (where M ends at the
+    // edge of F's domain the capped meshes' χ is no invariant): kinks, nested shells, a
+    // double well, parameters, an oblique view. Wherever the slice meshes' Euler
+    // characteristic differs between two neighbouring places c, some reported value
+    // (proved, degenerate or undecided) lies between them: the search missed nothing the
+    // meshes see.
+    let angles = [0.4, 0.9, -0.3, 0.2, 1.1, 0.5];
+    let cases = [
+        "abs(x) + y^2 + z^2 + w^2 - 0.5",
+        "max(abs(x) + abs(y), z^2 + w^2) - 0.8",
+        "(x^2 + y^2 + z^2 + w^2 - a)*(x^2 + y^2 + z^2 + w^2 - b)",
+        "x^4 - a*x^2 + y^2 + z^2 + (w - b*x)^2 - 0.1",
+    ];
+    for formula in cases {
+        let mut scene = scene(formula, angles);
+        scene.params.insert("a".into(), 1.0);
+        scene.params.insert("b".into(), 0.5);
+        let compiled = CompiledFormula::compile(formula).unwrap();
+        let report = critical_values(&compiled, &scene, &CriticalSettings::default()).unwrap();
+        assert!(!report.budget_spent, "{formula}");
+        // Places near a reported value are left out: a neck just opened is thinner than
+        // the meshes' cells (0.06 here) there, and a mesh would miss it.
+        let places: Vec<f64> = (0..=60)
+            .map(|k| -report.reach + 2.0 * report.reach * f64::from(k) / 60.0)
+            .filter(|&c| {
+                report
+                    .points
+                    .iter()
+                    .all(|p| c < p.value.lo() - 0.1 || c > p.value.hi() + 0.1)
+            })
+            .collect();
+        let chi: Vec<i64> = places
+            .iter()
+            .map(|&c| euler(&compiled, &scene, c))
+            .collect();
+        for k in 0..places.len() - 1 {
+            if chi[k] != chi[k + 1] {
+                let (lo, hi) = (places[k], places[k + 1]);
+                assert!(
+                    report
+                        .points
+                        .iter()
+                        .any(|p| p.value.lo() <= hi && lo <= p.value.hi()),
+                    "{formula}: χ {} at {lo} and {} at {hi}, no value reported between: {:?}",
+                    chi[k],
+                    chi[k + 1],
+                    report
+                        .points
+                        .iter()
+                        .map(|p| (p.value.midpoint(), p.status))
+                        .collect::<Vec<_>>()
+                );
+            }
+        }
+    }
 }

@@ -1,10 +1,11 @@
 //! The proved critical values of the slice sweep: the places c along the view's n2 where
 //! the slice of M (within the domain) can change its topology. They are the critical values
 //! of the height h(p) = ⟨p − o, n2⟩ (o the domain's centre) on M, and on M's cut by each
-//! face of the domain. Boxes of R⁴ are split until each is proved to hold no critical
-//! point or exactly one ([`system`]: Krawczyk's operator on F = 0, ∇F = λ n2), whose Morse
-//! index is proved from the restricted Hessian's inertia ([`inertia`]); what stays
-//! undecided at the finest boxes is reported as such (docs/critical.md).
+//! part of the domain's boundary (faces, where faces meet, edges). Boxes of R⁴ are split
+//! until each is proved to hold no critical point or exactly one ([`system`]: Krawczyk's
+//! operator on F = 0, ∇F = λ n2), whose Morse index is proved from the restricted
+//! Hessian's inertia ([`inertia`]); what stays undecided at the finest boxes is reported as
+//! such (docs/critical.md).
 
 mod inertia;
 mod linalg;
@@ -33,8 +34,9 @@ pub struct CriticalSettings {
     pub max_level: u32,
     /// The most boxes looked at, over all strata; what is pending then is undecided.
     pub box_budget: usize,
-    /// Also the critical points on M's cut by the domain's faces.
-    pub faces: bool,
+    /// Also the critical points on M's cut by the domain's boundary: its faces, where two
+    /// faces meet, and its edges.
+    pub boundary: bool,
 }
 
 impl Default for CriticalSettings {
@@ -42,7 +44,7 @@ impl Default for CriticalSettings {
         Self {
             max_level: DEFAULT_CRITICAL_LEVEL,
             box_budget: CRITICAL_BOX_BUDGET,
-            faces: true,
+            boundary: true,
         }
     }
 }
@@ -73,15 +75,43 @@ impl Status {
 }
 
 /// Where in the domain a critical point lies.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "lowercase")]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Place {
     Interior,
-    /// On the domain's face where coordinate `axis` (0..4 for x, y, z, w) is `value`.
-    Face {
-        axis: usize,
-        value: f64,
+    /// On the domain's boundary, where each `Some` coordinate (x, y, z, w) is at that
+    /// bound: one on a face, two where two faces meet, three on an edge.
+    Boundary {
+        fixed: [Option<f64>; 4],
     },
+}
+
+impl Place {
+    /// "inside", or the boundary's equations, as "x=2, y=-2".
+    pub fn describe(&self) -> String {
+        match self {
+            Place::Interior => "inside".into(),
+            Place::Boundary { fixed } => fixed
+                .iter()
+                .zip(["x", "y", "z", "w"])
+                .filter_map(|(v, name)| v.map(|v| format!("{name}={v}")))
+                .collect::<Vec<_>>()
+                .join(", "),
+        }
+    }
+}
+
+/// `{"kind": "interior"}`, or `{"kind": "boundary", "on": "x=2, y=-2"}`.
+impl Serialize for Place {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let boundary = matches!(self, Place::Boundary { .. });
+        let mut s = serializer.serialize_struct("Place", 1 + usize::from(boundary))?;
+        s.serialize_field("kind", if boundary { "boundary" } else { "interior" })?;
+        if boundary {
+            s.serialize_field("on", &self.describe())?;
+        }
+        s.end()
+    }
 }
 
 /// One critical point, or one cluster of undecided boxes.
@@ -91,7 +121,8 @@ pub struct CriticalPoint {
     pub value: Interval,
     /// An enclosure of the point (for a cluster, of all its boxes).
     pub enclosure: Box4,
-    /// The height's Morse index there (on the face's cut for a face's point), where proved.
+    /// The height's Morse index there (on the boundary: of the height on M's cut by that
+    /// part of it), where proved.
     pub index: Option<u8>,
     pub status: Status,
     pub place: Place,
@@ -112,17 +143,23 @@ impl CriticalPoint {
             (Status::Proved, Place::Interior, Some(1)) => "two pieces join, or a tunnel opens",
             (Status::Proved, Place::Interior, Some(2)) => "a tunnel closes, or a piece splits",
             (Status::Proved, Place::Interior, Some(3)) => "a component vanishes",
-            (Status::Proved, Place::Face { .. }, Some(_)) => {
-                "M's cut by the domain's face changes here"
+            (Status::Proved, Place::Boundary { .. }, Some(_)) => {
+                "the cut changes where M meets the domain's boundary"
             }
             (Status::Proved, _, _) => "a critical point whose index is not proved",
-            (Status::Degenerate, _, _) => "a degenerate or non-isolated critical point",
+            (Status::Degenerate, Place::Interior, _) => {
+                "a degenerate or non-isolated critical point"
+            }
+            (Status::Degenerate, Place::Boundary { .. }, _) => {
+                "M meets the domain's boundary degenerately (or the slice lies along it)"
+            }
             (Status::Undecided, _, _) => "undecided: the slice may change here",
         }
     }
 }
 
-/// Every place where the slice's topology can change, in increasing order of value.
+/// Every place where the slice's topology can change, in increasing order of their
+/// enclosures' middles.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CriticalReport {
     pub points: Vec<CriticalPoint>,
@@ -138,14 +175,20 @@ pub struct CriticalReport {
 }
 
 impl CriticalReport {
-    /// The first value above `c` (by its enclosure's lower end), if any.
+    /// The nearest value wholly above `c` (by its enclosure's lower end), if any.
     pub fn next_after(&self, c: f64) -> Option<&CriticalPoint> {
-        self.points.iter().find(|p| p.value.lo() > c)
+        self.points
+            .iter()
+            .filter(|p| p.value.lo() > c)
+            .min_by(|a, b| a.value.lo().total_cmp(&b.value.lo()))
     }
 
-    /// The last value below `c` (by its enclosure's upper end), if any.
+    /// The nearest value wholly below `c` (by its enclosure's upper end), if any.
     pub fn next_before(&self, c: f64) -> Option<&CriticalPoint> {
-        self.points.iter().rev().find(|p| p.value.hi() < c)
+        self.points
+            .iter()
+            .filter(|p| p.value.hi() < c)
+            .max_by(|a, b| a.value.hi().total_cmp(&b.value.hi()))
     }
 }
 
@@ -175,12 +218,8 @@ pub fn critical_values(
     let scale = 0.5f64.powi(settings.max_level as i32);
     let finest = domain.map(|r| r.width() * scale);
     let mut strata = vec![Stratum::interior()];
-    if settings.faces {
-        for axis in 0..4 {
-            for value in [domain[axis].lo(), domain[axis].hi()] {
-                strata.push(Stratum::face(axis, value));
-            }
-        }
+    if settings.boundary {
+        strata.extend(boundary_strata(&domain));
     }
     let budget = AtomicUsize::new(settings.box_budget);
     let mut report = CriticalReport {
@@ -194,22 +233,18 @@ pub fn critical_values(
             .sum(),
     };
     for stratum in strata {
-        // A face across which n2 has no component is a level set of the height: the
-        // slice meets it only at the end of its range.
-        if stratum.free.iter().all(|&i| normal[i].abs() < 1e-9) {
+        // A face across which n2 has no component is a level set of the height at the end
+        // of the slice's range. (Where faces meet or on an edge such a level set can lie
+        // anywhere: there no box is excluded by the gradient, λ is not bounded, and the
+        // boxes where F may vanish are reported, at that height.)
+        if stratum.free.len() == 3 && stratum.free.iter().all(|&i| normal[i].abs() < 1e-9) {
             continue;
         }
         let place = match stratum.free.len() {
             4 => Place::Interior,
-            _ => {
-                let axis = (0..4)
-                    .find(|&a| stratum.fixed[a].is_some())
-                    .expect("a face");
-                Place::Face {
-                    axis,
-                    value: stratum.fixed[axis].expect("fixed"),
-                }
-            }
+            _ => Place::Boundary {
+                fixed: stratum.fixed,
+            },
         };
         let mut start = domain;
         for (axis, v) in stratum.fixed.iter().enumerate() {
@@ -276,10 +311,32 @@ pub fn critical_values(
         }
     }
     report.budget_spent = budget.load(Ordering::Relaxed) == 0;
-    report
-        .points
-        .sort_by(|a, b| a.value.lo().total_cmp(&b.value.lo()));
+    report.points.sort_by(|a, b| {
+        let mid = |p: &CriticalPoint| p.value.midpoint();
+        mid(a).total_cmp(&mid(b))
+    });
     Ok(report)
+}
+
+/// The parts of the domain's boundary, faces first, then where two faces meet, then the
+/// edges (the corners matter only at the ends of the slice's range, where the slice
+/// first and last meets the domain).
+fn boundary_strata(domain: &Box4) -> Vec<Stratum> {
+    let mut strata = Vec::new();
+    for count in 1..=3 {
+        for mask in (1u32..16).filter(|m| m.count_ones() == count) {
+            let axes: Vec<usize> = (0..4).filter(|&a| mask >> a & 1 == 1).collect();
+            for sides in 0..1u32 << count {
+                let mut fixed = [None; 4];
+                for (k, &a) in axes.iter().enumerate() {
+                    let r = domain[a];
+                    fixed[a] = Some(if sides >> k & 1 == 1 { r.hi() } else { r.lo() });
+                }
+                strata.push(Stratum::boundary(fixed));
+            }
+        }
+    }
+    strata
 }
 
 /// The search over one stratum from `start`: split once along every free axis, the parts

@@ -11,7 +11,7 @@ use crate::interval::Interval;
 
 use super::inertia::inertia;
 use super::linalg::N;
-use super::system::{Proof, System, Unknowns};
+use super::system::{Proof, Screened, System, Unknowns};
 
 /// A critical point proved unique in `region`, enclosed by `tight`.
 #[derive(Debug, Clone)]
@@ -67,13 +67,14 @@ pub fn search(
             continue;
         }
         outcome.visited += 1;
-        let Some((mut lambda, mut smooth)) = system.screen(&b) else {
+        let Some(mut known) = system.screen(&b) else {
             continue;
         };
         let mut b = b;
         // A box Krawczyk narrows is tried again as it is now, a few times.
         for _ in 0..4 {
-            if !(smooth && lambda.lo().is_finite() && lambda.hi().is_finite()) {
+            let lambda = known.lambda;
+            if !(known.smooth && lambda.lo().is_finite() && lambda.hi().is_finite()) {
                 break;
             }
             match decide(system, &b, lambda, finest, &mut outcome.proved) {
@@ -83,17 +84,25 @@ pub fn search(
                     let Some(screened) = system.screen(&b) else {
                         continue 'boxes;
                     };
-                    (lambda, smooth) = screened;
+                    known = screened;
                 }
                 Decision::Open => break,
             }
         }
+        // Where F is not even Lipschitz (the edge of sqrt's domain, a jump) no split can
+        // decide a box: it is left three levels coarser, where it costs 8^k times fewer
+        // boxes along a k-dimensional set.
+        let smallest = if known.lipschitz {
+            finest
+        } else {
+            finest.map(|f| 8.0 * f)
+        };
         let free = &system.stratum.free;
         let widest = free
             .iter()
             .copied()
-            .filter(|&a| b[a].width() > finest[a])
-            .max_by(|&a, &c| (b[a].width() / finest[a]).total_cmp(&(b[c].width() / finest[c])));
+            .filter(|&a| b[a].width() > smallest[a])
+            .max_by(|&a, &c| (b[a].width() / smallest[a]).total_cmp(&(b[c].width() / smallest[c])));
         match widest {
             Some(axis) => {
                 let mid = b[axis].midpoint();
@@ -103,7 +112,10 @@ pub fn search(
                 stack.push(high);
                 stack.push(low);
             }
-            None => outcome.leftovers.push(Leftover { space: b, smooth }),
+            None => outcome.leftovers.push(Leftover {
+                space: b,
+                smooth: known.smooth,
+            }),
         }
     }
     outcome
@@ -148,7 +160,7 @@ fn decide(
         if near {
             let grown_space = system.space_box(&grown);
             // λ over the grown box, from ∇F there (no critical point there if screened out).
-            let Some((lambda, _)) = system.screen(&grown_space) else {
+            let Some(Screened { lambda, .. }) = system.screen(&grown_space) else {
                 return Decision::Done;
             };
             // λ's range, widened too: where ∇F is nearly constant it is a few ulps wide,

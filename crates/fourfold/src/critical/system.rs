@@ -1,6 +1,7 @@
 //! The equations whose solutions are the critical points of the height
 //! h(p) = ⟨p − o, n⟩ on M within one stratum of the domain: its interior (x, y, z, w free)
-//! or one of its faces (a coordinate fixed at a bound). With S the free coordinates and λ a
+//! or a part of its boundary (a face, where two faces meet, an edge: one, two or three
+//! coordinates fixed at their bounds). With S the free coordinates and λ a
 //! multiplier, G(p, λ) = (F(p), ∂_S F(p) − λ n_S): |S| + 1 equations in as many unknowns,
 //! with Jacobian [[∂_S F, 0], [H_SS, −n_S]]. Krawczyk's operator on it proves a box holds
 //! exactly one solution, or none.
@@ -31,12 +32,10 @@ impl Stratum {
         }
     }
 
-    /// The face where coordinate `axis` is `value`.
-    pub fn face(axis: usize, value: f64) -> Self {
-        let mut fixed = [None; 4];
-        fixed[axis] = Some(value);
+    /// The part of the boundary where each `Some` coordinate has that value.
+    pub fn boundary(fixed: [Option<f64>; 4]) -> Self {
         Self {
-            free: (0..4).filter(|&i| i != axis).collect(),
+            free: (0..4).filter(|&i| fixed[i].is_none()).collect(),
             fixed,
         }
     }
@@ -54,6 +53,16 @@ struct Jet {
     gradient: [Interval; 4],
     hessian: [[Interval; 4]; 4],
     smooth: bool,
+}
+
+/// What is known of F over a box that may hold a critical point: the range of λ, whether
+/// F is twice continuously differentiable there, and whether it is Lipschitz (continuous,
+/// with bounded slopes) there.
+#[derive(Debug, Clone, Copy)]
+pub struct Screened {
+    pub lambda: Interval,
+    pub smooth: bool,
+    pub lipschitz: bool,
 }
 
 /// G and its Jacobian over some unknowns, and whether F is smooth there.
@@ -137,24 +146,51 @@ impl<'a> System<'a> {
     }
 
     /// Whether the box of R⁴ may hold a critical point: F may vanish on it, and ∇_S F may be
-    /// parallel to n_S (each 2×2 minor n_j ∂_i F − n_i ∂_j F may vanish). Also the range of
-    /// λ there, and whether F is smooth on it.
-    pub fn screen(&mut self, b: &Box4) -> Option<(Interval, bool)> {
+    /// parallel to n_S (each 2×2 minor n_j ∂_i F − n_i ∂_j F may vanish); if so, what is
+    /// known of F there.
+    ///
+    /// The minors exclude a box only where F is Lipschitz on it: continuous, with bounded
+    /// enclosures of ∇F (a kink of |x|, min or max is, the edge of sqrt's domain or a jump
+    /// is not). Then Clarke's generalized gradient lies in those enclosures, and where none
+    /// of it is parallel to n2 the pair (F, h) is a Lipschitz submersion (Clarke's inverse
+    /// function theorem): no change of the cut's topology in the box.
+    pub fn screen(&mut self, b: &Box4) -> Option<Screened> {
         let jet = self.jet(b);
         if !jet.f.contains_zero() {
             return None;
         }
-        let free = &self.stratum.free;
-        let n = |i: usize| Interval::point(self.normal[i]);
-        for (a, &i) in free.iter().enumerate() {
-            for &j in &free[a + 1..] {
-                let minor = n(j).mul(jet.gradient[i]).sub(n(i).mul(jet.gradient[j]));
-                if !minor.contains_zero() {
-                    return None;
+        let lipschitz = jet.smooth || self.lipschitz(b, &jet);
+        if lipschitz {
+            let free = &self.stratum.free;
+            let n = |i: usize| Interval::point(self.normal[i]);
+            for (a, &i) in free.iter().enumerate() {
+                for &j in &free[a + 1..] {
+                    let minor = n(j).mul(jet.gradient[i]).sub(n(i).mul(jet.gradient[j]));
+                    if !minor.contains_zero() {
+                        return None;
+                    }
                 }
             }
         }
-        Some((self.multiplier(&jet), jet.smooth))
+        Some(Screened {
+            lambda: self.multiplier(&jet),
+            smooth: jet.smooth,
+            lipschitz,
+        })
+    }
+
+    /// Whether F is continuous on the box with bounded enclosures of its partials (`jet`'s,
+    /// over the same box).
+    fn lipschitz(&mut self, b: &Box4, jet: &Jet) -> bool {
+        let bounded = jet
+            .gradient
+            .iter()
+            .all(|g| !g.is_empty() && g.lo().is_finite() && g.hi().is_finite());
+        bounded && {
+            let tape = &self.formula.tape_f;
+            self.evaluator.eval(tape, b, self.params);
+            self.evaluator.continuous_on_last_box(tape)
+        }
     }
 
     /// λ = ⟨∂_S F, n_S⟩ / |n_S|² over the box: where ∂_S F = λ n_S, λ lies in it.

@@ -28,12 +28,7 @@ pub fn describe(p: &CriticalPoint) -> String {
     let index = p.index.map_or(String::new(), |i| format!(", index {i}"));
     let place = match p.place {
         Place::Interior => String::new(),
-        Place::Face { axis, value } => {
-            format!(
-                " on the domain's face {}={value}",
-                ["x", "y", "z", "w"][axis]
-            )
-        }
+        Place::Boundary { .. } => format!(" on the domain's boundary, {}", p.place.describe()),
     };
     format!(
         "c = {:.6} ± {:.1e}: {} ({}{index}){place}",
@@ -147,7 +142,7 @@ fn ticks(
         let (a, b) = (x_of(p.value.lo()), x_of(p.value.hi()));
         let top = match p.place {
             Place::Interior => row.top(),
-            Place::Face { .. } => row.center().y,
+            Place::Boundary { .. } => row.center().y,
         };
         let tick = egui::Rect::from_min_max(
             egui::pos2(a - 1.5, top),
@@ -173,7 +168,7 @@ fn ticks(
                 "where the slice can change its shape, proved: green, a piece is born; \
                  orange, pieces join or a tunnel opens; blue, a tunnel closes or a piece \
                  splits; red, a piece vanishes; grey, degenerate; magenta, undecided. Short \
-                 ticks are on the domain's faces. Between two ticks the slice keeps its \
+                 ticks are on the domain's boundary. Between two ticks the slice keeps its \
                  topology.",
             );
             (row, None)
