@@ -53,29 +53,7 @@ pub struct MeshArgs {
 pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
     let format =
         MeshFormat::from_path(&args.output).map_err(|e| Failure::usage(format!("-o: {e}")))?;
-    let mm = match (args.units.as_str(), args.size) {
-        ("model", None) => None,
-        ("model", Some(_)) => {
-            return Err(Failure::usage(
-                "--size is the print's size in millimetres: give it with --units mm",
-            ));
-        }
-        ("mm", size) => {
-            let size = size.unwrap_or(100.0);
-            if !(size > 0.0 && size <= MAX_PRINT_MM) {
-                return Err(Failure::usage(format!(
-                    "--size {size}: the print's longest side must be above 0 and at most \
-                     {MAX_PRINT_MM} mm"
-                )));
-            }
-            Some(size)
-        }
-        (other, _) => {
-            return Err(Failure::usage(format!(
-                "--units {other}: expected model or mm"
-            )));
-        }
-    };
+    let mm = print_size(args)?;
     let mut scene = load_scene(&args.input)?;
     if let Some(text) = &args.angles {
         scene.view.angles = parse_angles(text)?;
@@ -171,4 +149,32 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
         ));
     }
     Ok(out)
+}
+
+/// The print's longest side in millimetres with `--units mm` (100 unless `--size` says),
+/// None in the model's units.
+fn print_size(args: &MeshArgs) -> Result<Option<f64>, Failure> {
+    Ok(match (args.units.as_str(), args.size) {
+        ("model", None) => None,
+        ("model", Some(_)) => {
+            return Err(Failure::usage(
+                "--size is the print's size in millimetres: give it with --units mm",
+            ));
+        }
+        ("mm", size) => {
+            let size = size.unwrap_or(100.0);
+            if !(size > 0.0 && size <= MAX_PRINT_MM) {
+                return Err(Failure::usage(format!(
+                    "--size {size}: the print's longest side must be above 0 and at most \
+                     {MAX_PRINT_MM} mm"
+                )));
+            }
+            Some(size)
+        }
+        (other, _) => {
+            return Err(Failure::usage(format!(
+                "--units {other}: expected model or mm"
+            )));
+        }
+    })
 }

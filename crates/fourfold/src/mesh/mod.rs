@@ -13,6 +13,7 @@ pub mod contour;
 pub mod cube;
 pub mod file;
 pub mod frame;
+mod glb;
 pub mod octree;
 mod qef;
 mod seams;
