@@ -3,6 +3,8 @@
 //! three), boxes looked at, and what it found (proved points, degenerate and undecided
 //! clusters, and the finest boxes left in them). `FOURFOLD_BENCH_LEVELS=6,8` picks levels.
 
+mod common;
+
 use std::time::Instant;
 
 use fourfold::CompiledFormula;
@@ -12,15 +14,7 @@ use fourfold::scene::Scene;
 use fourfold::scene::limits::DEFAULT_CRITICAL_LEVEL;
 
 fn main() {
-    let levels: Vec<u32> = std::env::var("FOURFOLD_BENCH_LEVELS")
-        .unwrap_or_else(|_| DEFAULT_CRITICAL_LEVEL.to_string())
-        .split(',')
-        .map(|l| {
-            l.trim()
-                .parse()
-                .expect("FOURFOLD_BENCH_LEVELS: levels like 6,8")
-        })
-        .collect();
+    let levels = common::bench_levels(&DEFAULT_CRITICAL_LEVEL.to_string());
     println!(
         "{:<16} {:>5} {:>9} {:>9} {:>7} {:>11} {:>10} {:>10} {:>10} {:>6}",
         "scene",

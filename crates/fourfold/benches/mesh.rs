@@ -4,6 +4,8 @@
 //! |F|/|∇F| against the tolerance, and the vertices beyond it. `FOURFOLD_BENCH_LEVELS=5,7`
 //! picks the levels.
 
+mod common;
+
 use std::time::Instant;
 
 use fourfold::CompiledFormula;
@@ -12,15 +14,7 @@ use fourfold::scene::EXAMPLES;
 use fourfold::scene::Scene;
 
 fn main() {
-    let levels: Vec<u32> = std::env::var("FOURFOLD_BENCH_LEVELS")
-        .unwrap_or_else(|_| "6,8".into())
-        .split(',')
-        .map(|l| {
-            l.trim()
-                .parse()
-                .expect("FOURFOLD_BENCH_LEVELS: levels like 6,8")
-        })
-        .collect();
+    let levels = common::bench_levels("6,8");
     println!(
         "{:<16} {:>5} {:>9} {:>10} {:>9} {:>11} {:>11} {:>7}",
         "scene", "level", "ms", "triangles", "cells", "max dist", "tolerance", "beyond"

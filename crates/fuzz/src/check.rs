@@ -1,8 +1,8 @@
-//! Running a formula case through every path a user has: `fourfold check`, `wgsl` and
-//! `render` (on the CPU twin, and on the GPU where the case says), in process, through the
-//! command line's own parser; and beneath them wgpu's own evaluation of the shader's
-//! pipeline constants and its SPIR-V output, which need no GPU. A case passes when every
-//! path draws or refuses it with the same clear message.
+//! Running a formula case through every path a user has: `fourfold check`, `wgsl`,
+//! `critical` and `render` (on the CPU twin, and on the GPU where the case says), in
+//! process, through the command line's own parser; and beneath them wgpu's own evaluation
+//! of the shader's pipeline constants and its SPIR-V output, which need no GPU. A case
+//! passes when every path draws or refuses it with the same clear message.
 
 use std::path::Path;
 
@@ -101,6 +101,29 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
     }
     if checked == 0 {
         pipeline_constants(&text, case)?;
+    }
+    // The slice sweep's critical values: searched (a small budget: any formula's search
+    // ends, proved or undecided) or refused as check refuses.
+    let mut critical_args = with("critical");
+    let angles: Vec<String> = case.angles.iter().map(|a| format!("{a:.4}")).collect();
+    critical_args.extend(
+        [
+            "--angles",
+            &angles.join(","),
+            "--max-level",
+            "4",
+            "--budget",
+            "4000",
+            "--json",
+        ]
+        .map(String::from),
+    );
+    let (critical, critical_said) = cli(&critical_args);
+    clean("critical", critical, &critical_said)?;
+    if critical != checked || (checked == 2 && headline(&critical_said) != headline(&said)) {
+        return Err(format!(
+            "check exits {checked}, critical {critical}:\n{said}\n{critical_said}"
+        ));
     }
     let cpu_png = dir.join("cpu.png");
     let (cpu, cpu_said) = cli(&case.render_args(&cpu_png, true));

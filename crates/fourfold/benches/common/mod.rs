@@ -19,3 +19,16 @@ pub fn env_u32(name: &str, default: u32) -> u32 {
         .and_then(|s| s.parse().ok())
         .unwrap_or(default)
 }
+
+/// The levels in `FOURFOLD_BENCH_LEVELS` (as "6,8"), else `default`.
+pub fn bench_levels(default: &str) -> Vec<u32> {
+    std::env::var("FOURFOLD_BENCH_LEVELS")
+        .unwrap_or_else(|_| default.into())
+        .split(',')
+        .map(|l| {
+            l.trim()
+                .parse()
+                .expect("FOURFOLD_BENCH_LEVELS: levels like 6,8")
+        })
+        .collect()
+}
