@@ -7,10 +7,10 @@ use std::sync::Arc;
 use web_time::{Duration, Instant};
 
 use fourfold::CompiledFormula;
-use fourfold::critical::{CriticalReport, CriticalSettings, critical_values};
+use fourfold::critical::{CriticalReport, CriticalSettings, CriticalSteps};
 use fourfold::scene::Scene;
 
-use crate::platform::{Background, CRITICAL_BOX_BUDGET};
+use crate::platform::{CRITICAL_BOX_BUDGET, CriticalWork};
 
 /// How long the view must stay still before a search starts (a turn changes n2 at every
 /// frame; searching each would be wasted).
@@ -50,24 +50,33 @@ impl Key {
 pub struct Critical {
     /// The last search's report, or why there is none.
     held: Option<(Key, Result<Arc<CriticalReport>, String>)>,
-    searching: Option<(Key, Background<Option<CriticalReport>>)>,
+    searching: Option<(Key, CriticalWork)>,
     /// The key last seen and since when, to wait for the view to settle.
     seen: Option<(Key, Instant)>,
 }
 
 impl Critical {
     /// Looks at the scene on screen: starts a search once it has settled on values that
-    /// have none, takes a finished one. True while one is pending (to keep frames coming).
-    pub fn poll(&mut self, formula: &Arc<CompiledFormula>, scene: &Scene) -> bool {
+    /// have none, drops one for values no longer shown, works on the one under way for
+    /// about `budget` (where the platform searches in the window's frames) and takes it
+    /// once done. True while one is pending (to keep frames coming).
+    pub fn poll(
+        &mut self,
+        formula: &Arc<CompiledFormula>,
+        scene: &Scene,
+        budget: Duration,
+    ) -> bool {
         let key = Key::of(formula, scene);
+        if self.searching.as_ref().is_some_and(|(k, _)| *k != key) {
+            self.searching = None;
+        }
         if let Some((k, search)) = &mut self.searching
-            && let Some(done) = search.poll()
+            && let Some(done) = search.poll(budget)
         {
             let k = k.clone();
             self.searching = None;
             // A search that failed (its thread lost) is not retried until an edit.
             let report = done
-                .flatten()
                 .map(Arc::new)
                 .ok_or_else(|| "the search for critical values stopped".to_string());
             self.held = Some((k, report));
@@ -81,14 +90,15 @@ impl Critical {
         match &self.seen {
             Some((k, since)) if *k == key => {
                 if since.elapsed() >= SETTLE {
-                    let (formula, scene) = (formula.clone(), scene.clone());
                     let settings = CriticalSettings {
                         box_budget: CRITICAL_BOX_BUDGET,
                         ..CriticalSettings::default()
                     };
-                    let search = Background::start("fourfold critical values", move || {
-                        critical_values(&formula, &scene, &settings).ok()
-                    });
+                    // The default settings' level is valid: no error to show.
+                    let Ok(steps) = CriticalSteps::new(formula.clone(), scene, &settings) else {
+                        return false;
+                    };
+                    let search = CriticalWork::start(steps);
                     self.searching = Some((key, search));
                 }
             }

@@ -10,22 +10,20 @@
 mod inertia;
 mod linalg;
 mod search;
+mod steps;
 pub mod sweep;
 mod system;
 
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-use rayon::prelude::*;
 use serde::Serialize;
+use web_time::Duration;
 
 use crate::eval::Box4;
 use crate::formula::CompiledFormula;
 use crate::interval::Interval;
-use crate::render::view::Rotation4;
 use crate::scene::Scene;
-use crate::scene::limits::{CRITICAL_BOX_BUDGET, CRITICAL_LEVELS, DEFAULT_CRITICAL_LEVEL};
+use crate::scene::limits::{CRITICAL_BOX_BUDGET, DEFAULT_CRITICAL_LEVEL};
 
-use system::{Stratum, System};
+pub use steps::CriticalSteps;
 
 /// How hard to look.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -198,217 +196,17 @@ pub enum CriticalError {
     Level { level: u32, lo: u32, hi: u32 },
 }
 
-/// The critical values of the slice sweep for `formula` in `scene`'s view and domain.
+/// The critical values of the slice sweep for `formula` in `scene`'s view and domain,
+/// searched to the end at once (on every thread).
 pub fn critical_values(
     formula: &CompiledFormula,
     scene: &Scene,
     settings: &CriticalSettings,
 ) -> Result<CriticalReport, CriticalError> {
-    if !CRITICAL_LEVELS.contains(&settings.max_level) {
-        return Err(CriticalError::Level {
-            level: settings.max_level,
-            lo: *CRITICAL_LEVELS.start(),
-            hi: *CRITICAL_LEVELS.end(),
-        });
-    }
-    let params = scene.param_values(&formula.param_names());
-    let normal = Rotation4::from_angles(scene.view.angles).row(3);
-    let domain = scene.domain.to_box();
-    let centre = scene.domain.center();
-    let scale = 0.5f64.powi(settings.max_level as i32);
-    let finest = domain.map(|r| r.width() * scale);
-    let mut strata = vec![Stratum::interior()];
-    if settings.boundary {
-        strata.extend(boundary_strata(&domain));
-    }
-    let budget = AtomicUsize::new(settings.box_budget);
-    let mut report = CriticalReport {
-        points: Vec::new(),
-        visited: 0,
-        degenerate_boxes: 0,
-        undecided_boxes: 0,
-        budget_spent: false,
-        reach: (0..4)
-            .map(|i| normal[i].abs() * 0.5 * domain[i].width())
-            .sum(),
-    };
-    for stratum in strata {
-        // A face across which n2 has no component is a level set of the height at the end
-        // of the slice's range. (Where faces meet or on an edge such a level set can lie
-        // anywhere: there no box is excluded by the gradient, λ is not bounded, and the
-        // boxes where F may vanish are reported, at that height.)
-        if stratum.free.len() == 3 && stratum.free.iter().all(|&i| normal[i].abs() < 1e-9) {
-            continue;
-        }
-        let place = match stratum.free.len() {
-            4 => Place::Interior,
-            _ => Place::Boundary {
-                fixed: stratum.fixed,
-            },
-        };
-        let mut start = domain;
-        for (axis, v) in stratum.fixed.iter().enumerate() {
-            if let Some(v) = v {
-                start[axis] = Interval::point(*v);
-            }
-        }
-        let system = System::new(formula, &params, normal, stratum);
-        let outcome = search_stratum(&system, start, finest, &budget);
-        report.visited += outcome.visited;
-        let height = |b: &Box4| {
-            (0..4).fold(Interval::ZERO, |acc, i| {
-                acc.add(
-                    b[i].sub(Interval::point(centre[i]))
-                        .mul(Interval::point(normal[i])),
-                )
-            })
-        };
-        for p in &outcome.proved {
-            let enclosure = system.space_box(&p.tight);
-            // Grown boxes reach past the domain: keep only points that may lie in it.
-            let meets = (0..4).all(|i| {
-                enclosure[i].hi() >= domain[i].lo() && enclosure[i].lo() <= domain[i].hi()
-            });
-            if meets {
-                report.points.push(CriticalPoint {
-                    value: height(&enclosure),
-                    enclosure,
-                    index: p.index,
-                    status: Status::Proved,
-                    place,
-                    boxes: 1,
-                });
-            }
-        }
-        for cluster in search::clusters(&outcome.leftovers) {
-            let boxes: Vec<&search::Leftover> =
-                cluster.iter().map(|&i| &outcome.leftovers[i]).collect();
-            let enclosure = boxes
-                .iter()
-                .map(|l| l.space)
-                .reduce(|a, b| std::array::from_fn(|i| a[i].hull(b[i])))
-                .expect("a cluster has a box");
-            let value = boxes
-                .iter()
-                .map(|l| height(&l.space))
-                .reduce(Interval::hull)
-                .expect("a cluster has a box");
-            let status = if boxes.iter().all(|l| l.smooth) {
-                report.degenerate_boxes += boxes.len();
-                Status::Degenerate
-            } else {
-                report.undecided_boxes += boxes.len();
-                Status::Undecided
-            };
-            report.points.push(CriticalPoint {
-                value,
-                enclosure,
-                index: None,
-                status,
-                place,
-                boxes: boxes.len(),
-            });
+    let mut steps = CriticalSteps::new(formula, scene, settings)?;
+    loop {
+        if let Some(report) = steps.step(Duration::MAX) {
+            return Ok(report);
         }
     }
-    report.budget_spent = budget.load(Ordering::Relaxed) == 0;
-    report.points.sort_by(|a, b| {
-        let mid = |p: &CriticalPoint| p.value.midpoint();
-        mid(a).total_cmp(&mid(b))
-    });
-    Ok(report)
-}
-
-/// The parts of the domain's boundary, faces first, then where two faces meet, then the
-/// edges (the corners matter only at the ends of the slice's range, where the slice
-/// first and last meets the domain).
-fn boundary_strata(domain: &Box4) -> Vec<Stratum> {
-    let mut strata = Vec::new();
-    for count in 1..=3 {
-        for mask in (1u32..16).filter(|m| m.count_ones() == count) {
-            let axes: Vec<usize> = (0..4).filter(|&a| mask >> a & 1 == 1).collect();
-            for sides in 0..1u32 << count {
-                let mut fixed = [None; 4];
-                for (k, &a) in axes.iter().enumerate() {
-                    let r = domain[a];
-                    fixed[a] = Some(if sides >> k & 1 == 1 { r.hi() } else { r.lo() });
-                }
-                strata.push(Stratum::boundary(fixed));
-            }
-        }
-    }
-    strata
-}
-
-/// The search over one stratum from `start`: split once along every free axis, the parts
-/// searched in parallel; then the smooth clusters of boxes left over are searched deeper,
-/// a level at a time (a point beside one proved from a neighbour, or where the enclosures
-/// were too loose at the finest size, is often decided there), while the boxes left keep
-/// decreasing: a curve or surface of critical points doubles or quadruples them at each
-/// level, and is left as it is.
-fn search_stratum(
-    system: &System,
-    start: Box4,
-    finest: [f64; 4],
-    budget: &AtomicUsize,
-) -> search::Outcome {
-    let run = |parts: Vec<Box4>, finest: [f64; 4], known: &[search::Proved]| {
-        let outcomes = parts
-            .into_par_iter()
-            .map(|part| search::search(&mut system.clone(), part, finest, budget, known))
-            .collect();
-        search::merge(outcomes, system)
-    };
-    let mut outcome = run(split_once(start, &system.stratum.free), finest, &[]);
-    let mut kept = Vec::new();
-    let leftovers = std::mem::take(&mut outcome.leftovers);
-    for cluster in search::clusters(&leftovers) {
-        let mut boxes: Vec<search::Leftover> =
-            cluster.iter().map(|&i| leftovers[i].clone()).collect();
-        let smooth = boxes.iter().all(|l| l.smooth);
-        let mut finer = finest;
-        for _ in 0..DEEPER_LEVELS {
-            if !smooth || boxes.is_empty() || boxes.len() > DEEPER_CLUSTER {
-                break;
-            }
-            finer = finer.map(|f| f / 2.0);
-            let spaces = boxes.iter().map(|l| l.space).collect();
-            let again = run(spaces, finer, &outcome.proved);
-            outcome.visited += again.visited;
-            let shrank = again.leftovers.len() < boxes.len();
-            boxes = again.leftovers;
-            let dim = system.dim();
-            for p in again.proved {
-                if !outcome.proved.iter().any(|q| search::same(q, &p, dim)) {
-                    outcome.proved.push(p);
-                }
-            }
-            if !shrank {
-                break;
-            }
-        }
-        kept.extend(boxes);
-    }
-    outcome.leftovers = kept;
-    outcome
-}
-
-/// How many levels below the finest a cluster may be searched, and the most boxes it may
-/// have to be (a larger one is a surface of critical points, and would take long).
-const DEEPER_LEVELS: usize = 4;
-const DEEPER_CLUSTER: usize = 2048;
-
-/// The 2^k boxes of `b` halved along each of the k `free` axes.
-fn split_once(b: Box4, free: &[usize]) -> Vec<Box4> {
-    free.iter().fold(vec![b], |boxes, &axis| {
-        boxes
-            .into_iter()
-            .flat_map(|b| {
-                let mid = b[axis].midpoint();
-                let (mut low, mut high) = (b, b);
-                low[axis] = Interval::new(b[axis].lo(), mid);
-                high[axis] = Interval::new(mid, b[axis].hi());
-                [low, high]
-            })
-            .collect()
-    })
 }

@@ -221,7 +221,11 @@ impl eframe::App for FourfoldApp {
                 .clamp(least, most);
         self.session.poll(gpu.as_ref());
         let searching = match (&self.session.program, self.session.scene.view.slice) {
-            (Some(program), Some(_)) => self.critical.poll(&program.formula, &self.session.scene),
+            (Some(program), Some(_)) => self.critical.poll(
+                &program.formula,
+                &self.session.scene,
+                self.session.slice_budget,
+            ),
             _ => false,
         };
         self.fit_when_ready();

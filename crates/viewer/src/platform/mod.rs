@@ -3,7 +3,8 @@
 //! target):
 //!
 //! - `CERTIFIED_PIXELS`: whether the viewer draws certified pixels;
-//! - `CRITICAL_BOX_BUDGET`: how long the slice slider's critical values may search;
+//! - `CRITICAL_BOX_BUDGET` and `CriticalWork`: how long the slice slider's critical values
+//!   may search, and where (a thread, or slices of the window's frames);
 //! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and
 //!   `warm_up`, `pause`;
 //! - `State`: the platform's own part of the app, with `top_bar`, `file_actions`,

@@ -8,6 +8,8 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use web_time::Duration;
 
+use fourfold::CompiledFormula;
+use fourfold::critical::{CriticalReport, CriticalSteps};
 use fourfold::render::{Gpu, Prepared, RayCaster};
 use fourfold::tree::{BuildError, Hierarchy};
 
@@ -19,6 +21,26 @@ pub const CERTIFIED_PIXELS: bool = true;
 /// Boxes the slice slider's search for critical values may look at: on a thread of its
 /// own, the library's default.
 pub const CRITICAL_BOX_BUDGET: usize = fourfold::scene::limits::CRITICAL_BOX_BUDGET;
+
+/// The slice sweep's critical values, searched on a thread of their own, to the end.
+pub struct CriticalWork(Background<Option<CriticalReport>>);
+
+impl CriticalWork {
+    pub fn start(mut steps: CriticalSteps<Arc<CompiledFormula>>) -> Self {
+        Self(Background::start("fourfold critical values", move || {
+            loop {
+                if let Some(report) = steps.step(Duration::MAX) {
+                    return Some(report);
+                }
+            }
+        }))
+    }
+
+    /// The report once the search is done (`Some(None)` if its thread died).
+    pub fn poll(&mut self, _budget: Duration) -> Option<Option<CriticalReport>> {
+        self.0.poll().map(Option::flatten)
+    }
+}
 
 /// Waits a moment between two looks at a build (`Session::wait`).
 pub fn pause() {

@@ -9,6 +9,8 @@ mod gallery;
 mod ui;
 mod window;
 
-pub use build::{Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, pause};
+pub use build::{
+    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
+};
 pub use ui::{State, end_frame, file_actions, page_address, sections, top_bar};
 pub use window::run;

@@ -3,6 +3,10 @@
 
 use web_time::Duration;
 
+use std::sync::Arc;
+
+use fourfold::CompiledFormula;
+use fourfold::critical::{CriticalReport, CriticalSteps};
 use fourfold::render::{Gpu, PrepareSteps, Prepared, RayCaster};
 use fourfold::tree::Hierarchy;
 
@@ -15,9 +19,24 @@ use crate::job::{JobInputs, JobResult};
 pub const CERTIFIED_PIXELS: bool = false;
 
 /// Boxes the slice slider's search for critical values may look at: a page searches in
-/// one of its frames (`Background`), so a few tenths of a second at most; what is left
-/// then is shown undecided.
-pub const CRITICAL_BOX_BUDGET: usize = 40_000;
+/// slices of its frames, so a search that needs more than a few seconds of them is cut
+/// short, its remaining boxes shown undecided.
+pub const CRITICAL_BOX_BUDGET: usize = 200_000;
+
+/// The slice sweep's critical values, searched in slices of the window's frames (a page
+/// has one thread).
+pub struct CriticalWork(Box<CriticalSteps<Arc<CompiledFormula>>>);
+
+impl CriticalWork {
+    pub fn start(steps: CriticalSteps<Arc<CompiledFormula>>) -> Self {
+        Self(Box::new(steps))
+    }
+
+    /// Searches for about `budget`; the report once the search is done.
+    pub fn poll(&mut self, budget: Duration) -> Option<Option<CriticalReport>> {
+        self.0.step(budget).map(Some)
+    }
+}
 
 /// A page cannot sleep; `Session::wait` spins (only tests wait, natively).
 pub fn pause() {}

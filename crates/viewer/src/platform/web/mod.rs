@@ -6,5 +6,7 @@ mod build;
 mod files;
 mod ui;
 
-pub use build::{Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, pause};
+pub use build::{
+    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
+};
 pub use ui::{State, certified_left_off, end_frame, file_actions, page_address, sections, top_bar};
