@@ -105,10 +105,7 @@ pub fn search(
             .max_by(|&a, &c| (b[a].width() / smallest[a]).total_cmp(&(b[c].width() / smallest[c])));
         match widest {
             Some(axis) => {
-                let mid = b[axis].midpoint();
-                let (mut low, mut high) = (b, b);
-                low[axis] = Interval::new(b[axis].lo(), mid);
-                high[axis] = Interval::new(mid, b[axis].hi());
+                let [low, high] = halves(b, axis);
                 stack.push(high);
                 stack.push(low);
             }
@@ -119,6 +116,15 @@ pub fn search(
         }
     }
     outcome
+}
+
+/// `b` halved across `axis`: the lower half, then the upper.
+pub fn halves(b: Box4, axis: usize) -> [Box4; 2] {
+    let mid = b[axis].midpoint();
+    let (mut low, mut high) = (b, b);
+    low[axis] = Interval::new(b[axis].lo(), mid);
+    high[axis] = Interval::new(mid, b[axis].hi());
+    [low, high]
 }
 
 enum Decision {

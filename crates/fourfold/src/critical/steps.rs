@@ -15,6 +15,7 @@ use web_time::{Duration, Instant};
 use crate::eval::Box4;
 use crate::formula::CompiledFormula;
 use crate::interval::Interval;
+use crate::mesh::SliceFrame;
 use crate::render::view::Rotation4;
 use crate::scene::Scene;
 use crate::scene::limits::CRITICAL_LEVELS;
@@ -104,9 +105,8 @@ impl<F: Deref<Target = CompiledFormula> + Sync> CriticalSteps<F> {
                 degenerate_boxes: 0,
                 undecided_boxes: 0,
                 budget_spent: false,
-                reach: (0..4)
-                    .map(|i| normal[i].abs() * 0.5 * domain[i].width())
-                    .sum(),
+                // How far from the domain's centre, along n2, the slices meet the domain.
+                reach: SliceFrame::new(&scene.domain, &scene.view, 0.0).reach(),
             },
             formula,
         })
@@ -282,7 +282,7 @@ impl<F: Deref<Target = CompiledFormula> + Sync> CriticalSteps<F> {
     }
 
     /// The report, its points in increasing order of their enclosures' middles.
-    fn report(&mut self) -> CriticalReport {
+    fn report(&self) -> CriticalReport {
         let mut report = self.report.clone();
         report.budget_spent = self.budget.load(Ordering::Relaxed) == 0;
         report
@@ -318,13 +318,7 @@ fn split_once(b: Box4, free: &[usize]) -> Vec<Box4> {
     free.iter().fold(vec![b], |boxes, &axis| {
         boxes
             .into_iter()
-            .flat_map(|b| {
-                let mid = b[axis].midpoint();
-                let (mut low, mut high) = (b, b);
-                low[axis] = Interval::new(b[axis].lo(), mid);
-                high[axis] = Interval::new(mid, b[axis].hi());
-                [low, high]
-            })
+            .flat_map(|b| search::halves(b, axis))
             .collect()
     })
 }
