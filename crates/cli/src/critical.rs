@@ -2,7 +2,6 @@
 //! change its topology), as a table or JSON.
 
 use clap::Args;
-use serde_json::json;
 
 use fourfold::critical::{CriticalError, CriticalReport, CriticalSettings, critical_values};
 use fourfold::scene::limits::{CRITICAL_BOX_BUDGET, DEFAULT_CRITICAL_LEVEL};
@@ -59,27 +58,9 @@ pub fn critical(args: &CriticalArgs, warn: Warn) -> Result<String, Failure> {
     })?;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     if args.json {
-        return Ok(to_json(&report).to_string());
+        return Ok(report.to_json().to_string());
     }
     Ok(table(&report, &formula.f_text(), scene.view.angles, ms))
-}
-
-fn to_json(report: &CriticalReport) -> serde_json::Value {
-    report
-        .points
-        .iter()
-        .map(|p| {
-            json!({
-                "value": [p.value.lo(), p.value.hi()],
-                "point": p.point(),
-                "index": p.index,
-                "status": p.status,
-                "place": p.place,
-                "boxes": p.boxes,
-                "meaning": p.meaning(),
-            })
-        })
-        .collect()
 }
 
 fn table(report: &CriticalReport, f: &str, angles: [f64; 6], ms: f64) -> String {

@@ -80,20 +80,16 @@ pub type Warn<'a> = &'a mut dyn FnMut(&str);
 /// uses but the scene does not set, or the reverse.
 pub fn compile_warning(scene: &Scene, warn: Warn) -> Result<CompiledFormula, Failure> {
     let formula = compile(scene)?;
-    for p in &formula.params {
-        if !scene.params.contains_key(&p.name) {
-            warn(&format!(
-                "warning: parameter {} has no value; using 1.0 (set it with --param {}=VALUE)",
-                p.name, p.name
-            ));
-        }
+    let (missing, unused) = formula.param_mismatch(scene.params.keys());
+    for name in missing {
+        warn(&format!(
+            "warning: parameter {name} has no value; using 1.0 (set it with --param {name}=VALUE)"
+        ));
     }
-    for name in scene.params.keys() {
-        if !formula.params.iter().any(|p| &p.name == name) {
-            warn(&format!(
-                "warning: parameter {name} is set but the formula does not use it"
-            ));
-        }
+    for name in unused {
+        warn(&format!(
+            "warning: parameter {name} is set but the formula does not use it"
+        ));
     }
     Ok(formula)
 }

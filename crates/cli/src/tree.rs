@@ -39,9 +39,7 @@ pub fn tree(args: &TreeArgs, warn: Warn) -> Result<String, Failure> {
     let formula = compile_warning(&scene, warn)?;
     let settings: BuildSettings = scene.tree.into();
     let build = || Prepared::new(&formula, &scene);
-    let Prepared {
-        tree, hierarchy, ..
-    } = if args.single_thread {
+    let prepared = if args.single_thread {
         rayon::ThreadPoolBuilder::new()
             .num_threads(1)
             .build()
@@ -51,18 +49,13 @@ pub fn tree(args: &TreeArgs, warn: Warn) -> Result<String, Failure> {
         build()
     }
     .map_err(|e| Failure::runtime(e.to_string()))?;
-    let s = &tree.stats;
     if args.json {
-        let mut value = serde_json::to_value(s).expect("stats serialise");
-        value["tree_bytes"] = value["bytes"].clone();
-        value["bytes"] = hierarchy.bytes().into();
-        value["march_level"] = hierarchy.march_level.into();
-        value["gpu_nodes"] = hierarchy.nodes.len().into();
-        value["max_level"] = settings.max_level.into();
-        value["min_level"] = settings.min_level.into();
-        value["node_budget"] = settings.node_budget.into();
-        return Ok(value.to_string());
+        return Ok(prepared.tree_report(settings).to_string());
     }
+    let Prepared {
+        tree, hierarchy, ..
+    } = prepared;
+    let s = &tree.stats;
     let mut out = String::new();
     out.push_str(&format!(
         "16-tree of F = {}\nlevels {}..{} (min..max), node budget {}\n\n",

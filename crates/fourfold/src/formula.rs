@@ -104,6 +104,27 @@ impl CompiledFormula {
         self.params.iter().map(|p| p.name.as_str()).collect()
     }
 
+    /// What a scene's parameter values (`set`, by name) leave out of this formula (those
+    /// parameters are 1.0), and what they set that it does not use: for the front ends'
+    /// warnings.
+    pub fn param_mismatch<'a>(
+        &self,
+        set: impl IntoIterator<Item = &'a String> + Clone,
+    ) -> (Vec<String>, Vec<String>) {
+        let missing = self
+            .params
+            .iter()
+            .filter(|p| !set.clone().into_iter().any(|name| *name == p.name))
+            .map(|p| p.name.clone())
+            .collect();
+        let unused = set
+            .into_iter()
+            .filter(|name| !self.params.iter().any(|p| &p.name == *name))
+            .cloned()
+            .collect();
+        (missing, unused)
+    }
+
     /// F in readable infix.
     pub fn f_text(&self) -> String {
         expr::to_infix(&self.graph, self.f)

@@ -188,6 +188,26 @@ impl CriticalReport {
             .filter(|p| p.value.hi() < c)
             .max_by(|a, b| a.value.hi().total_cmp(&b.value.hi()))
     }
+
+    /// The points as JSON (what `fourfold critical --json` prints and the Python package
+    /// reads): each value's enclosure `[lo, hi]`, point, index (or null), status, place,
+    /// boxes and meaning.
+    pub fn to_json(&self) -> serde_json::Value {
+        self.points
+            .iter()
+            .map(|p| {
+                serde_json::json!({
+                    "value": [p.value.lo(), p.value.hi()],
+                    "point": p.point(),
+                    "index": p.index,
+                    "status": p.status,
+                    "place": p.place,
+                    "boxes": p.boxes,
+                    "meaning": p.meaning(),
+                })
+            })
+            .collect()
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -86,6 +86,21 @@ impl Prepared {
         Ok(PrepareSteps { params, tree })
     }
 
+    /// The tree's statistics with the settings it was built with and the hierarchy the
+    /// ray caster marches, as JSON (what `fourfold tree --json` prints and the Python
+    /// package reads): `bytes` is the hierarchy's, `tree_bytes` the tree's.
+    pub fn tree_report(&self, settings: BuildSettings) -> serde_json::Value {
+        let mut value = serde_json::to_value(&self.tree.stats).expect("stats serialise");
+        value["tree_bytes"] = value["bytes"].clone();
+        value["bytes"] = self.hierarchy.bytes().into();
+        value["march_level"] = self.hierarchy.march_level.into();
+        value["gpu_nodes"] = self.hierarchy.nodes.len().into();
+        value["max_level"] = settings.max_level.into();
+        value["min_level"] = settings.min_level.into();
+        value["node_budget"] = settings.node_budget.into();
+        value
+    }
+
     /// The camera of the scene's view at `width`×`height`, and the settings of a frame
     /// drawn through it (see [`frame`]).
     pub fn frame(

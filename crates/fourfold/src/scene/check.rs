@@ -2,7 +2,7 @@
 //! problem names the key it is about, and each reader says it in its own words (the file
 //! points at the key's line, the command line names the flag that set it).
 
-use super::keys::{Speaker, flag_of, link_key};
+use super::keys::{Speaker, flag_of, keyword_of, link_key};
 use super::limits::{
     CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TOLERANCE, TREE_LEVELS, UNIT, ZOOM,
 };
@@ -55,12 +55,13 @@ impl Invalid {
             Speaker::File => key.rsplit('.').next().unwrap_or(key).to_string(),
             Speaker::Flag => flag_of(key),
             Speaker::Link => link_key(key),
+            Speaker::Keyword => keyword_of(key),
         };
         let key = name(&self.key);
         let sep = match speaker {
             Speaker::File => " = ",
             Speaker::Flag => " ",
-            Speaker::Link => "=",
+            Speaker::Link | Speaker::Keyword => "=",
         };
         match &self.problem {
             Problem::Range { value, allowed } => format!("{key}{sep}{value}: {allowed}"),
@@ -74,7 +75,7 @@ impl Invalid {
             ),
             Problem::Other(message) => match speaker {
                 Speaker::File | Speaker::Link => message.clone(),
-                Speaker::Flag => format!("{key}: {message}"),
+                Speaker::Flag | Speaker::Keyword => format!("{key}: {message}"),
             },
         }
     }

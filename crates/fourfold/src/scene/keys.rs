@@ -1,12 +1,14 @@
 //! How each reader of a scene names its keys: the scene file by the key (at its line), the
 //! command line by the flag that sets it, a share link by the key it spells.
 
-/// How a problem is told: by scene-file key, by command-line flag or by share-link key.
+/// How a problem is told: by scene-file key, by command-line flag, by share-link key or by
+/// the Python package's keyword argument.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Speaker {
     File,
     Flag,
     Link,
+    Keyword,
 }
 
 /// The command-line flag that sets the scene key `key` (its last part, dashed).
@@ -16,6 +18,18 @@ pub fn flag_of(key: &str) -> String {
     }
     let last = key.rsplit('.').next().unwrap_or(key);
     format!("--{}", last.replace('_', "-"))
+}
+
+/// The Python keyword argument that sets the scene key `key`: its last part (`rays`,
+/// `max_level`), a parameter as `params['R']`, a domain axis as `domain`.
+pub fn keyword_of(key: &str) -> String {
+    if let Some(name) = key.strip_prefix("params.") {
+        return format!("params['{name}']");
+    }
+    if key.starts_with("domain.") {
+        return "domain".to_string();
+    }
+    key.rsplit('.').next().unwrap_or(key).to_string()
 }
 
 /// The key a link spells for the scene file's `path`.

@@ -15,7 +15,7 @@ mod settings;
 pub use check::{Invalid, Problem};
 pub use examples::EXAMPLES;
 pub use file::SceneError;
-pub use keys::{Speaker, flag_of, link_key};
+pub use keys::{Speaker, flag_of, keyword_of, link_key};
 pub use limits::{DEFAULT_CERT_BUDGET, MAX_PICTURE_SIDE};
 pub use link::LinkProblem;
 pub use settings::{

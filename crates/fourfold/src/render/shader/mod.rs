@@ -7,5 +7,5 @@ mod source;
 mod tapes;
 
 pub use source::{
-    CodegenError, INTERVAL_LIBRARY, MAX_PARAMS, Shader, TEMPLATE, generate, validate,
+    CodegenError, INTERVAL_LIBRARY, MAX_PARAMS, Shader, TEMPLATE, generate, listing, validate,
 };
