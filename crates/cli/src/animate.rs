@@ -54,20 +54,9 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
         .map(Sweep::parse)
         .transpose()
         .map_err(|e| Failure::usage(format!("--sweep: {e}")))?;
-    if let Some(s) = &sweep
-        && !formula.params.iter().any(|p| p.name == s.name)
-    {
-        let names = formula.param_names();
-        return Err(Failure::usage(format!(
-            "--sweep {}: the formula has no parameter {} (its parameters: {})",
-            s.name,
-            s.name,
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        )));
+    if let Some(s) = &sweep {
+        s.check(formula)
+            .map_err(|e| Failure::usage(format!("--sweep {}: {e}", s.name)))?;
     }
     if let Some(problem) = frames_problem(args.frames) {
         return Err(Failure::usage(format!(

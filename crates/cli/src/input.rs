@@ -94,25 +94,15 @@ pub fn compile_warning(scene: &Scene, warn: Warn) -> Result<CompiledFormula, Fai
     Ok(formula)
 }
 
-/// Sets the tree levels and node budget given on the command line. A lower max level alone
-/// takes the min level down with it, so `--max-level 3` works on a scene whose min level is 4.
+/// Sets the tree levels and node budget given on the command line (`TreeSettings::set_levels`).
 pub fn override_tree(
     scene: &mut Scene,
     max_level: Option<u32>,
     min_level: Option<u32>,
     node_budget: Option<u32>,
 ) {
-    let t = &mut scene.tree;
-    if let Some(v) = max_level {
-        t.max_level = v;
-        if min_level.is_none() {
-            t.min_level = t.min_level.min(v);
-        }
-    }
-    if let Some(v) = min_level {
-        t.min_level = v;
-    }
+    scene.tree.set_levels(max_level, min_level);
     if let Some(v) = node_budget {
-        t.node_budget = v;
+        scene.tree.node_budget = v;
     }
 }

@@ -198,6 +198,22 @@ pub struct TreeSettings {
     pub node_budget: u32,
 }
 
+impl TreeSettings {
+    /// Sets the levels a user gave (either or both). A lower max level alone takes the min
+    /// level down with it, so that `max_level = 3` works on a scene whose min level is 4.
+    pub fn set_levels(&mut self, max_level: Option<u32>, min_level: Option<u32>) {
+        if let Some(v) = max_level {
+            self.max_level = v;
+            if min_level.is_none() {
+                self.min_level = self.min_level.min(v);
+            }
+        }
+        if let Some(v) = min_level {
+            self.min_level = v;
+        }
+    }
+}
+
 impl From<TreeSettings> for BuildSettings {
     fn from(t: TreeSettings) -> Self {
         Self {
