@@ -23,7 +23,14 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _native
+try:
+    from . import _native
+except ImportError as e:  # pragma: no cover - a source tree, not an installed package
+    raise ImportError(
+        "fourfold's compiled half (fourfold._native) is missing: install the package with "
+        "`pip install ./python` from the repository, and run Python outside python/ so that "
+        "the sources there do not hide the installed package"
+    ) from e
 from ._native import FormulaError, Mesh, RenderError, Scene, examples
 
 __version__ = _native.__version__

@@ -14,7 +14,8 @@ fn workspace() -> PathBuf {
         .expect("the workspace is two folders up")
 }
 
-/// The crates' source folders, by crate: each crate's `src` (and the web entry's).
+/// The crates' source folders, by crate: each crate's `src` (and the web entry's and the
+/// Python package's).
 fn crate_sources() -> Vec<PathBuf> {
     let root = workspace();
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
@@ -23,6 +24,7 @@ fn crate_sources() -> Vec<PathBuf> {
         .filter(|p| p.is_dir())
         .collect();
     dirs.push(root.join("web/src"));
+    dirs.push(root.join("python/src"));
     dirs.sort();
     dirs
 }
@@ -57,7 +59,7 @@ fn relative(path: &Path) -> String {
 /// in a web page).
 #[test]
 fn the_core_has_no_user_interface_dependency() {
-    const FORBIDDEN: [&str; 8] = [
+    const FORBIDDEN: [&str; 9] = [
         "egui",
         "eframe",
         "winit",
@@ -66,6 +68,7 @@ fn the_core_has_no_user_interface_dependency() {
         "web-sys",
         "fourfold-viewer",
         "fourfold-cli",
+        "pyo3",
     ];
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = std::process::Command::new(cargo)
