@@ -50,6 +50,7 @@ __all__ = [
     "animate",
     "mesh",
     "critical",
+    "explore",
     "examples",
     "EMPTY",
     "HIT",
@@ -440,3 +441,11 @@ def critical(
     if budget is not None:
         kwargs["budget"] = _count("budget", budget)
     return CriticalValues(**json.loads(_native.critical(s, **kwargs)))
+
+
+def explore(scene: SceneLike, /, *, size: tuple[int, int] = (384, 384), **settings: Any):
+    """In a notebook: the picture with sliders for the view's six angles and the formula's
+    parameters, drawn again when a slider is let go (needs ipywidgets)."""
+    from .widget import explore as make
+
+    return make(scene, size=size, **settings)

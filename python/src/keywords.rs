@@ -159,6 +159,8 @@ impl Settings<'_> {
                     .extract()
                     .map_err(|_| expected(keyword, "a string", value))?;
                 if keyword == "formula" {
+                    // A scene's formula parses: its error is said where it is set.
+                    crate::formula::Formula::compile(value.py(), &text)?;
                     scene.formula = text;
                 } else {
                     scene.description = text;

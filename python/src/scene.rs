@@ -94,6 +94,7 @@ impl Scene {
                 formula.get_type().name()?
             )));
         }
+        crate::formula::Formula::compile(formula.py(), &text)?;
         Self::of(CoreScene::from_formula(&text)).with(settings)
     }
 

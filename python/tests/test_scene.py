@@ -175,3 +175,14 @@ def test_replace_and_copy_leave_the_original():
     assert t.rays == 8
     assert "rays" in dir(s)
     assert repr(Scene("x = 0", slice=0.5)) == "Scene(\"x = 0\", slice=0.5)"
+
+
+def test_a_scene_refuses_a_formula_that_does_not_parse():
+    with pytest.raises(fourfold.FormulaError, match="did you mean sin"):
+        Scene("sn(x) = y")
+    s = Scene("x = 0")
+    with pytest.raises(fourfold.FormulaError):
+        s.formula = "x +* y"
+    assert s.formula == "x = 0"
+    s.formula = "x^2 + y^2 + z^2 + w^2 = 1"
+    assert s.formula == "x^2 + y^2 + z^2 + w^2 = 1"
