@@ -4,6 +4,7 @@
 //! arrays and plain values; python/fourfold/ wraps them in the Pythonic API
 //! (docs/python.md).
 
+mod drawing;
 mod errors;
 mod formula;
 mod keywords;

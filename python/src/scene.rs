@@ -12,6 +12,7 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use fourfold::scene::Scene as CoreScene;
 use fourfold::scene::{SceneError, Speaker};
 
+use crate::drawing::{Want, draw};
 use crate::errors::value_error;
 use crate::keywords::{KEYWORDS, Settings, is_keyword, unknown};
 
@@ -315,7 +316,7 @@ impl Scene {
 
     /// The scene drawn at its size, for Jupyter (on the CPU where no GPU opens).
     fn _repr_png_(&self, py: Python<'_>) -> PyResult<Vec<u8>> {
-        let drawn = crate::outputs::picture::draw(py, self, false, None)?;
+        let drawn = draw(py, &self.scene, self.size, false, Want::Any)?;
         drawn.picture.to_png().map_err(crate::errors::render_error)
     }
 }

@@ -16,7 +16,7 @@ use crate::errors::{render_error, value_error};
 use crate::scene::Scene;
 use crate::work::{OnInterrupt, gpu_or_error, run};
 
-use super::{compile, warn_all};
+use crate::drawing::{compile, warn_all};
 
 /// Draws the animation into `path`; `progress(done, total)` hears of each frame. What was
 /// drawn, as JSON.
@@ -36,7 +36,7 @@ pub fn animate(
     cpu: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let (formula, mut warnings) = compile(py, scene)?;
+    let (formula, mut warnings) = compile(py, &scene.scene)?;
     let turn = turn
         .map(Turn::parse)
         .transpose()

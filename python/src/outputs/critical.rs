@@ -13,7 +13,7 @@ use crate::errors::{render_error, value_error};
 use crate::scene::Scene;
 use crate::work::run_quiet;
 
-use super::{compile, warn_all};
+use crate::drawing::{compile, warn_all};
 
 /// How long the search works between two looks at the stop flag.
 const STEP: Duration = Duration::from_millis(50);
@@ -32,7 +32,7 @@ pub fn critical(
     if budget == 0 {
         return Err(value_error("budget=0: the search needs at least one box"));
     }
-    let (formula, warnings) = compile(py, scene)?;
+    let (formula, warnings) = compile(py, &scene.scene)?;
     warn_all(py, &warnings)?;
     let settings = CriticalSettings {
         max_level,

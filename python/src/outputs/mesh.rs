@@ -14,7 +14,7 @@ use crate::errors::value_error;
 use crate::scene::Scene;
 use crate::work::run_quiet;
 
-use super::{compile, warn_all};
+use crate::drawing::{compile, warn_all};
 
 /// A slice's mesh, in the slice's frame (v1, v2, n1) and R⁴'s units.
 #[pyclass(module = "fourfold", frozen)]
@@ -120,7 +120,7 @@ pub fn mesh(
     if !offset.is_finite() {
         return Err(value_error(format!("slice={offset}: a finite number")));
     }
-    let (formula, warnings) = compile(py, scene)?;
+    let (formula, warnings) = compile(py, &scene.scene)?;
     warn_all(py, &warnings)?;
     let settings = MeshSettings {
         offset,

@@ -7,95 +7,12 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use fourfold::headless::render_prepared;
-use fourfold::render::picture::{Device, Picture, RenderError};
-use fourfold::render::view::{Camera, framing::fit_scene, hidden_range};
-use fourfold::render::{Prepared, shader};
-use fourfold::scene::{ColorBy, Scene as CoreScene};
-use fourfold::tree::BuildError;
+use fourfold::render::picture::Picture;
+use fourfold::render::shader;
 
+use crate::drawing::{Drawn, Want, compile, draw, warn_all};
 use crate::errors::render_error;
 use crate::scene::Scene;
-use crate::work::{gpu, gpu_or_error, run_quiet};
-
-use super::{compile, warn_all};
-
-/// Where a picture is drawn.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Want {
-    Gpu,
-    Cpu,
-    /// The GPU if one opens, else the CPU (pictures shown inline in a notebook).
-    Any,
-}
-
-/// A picture and the scene it was drawn from (zoomed and centred with `fit`).
-pub struct Drawn {
-    pub picture: Picture,
-    pub scene: CoreScene,
-    pub hidden_range: Option<[f64; 2]>,
-    pub warnings: Vec<String>,
-}
-
-/// Draws `scene` at its size: the command line's `render` with the GIL released and
-/// Ctrl-C heard.
-pub fn draw(py: Python<'_>, scene: &Scene, fit: bool, want: Option<Want>) -> PyResult<Drawn> {
-    let (formula, mut warnings) = compile(py, scene)?;
-    let want = want.unwrap_or(Want::Any);
-    let gpu = match want {
-        Want::Cpu => None,
-        Want::Gpu => Some(gpu_or_error()?),
-        Want::Any => gpu().ok(),
-    };
-    let mut core = scene.scene.clone();
-    let (width, height) = scene.size;
-    let drawn = run_quiet(py, move |job| {
-        let prepared = Prepared::build(&formula, &core, core.tree.into(), job.stop, None).map_err(
-            |e| match e {
-                BuildError::Cancelled => None,
-                e => Some(e.to_string()),
-            },
-        )?;
-        if fit {
-            fit_scene(&mut core, &prepared.hierarchy, width, height);
-        }
-        let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
-        let picture = render_prepared(
-            &core,
-            &formula,
-            &prepared,
-            width,
-            height,
-            device,
-            Default::default(),
-        )
-        .map_err(|e: RenderError| Some(e.to_string()))?;
-        let hidden = (core.render.color_by == ColorBy::Hidden).then(|| {
-            let camera = Camera::new(&core.domain, &core.view, width, height);
-            hidden_range(&prepared.hierarchy, &core.domain, &camera)
-        });
-        Ok::<_, Option<String>>((picture, core, hidden))
-    })?;
-    let (picture, core, hidden_range) = match drawn {
-        Ok(d) => d,
-        Err(Some(message)) => return Err(render_error(message)),
-        Err(None) => return Err(render_error("the picture was stopped")),
-    };
-    if !picture.cut_pixels.is_empty() {
-        warnings.push(format!(
-            "the GPU driver cut the work of {} pixels short (llvmpipe stops a shader's loops \
-             after 65535 iterations), so they may miss parts of the manifold: lower rays, \
-             steps or max_level, or render with cpu=True",
-            picture.cut_pixels.len()
-        ));
-    }
-    Ok(Drawn {
-        picture,
-        scene: core,
-        hidden_range,
-        warnings,
-    })
-}
 
 type Arrays<'py> = (
     Bound<'py, PyArray3<u8>>,
@@ -115,7 +32,7 @@ pub fn render<'py>(py: Python<'py>, scene: &Scene, fit: bool, cpu: bool) -> PyRe
         scene: drawn_scene,
         hidden_range,
         warnings,
-    } = draw(py, scene, fit, Some(want))?;
+    } = draw(py, &scene.scene, scene.size, fit, want)?;
     warn_all(py, &warnings)?;
     let (w, h) = (picture.width as usize, picture.height as usize);
     let counts = picture.verdict_counts();
@@ -156,7 +73,7 @@ pub fn render<'py>(py: Python<'py>, scene: &Scene, fit: bool, cpu: bool) -> PyRe
 /// The complete, validated WGSL shader of the scene's formula, as `fourfold wgsl` prints it.
 #[pyfunction]
 pub fn wgsl(py: Python<'_>, scene: &Scene) -> PyResult<String> {
-    let (formula, _) = compile(py, scene)?;
+    let (formula, _) = compile(py, &scene.scene)?;
     shader::listing(&formula).map_err(render_error)
 }
 

@@ -11,7 +11,7 @@ use crate::errors::render_error;
 use crate::scene::Scene;
 use crate::work::run_quiet;
 
-use super::{compile, warn_all};
+use crate::drawing::{compile, warn_all};
 
 type Leaves<'py> = (
     Bound<'py, PyArray2<f64>>,
@@ -25,7 +25,7 @@ type Leaves<'py> = (
 /// partial derivative's enclosure there (n,); and the statistics as JSON.
 #[pyfunction]
 pub fn tree<'py>(py: Python<'py>, scene: &Scene) -> PyResult<Leaves<'py>> {
-    let (formula, warnings) = compile(py, scene)?;
+    let (formula, warnings) = compile(py, &scene.scene)?;
     warn_all(py, &warnings)?;
     let core = scene.scene.clone();
     let built = run_quiet(py, move |job| {

@@ -1,0 +1,134 @@
+//! Drawing a scene, shared by `render` and a scene shown inline in Jupyter: its formula
+//! compiled (with the command line's warnings about parameters), then the command line's
+//! path, `Prepared` → `render_prepared`, with the GIL released and Ctrl-C heard.
+
+use std::sync::Arc;
+
+use pyo3::prelude::*;
+
+use fourfold::formula::CompiledFormula;
+use fourfold::headless::render_prepared;
+use fourfold::render::Prepared;
+use fourfold::render::picture::{Device, Picture, RenderError};
+use fourfold::render::view::{Camera, framing::fit_scene, hidden_range};
+use fourfold::scene::{ColorBy, Scene as CoreScene};
+use fourfold::tree::BuildError;
+
+use crate::errors::render_error;
+use crate::formula::Formula;
+use crate::work::{gpu, gpu_or_error, run_quiet};
+
+/// The scene's formula compiled (a `FormulaError` if it does not parse), and the warnings
+/// for parameters it uses that the scene leaves at 1.0, or that the scene sets and it does
+/// not use.
+pub fn compile(py: Python<'_>, scene: &CoreScene) -> PyResult<(Arc<CompiledFormula>, Vec<String>)> {
+    let formula = Formula::compile(py, &scene.formula)?;
+    let (missing, unused) = formula.param_mismatch(scene.params.keys());
+    let mut warnings: Vec<String> = missing
+        .iter()
+        .map(|name| {
+            format!("parameter {name} has no value; using 1.0 (give params={{'{name}': VALUE}})")
+        })
+        .collect();
+    warnings.extend(
+        unused
+            .iter()
+            .map(|name| format!("parameter {name} is set but the formula does not use it")),
+    );
+    Ok((formula, warnings))
+}
+
+/// Issues each of `warnings` as a Python `UserWarning`.
+pub fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
+    for w in warnings {
+        let message = std::ffi::CString::new(w.replace('\0', " ")).unwrap_or_default();
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &message,
+            2,
+        )?;
+    }
+    Ok(())
+}
+
+/// Where a picture is drawn.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Want {
+    Gpu,
+    Cpu,
+    /// The GPU if one opens, else the CPU (pictures shown inline in a notebook).
+    Any,
+}
+
+/// A picture and the scene it was drawn from (zoomed and centred with `fit`).
+pub struct Drawn {
+    pub picture: Picture,
+    pub scene: CoreScene,
+    pub hidden_range: Option<[f64; 2]>,
+    pub warnings: Vec<String>,
+}
+
+/// Draws `scene` at `width`×`height`: the command line's `render` with the GIL released
+/// and Ctrl-C heard.
+pub fn draw(
+    py: Python<'_>,
+    scene: &CoreScene,
+    (width, height): (u32, u32),
+    fit: bool,
+    want: Want,
+) -> PyResult<Drawn> {
+    let (formula, mut warnings) = compile(py, scene)?;
+    let gpu = match want {
+        Want::Cpu => None,
+        Want::Gpu => Some(gpu_or_error()?),
+        Want::Any => gpu().ok(),
+    };
+    let mut core = scene.clone();
+    let drawn = run_quiet(py, move |job| {
+        let prepared = Prepared::build(&formula, &core, core.tree.into(), job.stop, None).map_err(
+            |e| match e {
+                BuildError::Cancelled => None,
+                e => Some(e.to_string()),
+            },
+        )?;
+        if fit {
+            fit_scene(&mut core, &prepared.hierarchy, width, height);
+        }
+        let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
+        let picture = render_prepared(
+            &core,
+            &formula,
+            &prepared,
+            width,
+            height,
+            device,
+            Default::default(),
+        )
+        .map_err(|e: RenderError| Some(e.to_string()))?;
+        let hidden = (core.render.color_by == ColorBy::Hidden).then(|| {
+            let camera = Camera::new(&core.domain, &core.view, width, height);
+            hidden_range(&prepared.hierarchy, &core.domain, &camera)
+        });
+        Ok::<_, Option<String>>((picture, core, hidden))
+    })?;
+    let (picture, core, hidden_range) = match drawn {
+        Ok(d) => d,
+        Err(Some(message)) => return Err(render_error(message)),
+        Err(None) => return Err(render_error("the picture was stopped")),
+    };
+    if !picture.cut_pixels.is_empty() {
+        warnings.push(format!(
+            "the GPU driver cut the work of {} pixels short (llvmpipe stops a shader's loops \
+             after 65535 iterations), so they may miss parts of the manifold: lower rays, \
+             steps or max_level, or render with cpu=True",
+            picture.cut_pixels.len()
+        ));
+    }
+    Ok(Drawn {
+        picture,
+        scene: core,
+        hidden_range,
+        warnings,
+    })
+}
