@@ -94,7 +94,11 @@ pub fn animate(args: &AnimateArgs, warn: Warn) -> Result<String, Failure> {
     use std::io::IsTerminal;
     use std::sync::Arc;
     use std::sync::atomic::AtomicBool;
-    let scene = render_scene_of(&args.render)?;
+    let mut scene = render_scene_of(&args.render)?;
+    // The swept parameter has a value in every frame: no warning that it has none.
+    if let Some(Ok(sweep)) = args.sweep.as_deref().map(Sweep::parse) {
+        scene.params.entry(sweep.name).or_insert(sweep.from);
+    }
     let (width, height) = parse_size(&args.render.size)?;
     let formula = compile_warning(&scene, warn)?;
     let mut animation = animation_of(args, &formula)?;

@@ -416,6 +416,29 @@ fn a_certified_animation_counts_every_frame_s_pixels() {
 }
 
 #[test]
+fn a_swept_parameter_needs_no_value_of_its_own() {
+    let out = std::env::temp_dir().join(format!("fourfold-sweep-{}.gif", std::process::id()));
+    let out = out.display().to_string();
+    let mut warnings = Vec::new();
+    let flags = [
+        "x^2 + y^2 + z^2 + w^2 = R",
+        "--sweep",
+        "R=0.5..1.5",
+        "--frames",
+        "2",
+        "--size",
+        "16x16",
+        "--cpu",
+        "-o",
+        &out,
+    ];
+    fourfold_cli::animate(&animate_args(&flags), &mut |w| warnings.push(w.to_string()))
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    std::fs::remove_file(&out).ok();
+}
+
+#[test]
 fn animate_writes_frames_that_differ_in_every_format() {
     let dir = std::env::temp_dir().join(format!("fourfold-animate-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
