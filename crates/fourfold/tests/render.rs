@@ -1269,3 +1269,61 @@ fn tile_nodes(lists: &fourfold::render::TileLists, tx: u32, ty: u32) -> Vec<u32>
         .map(|&b| lists.boxes[b as usize].node)
         .collect()
 }
+
+/// A painter builds the one pipeline its pictures draw with, before the first picture: a
+/// slice's and not the projection's, a projection's and not a slice's, a certified one's;
+/// drawing builds no other (issue 39: a slice's pipeline used to be built inside its first
+/// frame, after the unused projection's).
+#[test]
+fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
+    use fourfold::render::{Painter, Prepared};
+    let gpu = gpu();
+    let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
+    let shader = shader::generate(&formula).unwrap();
+    let mut projection = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    projection.tree.max_level = 4;
+    let mut slice = projection.clone();
+    slice.view.slice = Some(0.3);
+    let mut slab = projection.clone();
+    slab.view.slab = Some([0.1, 0.4]);
+    let mut certified = projection.clone();
+    certified.render.certified = true;
+    let prepared = Prepared::new(&formula, &projection).unwrap();
+    let h = &prepared.hierarchy;
+    for (name, scene) in [
+        ("projection", &projection),
+        ("slice", &slice),
+        ("slab", &slab),
+        ("certified", &certified),
+    ] {
+        let mut painter = Painter::new(Device::Gpu(&gpu), &shader, h, scene).unwrap();
+        assert_eq!(
+            painter.pipelines(scene, h),
+            (1, true),
+            "{name}: at preparation"
+        );
+        for other in [&projection, &slice, &slab, &certified] {
+            if !std::ptr::eq(other, scene) {
+                assert!(
+                    !painter.pipelines(other, h).1,
+                    "{name} built another's pipeline"
+                );
+            }
+        }
+        let picture = painter
+            .start(
+                prepared.source(&formula, scene.render.certified),
+                scene,
+                [24, 16],
+                Default::default(),
+            )
+            .and_then(|pending| pending.wait())
+            .unwrap();
+        assert_eq!(picture.rgba.len(), 24 * 16 * 4);
+        assert_eq!(
+            painter.pipelines(scene, h),
+            (1, true),
+            "{name}: after a picture"
+        );
+    }
+}

@@ -68,8 +68,9 @@ pub fn draw(
         FrameDevice::Gpu(gpu) => Device::Gpu(gpu),
         FrameDevice::Cpu => Device::Cpu,
     };
+    let first = animation.scene_at(&scene, 0);
     let mut painter =
-        Painter::new(device, &shader, &prepared.hierarchy).map_err(|e| e.to_string())?;
+        Painter::new(device, &shader, &prepared.hierarchy, &first).map_err(|e| e.to_string())?;
     let mut drawn = Drawn {
         verdicts: scene.render.certified.then(VerdictCounts::default),
         ..Drawn::default()

@@ -134,7 +134,7 @@ pub fn render_prepared(
     let t = Instant::now();
     let shader = shader::generate(formula)?;
     let codegen_ms = ms(t);
-    let mut painter = Painter::new(device, &shader, &prepared.hierarchy)?;
+    let mut painter = Painter::new(device, &shader, &prepared.hierarchy, scene)?;
     let source = prepared.source(formula, scene.render.certified);
     let pending = painter.start(source, scene, [width, height], options)?;
     let mut picture = pending.wait()?;

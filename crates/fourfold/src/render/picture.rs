@@ -137,19 +137,37 @@ pub struct Painter {
 
 impl Painter {
     /// A painter on `device` for `shader` (the formula's, already validated) over
-    /// `hierarchy`.
+    /// `hierarchy`, with the pipeline that pictures of `scene` draw with built now (not in
+    /// the first picture), and no other.
     pub fn new(
         device: Device<'_>,
         shader: &Shader,
         hierarchy: &Hierarchy,
+        scene: &Scene,
     ) -> Result<Self, RenderError> {
         let started = Instant::now();
         let gpu = match device {
-            Device::Gpu(gpu) => Some((gpu.clone(), RayCaster::new(gpu, shader, hierarchy)?)),
+            Device::Gpu(gpu) => {
+                let target = super::gpu::Target::OFFSCREEN;
+                let caster = RayCaster::for_scene(gpu, shader, hierarchy, target, scene)?;
+                Some((gpu.clone(), caster))
+            }
             Device::Cpu => None,
         };
         let pipeline_ms = if gpu.is_some() { ms(started) } else { 0.0 };
         Ok(Self { gpu, pipeline_ms })
+    }
+
+    /// How many ray-caster pipelines this painter has built (0 on the CPU), and whether the
+    /// one pictures of `scene` draw with is among them: what `fourfold render` builds.
+    pub fn pipelines(&self, scene: &Scene, hierarchy: &Hierarchy) -> (usize, bool) {
+        match &self.gpu {
+            Some((_, caster)) => (
+                caster.pipelines_built(),
+                caster.has_pipeline_for(scene, hierarchy),
+            ),
+            None => (0, false),
+        }
     }
 
     /// Draws over a new hierarchy of the same formula (new parameters, domain or levels).

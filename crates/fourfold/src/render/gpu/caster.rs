@@ -8,6 +8,7 @@ use bytemuck::Zeroable;
 
 use crate::render::shader::Shader;
 use crate::render::view::{Camera, TileLists, Tiling, Uniforms};
+use crate::scene::Scene;
 use crate::tree::Hierarchy;
 
 use super::buffers::{bind_group, node_buffers, tiling_of, usable, view_buffer, write_or_grow};
@@ -63,8 +64,49 @@ impl RayCaster {
         hierarchy: &Hierarchy,
         target: Target,
     ) -> Result<Self, GpuError> {
+        Self::with_first(gpu, shader, hierarchy, target, Variant::first())
+    }
+
+    /// As [`RayCaster::with_target`], building now the one pipeline that frames of `scene`
+    /// draw with (a slice's, a slab's, a certified one...), and no other: a pipeline built
+    /// inside a frame costs that frame the pipeline's compile (hundreds of milliseconds on
+    /// llvmpipe), and one that no frame uses costs it for nothing.
+    pub fn for_scene(
+        gpu: &Gpu,
+        shader: &Shader,
+        hierarchy: &Hierarchy,
+        target: Target,
+        scene: &Scene,
+    ) -> Result<Self, GpuError> {
+        Self::with_first(
+            gpu,
+            shader,
+            hierarchy,
+            target,
+            Variant::of_scene(scene, hierarchy),
+        )
+    }
+
+    /// Whether the pipeline that frames of `scene` draw with is built.
+    pub fn has_pipeline_for(&self, scene: &Scene, hierarchy: &Hierarchy) -> bool {
+        self.pipelines[Variant::of_scene(scene, hierarchy).index()]
+            .get()
+            .is_some()
+    }
+
+    /// How many ray-caster pipelines are built.
+    pub fn pipelines_built(&self) -> usize {
+        self.pipelines.iter().filter(|p| p.get().is_some()).count()
+    }
+
+    fn with_first(
+        gpu: &Gpu,
+        shader: &Shader,
+        hierarchy: &Hierarchy,
+        target: Target,
+        variant: Variant,
+    ) -> Result<Self, GpuError> {
         let device = &gpu.device;
-        let variant = Variant::first();
         let ((module, layout, pipeline_layout, pipeline), error) =
             crate::platform::validated(device, || {
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {

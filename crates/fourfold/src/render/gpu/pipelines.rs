@@ -114,6 +114,22 @@ impl Variant {
         }
     }
 
+    /// The variant that frames of `scene` over `hierarchy` draw with, binned into tile
+    /// lists as every picture is (brute force reads none).
+    pub(super) fn of_scene(
+        scene: &crate::scene::Scene,
+        hierarchy: &crate::tree::Hierarchy,
+    ) -> Self {
+        let options = crate::render::view::FrameOptions::default();
+        let (_, uniforms) = crate::render::view::frame(scene, hierarchy, &[], [1, 1], options);
+        let mode = if uniforms.brute_force() {
+            Mode::BruteForce
+        } else {
+            Mode::Tiles
+        };
+        Self::of(mode, &uniforms)
+    }
+
     /// The variant that draws with `uniforms` in `mode`.
     pub(super) fn of(mode: Mode, uniforms: &Uniforms) -> Self {
         Self {

@@ -187,8 +187,13 @@ impl Job {
             tree: &self.stats,
             build_ms: 0.0,
         };
-        let mut painter = Painter::new(Device::Gpu(&gpu), &self.program.shader, &self.hierarchy)
-            .map_err(|e| e.to_string())?;
+        let mut painter = Painter::new(
+            Device::Gpu(&gpu),
+            &self.program.shader,
+            &self.hierarchy,
+            &self.scene,
+        )
+        .map_err(|e| e.to_string())?;
         let picture = painter
             .start(source, &self.scene, self.size, FrameOptions::default())
             .and_then(|pending| pending.wait())

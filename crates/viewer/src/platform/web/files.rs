@@ -146,7 +146,7 @@ impl PngDownload {
             tree: stats,
             build_ms: 0.0,
         };
-        let mut painter = Painter::new(Device::Gpu(gpu), &program.shader, hierarchy)
+        let mut painter = Painter::new(Device::Gpu(gpu), &program.shader, hierarchy, &s.scene)
             .map_err(|e| e.to_string())?;
         let pending = painter
             .start(source, &s.scene, size, FrameOptions::default())
