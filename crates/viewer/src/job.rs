@@ -21,8 +21,8 @@ pub const VIEW_TARGET: Target = Target {
 };
 
 /// How a platform readies a new ray caster for its first draw: given the GPU, the caster,
-/// its hierarchy and whether it draws brute force.
-pub type WarmUp = fn(&Gpu, &mut RayCaster, &Hierarchy, bool) -> Result<(), String>;
+/// its hierarchy and the scene its first frames draw.
+pub type WarmUp = fn(&Gpu, &mut RayCaster, &Hierarchy, &Scene) -> Result<(), String>;
 
 /// What a build needs besides the tree, and makes of it.
 pub struct JobInputs {
@@ -84,13 +84,17 @@ impl JobInputs {
         };
         let t = Instant::now();
         let caster = match (&self.gpu, &tree) {
-            (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => Some(
-                RayCaster::with_target(gpu, &self.program.shader, hierarchy, VIEW_TARGET)
-                    .map_err(|e| e.to_string())
-                    .and_then(|mut caster| {
-                        warm_up(gpu, &mut caster, hierarchy, self.brute_force).map(|()| caster)
-                    }),
-            ),
+            (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => {
+                let first = first_frames(&self.scene, self.brute_force);
+                let shader = &self.program.shader;
+                Some(
+                    RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
+                        .map_err(|e| e.to_string())
+                        .and_then(|mut caster| {
+                            warm_up(gpu, &mut caster, hierarchy, &first).map(|()| caster)
+                        }),
+                )
+            }
             _ => None,
         };
         let pipeline_ms = if caster.is_some() { ms(t) } else { 0.0 };
@@ -109,4 +113,14 @@ impl JobInputs {
 
 pub fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
+}
+
+/// What the first frames of a picture of `scene` draw: plain (certified pixels come once the
+/// view is still), brute force or not as the pipeline is made for. Their pipeline is built
+/// with the caster, not in a frame.
+pub fn first_frames(scene: &Scene, brute_force: bool) -> Scene {
+    let mut first = scene.clone();
+    first.render.certified = false;
+    first.render.brute_force = brute_force;
+    first
 }

@@ -29,18 +29,17 @@ impl PendingPicture {
 }
 
 impl RayCaster {
-    /// Draws one pixel with the pipeline this caster will draw with (brute force, or tile
-    /// lists: empty ones are bound), so that a driver that compiles a shader at its first
-    /// draw (llvmpipe) does it now, on the caller's thread, rather than in a window's frame.
+    /// Draws one pixel with the pipeline frames of `scene` will draw with (brute force, or
+    /// tile lists: empty ones are bound), so that a driver that compiles a shader at its
+    /// first draw (llvmpipe) does it now, on the caller's thread, rather than in a window's
+    /// frame.
     pub fn warm_up(
         &mut self,
         gpu: &Gpu,
         hierarchy: &Hierarchy,
-        brute_force: bool,
+        scene: &Scene,
     ) -> Result<(), GpuError> {
-        let mut scene = Scene::from_formula("0");
-        scene.render.brute_force = brute_force;
-        let (camera, uniforms) = frame(&scene, hierarchy, &[], [1, 1], FrameOptions::default());
+        let (camera, uniforms) = frame(scene, hierarchy, &[], [1, 1], FrameOptions::default());
         self.set_tiles(gpu, Some(&TileLists::build(&Hierarchy::default(), &camera)));
         self.render_rgba(gpu, &uniforms).map(|_| ())
     }

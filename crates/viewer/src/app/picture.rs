@@ -108,7 +108,9 @@ impl FourfoldApp {
             }
             return;
         }
-        match RayCaster::with_target(gpu, shader, hierarchy, VIEW_TARGET) {
+        let mut projection = crate::job::first_frames(&s.scene, s.scene.render.brute_force);
+        projection.view.mark = projection.view.slice.take();
+        match RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &projection) {
             Ok(caster) => {
                 self.inset_caster = Some(InsetCaster {
                     caster,
@@ -274,7 +276,7 @@ impl FourfoldApp {
                 );
             }
             if let (Some(size), Some(inset)) = (inset, &mut self.inset_caster) {
-                // The projection, with the slice's place marked.
+                // The projection, with the slice's place marked (as its caster was made for).
                 let mut scene = s.scene.clone();
                 scene.view.mark = scene.view.slice.take();
                 let subject = Subject {

@@ -11,6 +11,7 @@ use web_time::Duration;
 use fourfold::CompiledFormula;
 use fourfold::critical::{CriticalReport, CriticalSteps};
 use fourfold::render::{Gpu, Prepared, RayCaster};
+use fourfold::scene::Scene;
 use fourfold::tree::{BuildError, Hierarchy};
 
 use crate::job::{JobInputs, JobResult};
@@ -53,10 +54,10 @@ fn warm_up(
     gpu: &Gpu,
     caster: &mut RayCaster,
     hierarchy: &Hierarchy,
-    brute_force: bool,
+    scene: &Scene,
 ) -> Result<(), String> {
     caster
-        .warm_up(gpu, hierarchy, brute_force)
+        .warm_up(gpu, hierarchy, scene)
         .map_err(|e| e.to_string())
 }
 

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use fourfold::CompiledFormula;
 use fourfold::critical::{CriticalReport, CriticalSteps};
 use fourfold::render::{Gpu, PrepareSteps, Prepared, RayCaster};
+use fourfold::scene::Scene;
 use fourfold::tree::Hierarchy;
 
 use crate::job::{JobInputs, JobResult};
@@ -46,7 +47,7 @@ fn warm_up(
     _gpu: &Gpu,
     _caster: &mut RayCaster,
     _hierarchy: &Hierarchy,
-    _brute_force: bool,
+    _scene: &Scene,
 ) -> Result<(), String> {
     Ok(())
 }
