@@ -10,7 +10,7 @@ use fourfold::formula::CompiledFormula;
 use fourfold::headless::render_prepared;
 use fourfold::render::Prepared;
 use fourfold::render::picture::{Device, Picture, RenderError};
-use fourfold::render::view::{Camera, framing::fit_scene, hidden_range};
+use fourfold::render::view::{framing::fit_scene, scene_hidden_range};
 use fourfold::scene::{ColorBy, Scene as CoreScene};
 use fourfold::tree::BuildError;
 
@@ -106,10 +106,8 @@ pub fn draw(
             Default::default(),
         )
         .map_err(|e: RenderError| Some(e.to_string()))?;
-        let hidden = (core.render.color_by == ColorBy::Hidden).then(|| {
-            let camera = Camera::new(&core.domain, &core.view, width, height);
-            hidden_range(&prepared.hierarchy, &core.domain, &camera)
-        });
+        let hidden = (core.render.color_by == ColorBy::Hidden)
+            .then(|| scene_hidden_range(&prepared.hierarchy, &core));
         Ok::<_, Option<String>>((picture, core, hidden))
     })?;
     let (picture, core, hidden_range) = match drawn {

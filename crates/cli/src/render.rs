@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use fourfold::headless::render_prepared;
-use fourfold::render::view::{Camera, framing::fit_scene, hidden_range};
+use fourfold::render::view::{framing::fit_scene, scene_hidden_range};
 use fourfold::render::{Device, Gpu, Prepared};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
@@ -296,8 +296,7 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         args.output.display()
     );
     if scene.render.color_by == ColorBy::Hidden {
-        let camera = Camera::new(&scene.domain, &scene.view, width, height);
-        let [lo, hi] = hidden_range(&prepared.hierarchy, &scene.domain, &camera);
+        let [lo, hi] = scene_hidden_range(&prepared.hierarchy, &scene);
         out.push_str(&format!(
             "\ncolour by the hidden direction: n2 = {lo:.3} (dark blue) to {hi:.3} (yellow), \
              from the domain's centre"

@@ -10,7 +10,7 @@ use web_time::Instant;
 
 use fourfold::render::RayCaster;
 use fourfold::render::twin::viridis;
-use fourfold::render::view::{Camera, hidden_range, rotate_view};
+use fourfold::render::view::{rotate_view, scene_hidden_range};
 use fourfold::scene::limits::ZOOM;
 use fourfold::scene::{ColorBy, Scene};
 
@@ -178,9 +178,7 @@ impl FourfoldApp {
         else {
             return;
         };
-        let [w, h] = self.picture_size;
-        let camera = Camera::new(&scene.domain, &scene.view, w, h);
-        let [lo, hi] = hidden_range(hierarchy, &scene.domain, &camera);
+        let [lo, hi] = scene_hidden_range(hierarchy, scene);
         let (width, height) = (160.0, 12.0);
         let origin = rect.left_bottom() + egui::vec2(12.0, -34.0);
         let steps = 32;

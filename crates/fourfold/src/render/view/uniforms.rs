@@ -32,6 +32,13 @@ pub fn hidden_range(
     }
 }
 
+/// [`hidden_range`] in `scene`'s own view: what a picture's legend for `colour_by =
+/// "hidden"` says.
+pub fn scene_hidden_range(hierarchy: &Hierarchy, scene: &crate::scene::Scene) -> [f64; 2] {
+    let camera = Camera::new(&scene.domain, &scene.view, 1, 1);
+    hidden_range(hierarchy, &scene.domain, &camera)
+}
+
 /// How close along n2 (in the domain's half diagonals) a hit must be to a slice's place to be
 /// marked.
 const MARK_WIDTH: f64 = 0.003;
