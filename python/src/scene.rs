@@ -12,7 +12,7 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use fourfold::scene::Scene as CoreScene;
 use fourfold::scene::{SceneError, Speaker};
 
-use crate::drawing::{Want, draw};
+use crate::drawing::{Want, draw, warn_all};
 use crate::errors::value_error;
 use crate::keywords::{KEYWORDS, Settings, is_keyword, unknown};
 
@@ -115,8 +115,9 @@ impl Scene {
     }
 
     /// A scene from a share link (a whole address, or what follows '#'). A wrong key is
-    /// a `ValueError` listing every problem; with `strict=False` such keys are left at
-    /// their defaults, as the page does, and each is a warning.
+    /// a `ValueError` listing every problem, a mistyped formula a `FormulaError`; with
+    /// `strict=False` such keys are left at their defaults, as the page does, and each is a
+    /// warning (the formula's error then comes with the first picture).
     #[staticmethod]
     #[pyo3(signature = (link, strict = true))]
     fn from_link(py: Python<'_>, link: &str, strict: bool) -> PyResult<Self> {
@@ -132,14 +133,11 @@ impl Scene {
                     lines.join("\n")
                 )));
             }
-            for line in lines {
-                PyErr::warn(
-                    py,
-                    &py.get_type::<pyo3::exceptions::PyUserWarning>(),
-                    &std::ffi::CString::new(line).unwrap_or_default(),
-                    1,
-                )?;
-            }
+            warn_all(py, &lines)?;
+        }
+        if strict {
+            // A mistyped formula is said now, as a `FormulaError`, not at the first picture.
+            crate::formula::Formula::compile(py, &scene.formula)?;
         }
         Ok(Self::of(scene))
     }

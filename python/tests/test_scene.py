@@ -143,6 +143,8 @@ def test_bad_links_list_their_problems_or_warn():
     with pytest.warns(UserWarning):
         s = Scene.from_link(link, strict=False)
     assert s.rays == 16 and s.formula == "x^2=1"
+    with pytest.raises(fourfold.FormulaError, match="did you mean sin"):
+        Scene.from_link("#formula=sn(x)%3Dy")
 
 
 def test_scene_files_and_examples():
