@@ -123,3 +123,61 @@ def test_ctrl_c_interrupts_a_long_render():
     assert took < 3.0, took
     # The interpreter and the package go on working.
     assert fourfold.render(GLOME, size=(8, 8), cpu=True).shape == (8, 8, 4)
+
+
+def random_case(rng):
+    """A formula from invented pieces (kinks, undefined regions, parameters) and random
+    settings, as keywords and as the command line's flags."""
+    pieces = ["x^2", "abs(y)", "sin(2z)", "w*x", "sqrt(abs(w) + 0.1)", "max(z, y^2)", "exp(-x^2)", "y*z*w", "ln(x^2 + 0.5)"]
+    terms = rng.choice(pieces, size=3, replace=False)
+    a = round(float(rng.uniform(0.2, 1.0)), 3)
+    formula = f"{terms[0]} + {terms[1]} - {terms[2]} = a"
+    angles = [round(float(v), 3) for v in rng.uniform(-1, 1, 6)]
+    kwargs = {"params": {"a": a}, "angles": angles}
+    flags = ["--param", f"a={a}", "--angles", ",".join(map(str, angles))]
+    if rng.random() < 0.5:
+        rays = int(rng.integers(1, 24))
+        kwargs["rays"] = rays
+        flags += ["--rays", str(rays)]
+    if rng.random() < 0.4:
+        hits = int(rng.integers(1, 8))
+        kwargs["hits"] = hits
+        flags += ["--hits", str(hits)]
+    if rng.random() < 0.4:
+        kwargs["sampling"] = "random"
+        flags += ["--sampling", "random"]
+    section = rng.random()
+    if section < 0.3:
+        c = round(float(rng.uniform(-0.8, 0.8)), 3)
+        kwargs["slice"] = c
+        flags += ["--slice", str(c)]
+    elif section < 0.6:
+        c, h = round(float(rng.uniform(-0.5, 0.5)), 3), round(float(rng.uniform(0.1, 1.0)), 3)
+        kwargs["slab"] = (c, h)
+        flags += ["--slab", f"{c},{h}"]
+    if rng.random() < 0.4:
+        kwargs["colour_by"] = "hidden"
+        flags += ["--colour-by", "hidden"]
+    if rng.random() < 0.3:
+        kwargs["max_level"] = int(rng.integers(3, 7))
+        flags += ["--max-level", str(kwargs["max_level"])]
+    if rng.random() < 0.3:
+        kwargs["lighting"] = False
+        flags += ["--no-lighting"]
+    if rng.random() < 0.3:
+        kwargs["background"] = "#e0e0d0"
+        flags += ["--background", "e0e0d0"]
+    return formula, kwargs, flags
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_formulas_and_settings_draw_as_the_command_line(cli, tmp_path, seed):
+    formula, kwargs, flags = random_case(np.random.default_rng(100 + seed))
+    out = tmp_path / "cli.png"
+    code, _, stderr = cli("render", formula, "-o", out, "--size", "64x48", *flags)
+    assert code == 0, (formula, flags, stderr)
+    picture = fourfold.render(formula, size=(64, 48), **kwargs)
+    assert np.array_equal(np.asarray(picture), read_png(out)), (formula, kwargs)
+    # Each case draws part of M (9-28% of the pixels at these seeds), not only background.
+    background = np.asarray(picture)[0, 0]
+    assert (np.asarray(picture) != background).any(axis=2).mean() > 0.02, (formula, kwargs)
