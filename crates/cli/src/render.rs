@@ -239,11 +239,13 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let t = std::time::Instant::now();
     let formula = compile_warning(&scene, warn)?;
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
+    let t = std::time::Instant::now();
     let gpu = if args.cpu {
         None
     } else {
         Some(Gpu::new().map_err(|e| Failure::runtime(e.to_string()))?)
     };
+    let open_ms = t.elapsed().as_secs_f64() * 1e3;
     let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
     let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
     if args.fit {
@@ -262,14 +264,16 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     picture.times.parse_ms = parse_ms;
     let cut = picture.cut_pixels.len();
     let verdicts = picture.verdict_counts();
+    let t = std::time::Instant::now();
     let image = image::RgbaImage::from_raw(width, height, picture.rgba)
         .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;
     image
         .save(&args.output)
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
+    let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}{}\nwrote {} ({width}x{height})",
+        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
         picture.tree.nodes,
         picture.tree.leaves,
@@ -284,6 +288,11 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
                 "; brute force: every ray marched across the domain".to_string()
             }
             None => String::new(),
+        },
+        if gpu.is_some() {
+            format!("GPU opened {open_ms:.1}, ")
+        } else {
+            String::new()
         },
         t.parse_ms,
         t.tree_ms,

@@ -415,6 +415,40 @@ fn a_certified_animation_counts_every_frame_s_pixels() {
     assert!(numbers[0] > 0, "no pixel hit: {counts}");
 }
 
+/// `render` times its start-up and its file too: the GPU's opening (not on the CPU) and the
+/// PNG written, beside the pipeline's stages.
+#[test]
+fn render_times_opening_the_gpu_and_writing_the_png() {
+    let out = std::env::temp_dir().join(format!("fourfold-times-{}.png", std::process::id()));
+    let out = out.display().to_string();
+    for cpu in [false, true] {
+        let mut argv = vec![
+            "render",
+            "x^2 + y^2 + z^2 + w^2 = 1",
+            "--size",
+            "16x16",
+            "-o",
+            &out,
+        ];
+        if cpu {
+            argv.push("--cpu");
+        }
+        let said = fourfold_cli::render(&parse_render(&argv), &mut |_| {})
+            .unwrap_or_else(|f| panic!("{}", f.message));
+        let times = said
+            .lines()
+            .find(|l| l.starts_with("times (ms): "))
+            .unwrap();
+        assert_eq!(times.contains("GPU opened "), !cpu, "{times}");
+        assert!(times.contains(", PNG "), "{times}");
+        assert!(
+            times.contains("pipeline ") && times.contains("frame "),
+            "{times}"
+        );
+    }
+    std::fs::remove_file(&out).ok();
+}
+
 #[test]
 fn a_swept_parameter_needs_no_value_of_its_own() {
     let out = std::env::temp_dir().join(format!("fourfold-sweep-{}.gif", std::process::id()));
