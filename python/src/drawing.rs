@@ -7,10 +7,10 @@ use std::sync::Arc;
 use pyo3::prelude::*;
 
 use fourfold::formula::CompiledFormula;
-use fourfold::headless::render_prepared;
+use fourfold::headless::render_fitted;
 use fourfold::render::Prepared;
 use fourfold::render::picture::{Device, Picture, RenderError};
-use fourfold::render::view::{framing::fit_scene, scene_hidden_range};
+use fourfold::render::view::scene_hidden_range;
 use fourfold::scene::{ColorBy, Scene as CoreScene};
 use fourfold::tree::BuildError;
 
@@ -84,7 +84,7 @@ pub fn draw(
         Want::Gpu => Some(gpu_or_error()?),
         Want::Any => gpu().ok(),
     };
-    let mut core = scene.clone();
+    let core = scene.clone();
     let drawn = run_quiet(py, move |job| {
         let prepared = Prepared::build(&formula, &core, core.tree.into(), job.stop, None).map_err(
             |e| match e {
@@ -92,20 +92,9 @@ pub fn draw(
                 e => Some(e.to_string()),
             },
         )?;
-        if fit {
-            fit_scene(&mut core, &prepared.hierarchy, width, height);
-        }
         let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
-        let picture = render_prepared(
-            &core,
-            &formula,
-            &prepared,
-            width,
-            height,
-            device,
-            Default::default(),
-        )
-        .map_err(|e: RenderError| Some(e.to_string()))?;
+        let (picture, core) = render_fitted(core, &formula, &prepared, width, height, device, fit)
+            .map_err(|e: RenderError| Some(e.to_string()))?;
         let hidden = (core.render.color_by == ColorBy::Hidden)
             .then(|| scene_hidden_range(&prepared.hierarchy, &core));
         Ok::<_, Option<String>>((picture, core, hidden))

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use fourfold::headless::render_prepared;
-use fourfold::render::view::{framing::fit_scene, scene_hidden_range};
+use fourfold::headless::render_fitted;
+use fourfold::render::view::scene_hidden_range;
 use fourfold::render::{Device, Gpu, Prepared};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
@@ -234,7 +234,7 @@ pub(crate) fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
 
 /// `fourfold render`.
 pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
-    let mut scene = render_scene_of(args)?;
+    let scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
     let t = std::time::Instant::now();
     let formula = compile_warning(&scene, warn)?;
@@ -248,19 +248,9 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let open_ms = t.elapsed().as_secs_f64() * 1e3;
     let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
     let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
-    if args.fit {
-        fit_scene(&mut scene, &prepared.hierarchy, width, height);
-    }
-    let picture = render_prepared(
-        &scene,
-        &formula,
-        &prepared,
-        width,
-        height,
-        device,
-        Default::default(),
-    );
-    let mut picture = picture.map_err(|e| Failure::runtime(e.to_string()))?;
+    let (mut picture, scene) =
+        render_fitted(scene, &formula, &prepared, width, height, device, args.fit)
+            .map_err(|e| Failure::runtime(e.to_string()))?;
     picture.times.parse_ms = parse_ms;
     let cut = picture.cut_pixels.len();
     let verdicts = picture.verdict_counts();

@@ -12,4 +12,4 @@ mod wait;
 
 pub use animation::{Drawn, FrameDevice, draw};
 pub use output::{FrameWriter, Output};
-pub use wait::{read_back, render_compiled, render_prepared, render_scene};
+pub use wait::{read_back, render_compiled, render_fitted, render_prepared, render_scene};

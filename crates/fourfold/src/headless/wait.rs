@@ -141,6 +141,33 @@ pub fn render_prepared(
     Ok(picture)
 }
 
+/// As [`render_prepared`], first zooming and centring `scene` on the manifold (the tree's
+/// boxes in this view) where `fit` asks, as the viewer frames a scene it opens; the scene as
+/// drawn comes back with its picture.
+pub fn render_fitted(
+    mut scene: Scene,
+    formula: &CompiledFormula,
+    prepared: &Prepared,
+    width: u32,
+    height: u32,
+    device: Device<'_>,
+    fit: bool,
+) -> Result<(Picture, Scene), RenderError> {
+    if fit {
+        crate::render::view::framing::fit_scene(&mut scene, &prepared.hierarchy, width, height);
+    }
+    let picture = render_prepared(
+        &scene,
+        formula,
+        prepared,
+        width,
+        height,
+        device,
+        FrameOptions::default(),
+    )?;
+    Ok((picture, scene))
+}
+
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
