@@ -23,7 +23,7 @@ use crate::work::{gpu, gpu_or_error, run_quiet};
 /// not use.
 pub fn compile(py: Python<'_>, scene: &CoreScene) -> PyResult<(Arc<CompiledFormula>, Vec<String>)> {
     let formula = Formula::compile(py, &scene.formula)?;
-    let (missing, unused) = formula.param_mismatch(scene.params.keys());
+    let (missing, unused) = formula.param_mismatch(&scene.params);
     let mut warnings: Vec<String> = missing
         .iter()
         .map(|name| {

@@ -33,35 +33,14 @@ impl Formula {
     /// names the formula lacks are refused); 1.0 for those left out, named in the second
     /// list.
     fn values(&self, params: Option<&Bound<'_, PyDict>>) -> PyResult<(Vec<f64>, Vec<String>)> {
-        let mut given = std::collections::BTreeMap::new();
-        if let Some(params) = params {
-            for (k, v) in params.iter() {
-                let name: String = k.extract().map_err(|_| {
-                    pyo3::exceptions::PyTypeError::new_err(format!(
-                        "params: the names must be strings, not {}",
-                        k.get_type().name().map_or("?".into(), |n| n.to_string())
-                    ))
-                })?;
-                let value: f64 = v.extract().map_err(|_| {
-                    pyo3::exceptions::PyTypeError::new_err(format!(
-                        "params['{name}']: expected a number, got {}",
-                        v.get_type().name().map_or("?".into(), |n| n.to_string())
-                    ))
-                })?;
-                given.insert(name, value);
-            }
-        }
-        let (missing, unused) = self.compiled.param_mismatch(given.keys());
+        let given = match params {
+            Some(params) => crate::keywords::params(params.as_any())?,
+            None => Default::default(),
+        };
+        let (missing, unused) = self.compiled.param_mismatch(&given);
         if let Some(name) = unused.first() {
-            let names = self.compiled.param_names();
-            return Err(value_error(format!(
-                "params['{name}']: the formula has no parameter {name} (its parameters: {})",
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
-            )));
+            let problem = self.compiled.check_param(name).unwrap_err();
+            return Err(value_error(format!("params['{name}']: {problem}")));
         }
         let values = self
             .compiled

@@ -294,7 +294,8 @@ fn optional<T>(
     }
 }
 
-fn params(value: &Bound<'_, PyAny>) -> PyResult<std::collections::BTreeMap<String, f64>> {
+/// A dict of parameter values, name → number.
+pub fn params(value: &Bound<'_, PyAny>) -> PyResult<std::collections::BTreeMap<String, f64>> {
     let dict = value
         .cast::<PyDict>()
         .map_err(|_| expected("params", "a dict of name → number", value))?;

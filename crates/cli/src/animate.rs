@@ -55,7 +55,8 @@ pub fn animation_of(args: &AnimateArgs, formula: &CompiledFormula) -> Result<Ani
         .transpose()
         .map_err(|e| Failure::usage(format!("--sweep: {e}")))?;
     if let Some(s) = &sweep {
-        s.check(formula)
+        formula
+            .check_param(&s.name)
             .map_err(|e| Failure::usage(format!("--sweep {}: {e}", s.name)))?;
     }
     if let Some(problem) = frames_problem(args.frames) {

@@ -80,7 +80,7 @@ pub type Warn<'a> = &'a mut dyn FnMut(&str);
 /// uses but the scene does not set, or the reverse.
 pub fn compile_warning(scene: &Scene, warn: Warn) -> Result<CompiledFormula, Failure> {
     let formula = compile(scene)?;
-    let (missing, unused) = formula.param_mismatch(scene.params.keys());
+    let (missing, unused) = formula.param_mismatch(&scene.params);
     for name in missing {
         warn(&format!(
             "warning: parameter {name} has no value; using 1.0 (set it with --param {name}=VALUE)"

@@ -1,6 +1,8 @@
 //! A compiled formula: the text, its graph, F and its four partials, and its parameters.
 //! This is what every later stage (evaluators, tree, code generation) takes.
 
+use std::collections::BTreeMap;
+
 use crate::eval::Tape;
 use crate::expr::{self, ExprGraph, NodeId};
 use crate::syntax::{self, SourceError, Span};
@@ -104,25 +106,38 @@ impl CompiledFormula {
         self.params.iter().map(|p| p.name.as_str()).collect()
     }
 
-    /// What a scene's parameter values (`set`, by name) leave out of this formula (those
+    /// What parameter `values` (a scene's, by name) leave out of this formula (those
     /// parameters are 1.0), and what they set that it does not use: for the front ends'
     /// warnings.
-    pub fn param_mismatch<'a>(
-        &self,
-        set: impl IntoIterator<Item = &'a String> + Clone,
-    ) -> (Vec<String>, Vec<String>) {
+    pub fn param_mismatch(&self, values: &BTreeMap<String, f64>) -> (Vec<String>, Vec<String>) {
         let missing = self
             .params
             .iter()
-            .filter(|p| !set.clone().into_iter().any(|name| *name == p.name))
+            .filter(|p| !values.contains_key(&p.name))
             .map(|p| p.name.clone())
             .collect();
-        let unused = set
-            .into_iter()
-            .filter(|name| !self.params.iter().any(|p| &p.name == *name))
+        let unused = values
+            .keys()
+            .filter(|name| self.check_param(name).is_err())
             .cloned()
             .collect();
         (missing, unused)
+    }
+
+    /// Whether the formula has the parameter `name`; else what its parameters are, in words.
+    pub fn check_param(&self, name: &str) -> Result<(), String> {
+        if self.params.iter().any(|p| p.name == name) {
+            return Ok(());
+        }
+        let names = self.param_names();
+        Err(format!(
+            "the formula has no parameter {name} (its parameters: {})",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        ))
     }
 
     /// F in readable infix.

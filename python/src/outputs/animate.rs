@@ -36,21 +36,24 @@ pub fn animate(
     cpu: bool,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let (formula, mut warnings) = compile(py, &scene.scene)?;
-    let turn = turn
-        .map(Turn::parse)
-        .transpose()
-        .map_err(|e| value_error(format!("turn: {e}")))?;
     let sweep = sweep
         .map(Sweep::parse)
         .transpose()
         .map_err(|e| value_error(format!("sweep: {e}")))?;
+    // The swept parameter has a value in every frame: no warning that it has none.
+    let mut core = scene.scene.clone();
     if let Some(s) = &sweep {
-        s.check(&formula)
+        core.params.entry(s.name.clone()).or_insert(s.from);
+    }
+    let (formula, warnings) = compile(py, &core)?;
+    let turn = turn
+        .map(Turn::parse)
+        .transpose()
+        .map_err(|e| value_error(format!("turn: {e}")))?;
+    if let Some(s) = &sweep {
+        formula
+            .check_param(&s.name)
             .map_err(|e| value_error(format!("sweep: {e}")))?;
-        // The swept parameter has a value in every frame.
-        let unset = format!("parameter {} has no value", s.name);
-        warnings.retain(|w| !w.starts_with(&unset));
     }
     let slice_sweep = slice_sweep
         .map(parse_range)
@@ -79,7 +82,6 @@ pub fn animate(
     let output = Output::from_path(&path).map_err(value_error)?;
     let gpu = if cpu { None } else { Some(gpu_or_error()?) };
     warn_all(py, &warnings)?;
-    let core = scene.scene.clone();
     let (width, height) = scene.size;
     let started = std::time::Instant::now();
     let summary = run(

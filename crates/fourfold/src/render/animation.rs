@@ -4,7 +4,6 @@
 
 use std::f64::consts::TAU;
 
-use crate::formula::CompiledFormula;
 use crate::scene::Scene;
 use crate::scene::limits::{FRAMES, MAX_FPS, fps_allowed};
 
@@ -114,23 +113,6 @@ impl Sweep {
             from,
             to,
         })
-    }
-
-    /// Whether `formula` has the parameter swept; else what its parameters are.
-    pub fn check(&self, formula: &CompiledFormula) -> Result<(), String> {
-        if formula.params.iter().any(|p| p.name == self.name) {
-            return Ok(());
-        }
-        let names = formula.param_names();
-        Err(format!(
-            "the formula has no parameter {} (its parameters: {})",
-            self.name,
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        ))
     }
 }
 

@@ -108,9 +108,9 @@ impl FourfoldApp {
             }
             return;
         }
-        let mut projection = crate::job::first_frames(&s.scene, s.scene.render.brute_force);
-        projection.view.mark = projection.view.slice.take();
-        match RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &projection) {
+        let projection = projection_beside(&s.scene);
+        let first = crate::job::first_frames(&projection, projection.render.brute_force);
+        match RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first) {
             Ok(caster) => {
                 self.inset_caster = Some(InsetCaster {
                     caster,
@@ -274,9 +274,7 @@ impl FourfoldApp {
                 );
             }
             if let (Some(size), Some(inset)) = (inset, &mut self.inset_caster) {
-                // The projection, with the slice's place marked (as its caster was made for).
-                let mut scene = s.scene.clone();
-                scene.view.mark = scene.view.slice.take();
+                let scene = projection_beside(&s.scene);
                 let subject = Subject {
                     caster: &mut inset.caster,
                     hierarchy,
@@ -376,4 +374,12 @@ fn paint_layers(
 fn pixels(rect: egui::Rect, ppp: f32) -> [u32; 2] {
     [rect.width(), rect.height()]
         .map(|side| ((side * ppp).round() as u32).clamp(1, MAX_WINDOW_PICTURE))
+}
+
+/// The projection shown beside a slice: the whole observer plane, with the slice's place
+/// marked.
+fn projection_beside(scene: &Scene) -> Scene {
+    let mut projection = scene.clone();
+    projection.view.mark = projection.view.slice.take();
+    projection
 }
