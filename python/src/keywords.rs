@@ -160,7 +160,8 @@ impl Settings<'_> {
                     .map_err(|_| expected(keyword, "a string", value))?;
                 if keyword == "formula" {
                     // A scene's formula parses: its error is said where it is set.
-                    crate::formula::Formula::compile(value.py(), &text)?;
+                    fourfold::CompiledFormula::compile(&text)
+                        .map_err(|e| crate::errors::formula_error(value.py(), &e, &text))?;
                     scene.formula = text;
                 } else {
                     scene.description = text;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, mesh_slice};
+use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, describe_slice, mesh_slice};
 use fourfold::scene::limits::DEFAULT_MESH_LEVEL;
 
 use crate::failure::Failure;
@@ -96,17 +96,10 @@ pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
         Some(size) if longest > 0.0 => (size / longest, "mm"),
         _ => (1.0, "units"),
     };
-    let comment = format!(
-        "fourfold: the slice at {offset} along n2 of F = {}\nangles {:?}, in the slice's frame \
-         (v1, v2, n1){}",
-        formula.f_text(),
-        scene.view.angles,
-        if unit == "mm" {
-            format!(", scaled by {scale} to millimetres")
-        } else {
-            String::new()
-        }
-    );
+    let mut comment = describe_slice(&formula, &scene, offset);
+    if unit == "mm" {
+        comment.push_str(&format!(", scaled by {scale} to millimetres"));
+    }
     // glTF's unit is the metre: a print's millimetres are written as such.
     let file_scale = if format == MeshFormat::Glb && unit == "mm" {
         scale / 1000.0

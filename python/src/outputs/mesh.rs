@@ -8,7 +8,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 
-use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, SliceMesh, mesh_slice};
+use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, SliceMesh, describe_slice, mesh_slice};
 
 use crate::errors::value_error;
 use crate::scene::Scene;
@@ -129,12 +129,7 @@ pub fn mesh(
         caps: !open,
     };
     let core = scene.scene.clone();
-    let about = format!(
-        "fourfold: the slice at {offset} along n2 of F = {}\nangles {:?}, in the slice's frame \
-         (v1, v2, n1)",
-        formula.f_text(),
-        core.view.angles
-    );
+    let about = describe_slice(&formula, &core, offset);
     let (mesh, build_ms) = run_quiet(py, move |_| {
         let t = std::time::Instant::now();
         mesh_slice(&formula, &core, &settings).map(|m| (m, t.elapsed().as_secs_f64() * 1e3))

@@ -7,7 +7,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use fourfold::render::picture::Picture;
+use fourfold::render::picture::encode_png;
 use fourfold::render::shader;
 
 use crate::drawing::{Drawn, Want, compile, draw, warn_all};
@@ -91,17 +91,6 @@ pub fn png<'py>(
     }
     let (h, w) = (shape[0], shape[1]);
     let pixels: Vec<u8> = rgba.as_array().iter().copied().collect();
-    let picture = Picture {
-        width: w as u32,
-        height: h as u32,
-        rgba: pixels,
-        adapter: String::new(),
-        times: Default::default(),
-        tree: Default::default(),
-        marched: None,
-        cut_pixels: Vec::new(),
-        verdicts: None,
-    };
-    let bytes = picture.to_png().map_err(crate::errors::value_error)?;
+    let bytes = encode_png(&pixels, w as u32, h as u32).map_err(crate::errors::value_error)?;
     Ok(pyo3::types::PyBytes::new(py, &bytes))
 }

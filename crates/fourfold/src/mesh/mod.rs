@@ -107,6 +107,17 @@ pub enum MeshError {
     Tolerance(f64),
 }
 
+/// What a mesh file says it is (its comment, or its header's): the slice of `formula` at
+/// `offset` along n2 of `scene`'s view, in the slice's frame.
+pub fn describe_slice(formula: &CompiledFormula, scene: &Scene, offset: f64) -> String {
+    format!(
+        "fourfold: the slice at {offset} along n2 of F = {}\nangles {:?}, in the slice's frame \
+         (v1, v2, n1)",
+        formula.f_text(),
+        scene.view.angles
+    )
+}
+
 /// The mesh of `formula`'s slice in `scene`'s view and domain.
 pub fn mesh_slice(
     formula: &CompiledFormula,

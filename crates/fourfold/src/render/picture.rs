@@ -59,17 +59,22 @@ impl Picture {
 
     /// The picture as a PNG file's bytes.
     pub fn to_png(&self) -> Result<Vec<u8>, String> {
-        let mut png = Vec::new();
-        image::ImageEncoder::write_image(
-            image::codecs::png::PngEncoder::new(&mut png),
-            &self.rgba,
-            self.width,
-            self.height,
-            image::ExtendedColorType::Rgba8,
-        )
-        .map_err(|e| format!("could not encode the PNG: {e}"))?;
-        Ok(png)
+        encode_png(&self.rgba, self.width, self.height)
     }
+}
+
+/// RGBA8 rows of `width`×`height` pixels as a PNG file's bytes.
+pub fn encode_png(rgba: &[u8], width: u32, height: u32) -> Result<Vec<u8>, String> {
+    let mut png = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut png),
+        rgba,
+        width,
+        height,
+        image::ExtendedColorType::Rgba8,
+    )
+    .map_err(|e| format!("could not encode the PNG: {e}"))?;
+    Ok(png)
 }
 
 /// What can stop a picture, with a message for the user.
