@@ -15,17 +15,16 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use fidget::context::{Context, Node as FNode};
+
+#[path = "common/fidget_graph.rs"]
+mod fidget_graph;
 use fidget::eval::{Function, MathFunction, TracingEvaluator};
 use fidget::types::Interval as FInterval;
 use fidget::var::Var;
 
 use fourfold::CompiledFormula;
 
-fn bad<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
-}
 use fourfold::eval::{BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES, Tape};
-use fourfold::expr::{BinaryOp, Node, NodeId, UnaryOp};
 use fourfold::scene::Scene;
 
 const BOXES: usize = 200_000;
@@ -61,91 +60,6 @@ fn boxes(scene: &Scene) -> Vec<Box4> {
         }
     }
     out
-}
-
-/// Translates the nodes reachable from `roots` into a fidget context. Only the operations the
-/// benchmarked formulas use are needed; others are reported.
-fn to_fidget(
-    f: &CompiledFormula,
-    params: &[f64],
-    roots: &[NodeId],
-) -> Result<(Context, Vec<FNode>, Var), String> {
-    let mut ctx = Context::new();
-    let w_var = Var::new();
-    let live = f.graph.reachable(roots);
-    let mut map: Vec<Option<FNode>> = vec![None; f.graph.len()];
-    for (i, node) in f.graph.nodes().iter().enumerate() {
-        if !live[i] {
-            continue;
-        }
-        let get = |id: NodeId| map[id.index()].ok_or("operand before node".to_string());
-        let n = match *node {
-            Node::Const(c) => ctx.constant(c as f32),
-            Node::Var(0) => ctx.x(),
-            Node::Var(1) => ctx.y(),
-            Node::Var(2) => ctx.z(),
-            Node::Var(_) => ctx.var(w_var),
-            Node::Param(p) => ctx.constant(params[p as usize] as f32),
-            Node::Unary(op, a) => {
-                let a = get(a)?;
-                match op {
-                    UnaryOp::Neg => ctx.neg(a),
-                    UnaryOp::Abs => ctx.abs(a),
-                    UnaryOp::Sqrt => ctx.sqrt(a),
-                    UnaryOp::Exp => ctx.exp(a),
-                    UnaryOp::Ln => ctx.ln(a),
-                    UnaryOp::Sin => ctx.sin(a),
-                    UnaryOp::Cos => ctx.cos(a),
-                    other => return Err(format!("{other:?} not translated")),
-                }
-                .map_err(bad)?
-            }
-            Node::Binary(op, a, b) => {
-                let (a, b) = (get(a)?, get(b)?);
-                match op {
-                    BinaryOp::Add => ctx.add(a, b),
-                    BinaryOp::Sub => ctx.sub(a, b),
-                    BinaryOp::Mul => ctx.mul(a, b),
-                    BinaryOp::Div => ctx.div(a, b),
-                    BinaryOp::Min => ctx.min(a, b),
-                    BinaryOp::Max => ctx.max(a, b),
-                    other => return Err(format!("{other:?} not translated")),
-                }
-                .map_err(bad)?
-            }
-            Node::Powi(a, n) => {
-                let a = get(a)?;
-                // The same square-and-multiply chain our evaluators and the WGSL use.
-                if n < 1 {
-                    return Err(format!("power {n} not translated"));
-                }
-                let mut result: Option<FNode> = None;
-                let mut base = a;
-                let mut k = n;
-                let mut first = true;
-                while k > 0 {
-                    if !first {
-                        base = ctx.square(base).map_err(bad)?;
-                    }
-                    first = false;
-                    if k & 1 == 1 {
-                        result = Some(match result {
-                            None => base,
-                            Some(r) => ctx.mul(r, base).map_err(bad)?,
-                        });
-                    }
-                    k >>= 1;
-                }
-                result.unwrap_or(a)
-            }
-        };
-        map[i] = Some(n);
-    }
-    let outs = roots
-        .iter()
-        .map(|r| map[r.index()].ok_or("root not translated".to_string()))
-        .collect::<Result<_, _>>()?;
-    Ok((ctx, outs, w_var))
 }
 
 /// The best rate of at least PASSES passes and 0.3 s of them (so that the first row is not
@@ -281,7 +195,10 @@ fn main() {
                 mine / 1e6,
                 one / 1e6
             );
-            let (ctx, outs, w_var) = match to_fidget(&f, &params, roots) {
+            let mut ctx = Context::new();
+            let w_var = Var::new();
+            let axes = [ctx.x(), ctx.y(), ctx.z(), ctx.var(w_var)];
+            let outs = match fidget_graph::translate(&mut ctx, &f, &params, roots, axes) {
                 Ok(t) => t,
                 Err(e) => {
                     println!("{ours}   (fidget: {e})");
