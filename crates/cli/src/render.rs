@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use fourfold::headless::render_fitted;
+use fourfold::render::gpu::CacheUse;
 use fourfold::render::view::scene_hidden_range;
 use fourfold::render::{Device, Gpu, Prepared};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
@@ -263,7 +264,7 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
+        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
         picture.tree.nodes,
         picture.tree.leaves,
@@ -288,12 +289,16 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         t.tree_ms,
         t.codegen_ms,
         t.pipeline_ms,
+        cache_note(&t.pipeline_cache),
         t.frame_ms,
         t.gpu_ms
             .map(|g| format!(" (of which the GPU's pass {g:.1})"))
             .unwrap_or_default(),
         args.output.display()
     );
+    if let Some(warning) = t.pipeline_cache.warning() {
+        out.push_str(&format!("\nwarning: {warning}"));
+    }
     if scene.render.color_by == ColorBy::Hidden {
         let [lo, hi] = scene_hidden_range(&prepared.hierarchy, &scene);
         out.push_str(&format!(
@@ -340,6 +345,18 @@ fn choice<T: Copy>(flag: &str, word: &str, choices: [(&str, T); 2]) -> Result<T,
         .find(|(name, _)| *name == word)
         .map(|&(_, value)| value)
         .ok_or_else(|| Failure::usage(format!("--{flag} {word}: use {a} or {b}")))
+}
+
+/// What the pipeline stage made of the cache kept between runs, for the times line.
+fn cache_note(cache: &CacheUse) -> String {
+    match cache {
+        CacheUse::Off => String::new(),
+        CacheUse::New => " (pipeline cache: new)".into(),
+        CacheUse::Loaded { bytes } => format!(" (pipeline cache: {bytes} bytes loaded)"),
+        CacheUse::Ignored { .. } | CacheUse::Unwritable { .. } => {
+            " (pipeline cache: see the warning)".into()
+        }
+    }
 }
 
 /// The warning for pixels whose work the GPU driver cut short (`which`: how many, of what).

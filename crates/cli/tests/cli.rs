@@ -877,3 +877,49 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
         "{stderr}"
     );
 }
+
+/// `fourfold render` keeps its pipelines between runs in FOURFOLD_CACHE_DIR, says so among
+/// the stages, warns about a broken cache file and still writes the picture; `off` keeps
+/// none.
+#[test]
+fn render_keeps_pipelines_between_runs_and_warns_about_a_broken_cache() {
+    let tag = format!("fourfold-cli-pcache-{}", std::process::id());
+    let dir = std::env::temp_dir().join(&tag);
+    let out = std::env::temp_dir().join(format!("{tag}.png"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = |cache: &std::ffi::OsStr| {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
+            .args(["render", "x^2 + y^2 + z^2 + w^2 = 1", "--slice", "0.2"])
+            .args(["--size", "24x16", "-o"])
+            .arg(&out)
+            .env("FOURFOLD_CACHE_DIR", cache)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&output.stdout).to_string()
+            + &String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{text}");
+        assert!(out.exists(), "{text}");
+        std::fs::remove_file(&out).unwrap();
+        text
+    };
+    let first = run(dir.as_os_str());
+    if !first.contains("(pipeline cache: new)") {
+        eprintln!("skipped: this adapter keeps no pipeline cache:\n{first}");
+        return;
+    }
+    let second = run(dir.as_os_str());
+    assert!(second.contains("bytes loaded)"), "{second}");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        std::fs::write(entry.unwrap().path(), b"not a cache").unwrap();
+    }
+    let broken = run(dir.as_os_str());
+    assert!(
+        broken.contains("warning: ignored the pipeline cache")
+            && broken.contains("(not a fourfold pipeline cache); it is written anew"),
+        "{broken}"
+    );
+    assert!(run(dir.as_os_str()).contains("bytes loaded)"));
+    let off = run(std::ffi::OsStr::new("off"));
+    assert!(!off.contains("pipeline cache"), "{off}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

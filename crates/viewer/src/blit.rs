@@ -82,15 +82,18 @@ impl Blit {
             let constants = [("SRGB_TARGET", if target.is_srgb() { 1.0 } else { 0.0 })];
             let pipeline = fourfold::render::gpu::fullscreen_pipeline(
                 device,
-                "fourfold picture blit",
-                &module,
-                &pipeline_layout,
-                wgpu::ColorTargetState {
-                    format: target,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
+                fourfold::render::gpu::Fullscreen {
+                    label: "fourfold picture blit",
+                    module: &module,
+                    layout: &pipeline_layout,
+                    target: wgpu::ColorTargetState {
+                        format: target,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    },
+                    fragment: "fs_main",
+                    cache: None,
                 },
-                "fs_main",
                 &constants,
             );
             let sampler = device.create_sampler(&wgpu::SamplerDescriptor {

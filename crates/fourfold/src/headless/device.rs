@@ -1,12 +1,19 @@
 //! A GPU device of one's own, opened without a window: the first adapter wgpu finds, with
 //! the limits the ray caster can use.
 
+use std::path::PathBuf;
+
 use crate::render::gpu::{Gpu, GpuError, STORAGE_BUFFERS};
 
 impl Gpu {
     /// Opens the first adapter wgpu finds (any backend, or those named in WGPU_BACKEND),
-    /// headless.
+    /// headless, keeping compiled pipelines in [`pipeline_cache_dir`].
     pub fn new() -> Result<Self, GpuError> {
+        Self::with_cache_dir(pipeline_cache_dir())
+    }
+
+    /// As [`Gpu::new`], keeping compiled pipelines in `cache` (None: nowhere).
+    pub fn with_cache_dir(cache: Option<PathBuf>) -> Result<Self, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
@@ -27,8 +34,9 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("fourfold"),
             // Where the adapter has them: GPU timestamps around a frame's pass
-            // (`RayCaster::render_rgba_timed`).
-            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
+            // (`RayCaster::render_rgba_timed`), and pipeline caches kept between runs.
+            required_features: adapter.features()
+                & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::PIPELINE_CACHE),
             // The adapter's own limits where fourfold can use more than the defaults: tile
             // lists and trees in storage buffers, and the largest picture (`render --size`).
             required_limits: wgpu::Limits {
@@ -41,10 +49,18 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
-        Ok(Self {
-            device,
-            queue,
-            adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
-        })
+        let adapter = format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        Ok(Self::from_parts(device, queue, adapter).with_pipeline_cache(cache, &info))
+    }
+}
+
+/// Where compiled pipelines are kept between runs: `FOURFOLD_CACHE_DIR` if set (empty or
+/// `off`: nowhere), else `fourfold/pipelines` in the user's cache directory
+/// (`~/.cache` on Linux).
+pub fn pipeline_cache_dir() -> Option<PathBuf> {
+    match std::env::var_os("FOURFOLD_CACHE_DIR") {
+        Some(dir) if dir.is_empty() || dir == "off" => None,
+        Some(dir) => Some(PathBuf::from(dir)),
+        None => dirs::cache_dir().map(|d| d.join("fourfold").join("pipelines")),
     }
 }

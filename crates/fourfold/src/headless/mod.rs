@@ -11,5 +11,6 @@ pub mod probe;
 mod wait;
 
 pub use animation::{Drawn, FrameDevice, draw};
+pub use device::pipeline_cache_dir;
 pub use output::{FrameWriter, Output};
 pub use wait::{read_back, render_compiled, render_fitted, render_prepared, render_scene};

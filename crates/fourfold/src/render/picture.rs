@@ -10,7 +10,7 @@ use crate::formula::CompiledFormula;
 use crate::scene::{MAX_PICTURE_SIDE, Scene};
 use crate::tree::{Hierarchy, TreeStats};
 
-use super::gpu::{Gpu, GpuError, PendingRgba, RayCaster};
+use super::gpu::{CacheUse, Gpu, GpuError, PendingRgba, RayCaster};
 use super::prepare::Prepared;
 use super::shader::{CodegenError, Shader};
 use super::verdict::{Verdict, VerdictCounts, take_marks};
@@ -23,6 +23,8 @@ pub struct StageTimes {
     pub tree_ms: f64,
     pub codegen_ms: f64,
     pub pipeline_ms: f64,
+    /// What became of the compiled pipelines kept between runs (`Gpu::pipeline_cache`).
+    pub pipeline_cache: CacheUse,
     pub frame_ms: f64,
     /// Of the frame, the GPU's pass alone (timestamps; None on the CPU reference or a GPU
     /// without timestamp queries).
@@ -138,6 +140,8 @@ pub struct Painter {
     gpu: Option<(Gpu, RayCaster)>,
     /// Milliseconds it took to make the pipeline (0 on the CPU).
     pub pipeline_ms: f64,
+    /// What became of the pipeline cache kept between runs.
+    pub pipeline_cache: CacheUse,
 }
 
 impl Painter {
@@ -160,7 +164,14 @@ impl Painter {
             Device::Cpu => None,
         };
         let pipeline_ms = if gpu.is_some() { ms(started) } else { 0.0 };
-        Ok(Self { gpu, pipeline_ms })
+        let pipeline_cache = gpu
+            .as_ref()
+            .map_or(CacheUse::Off, |(_, caster)| caster.pipeline_cache().clone());
+        Ok(Self {
+            gpu,
+            pipeline_ms,
+            pipeline_cache,
+        })
     }
 
     /// How many ray-caster pipelines this painter has built (0 on the CPU), and whether the
@@ -214,6 +225,7 @@ impl Painter {
             times: StageTimes {
                 tree_ms: source.build_ms,
                 pipeline_ms: self.pipeline_ms,
+                pipeline_cache: self.pipeline_cache.clone(),
                 ..StageTimes::default()
             },
             tree: source.tree.clone(),

@@ -12,9 +12,11 @@ use crate::scene::Scene;
 use crate::tree::Hierarchy;
 
 use super::buffers::{bind_group, node_buffers, tiling_of, usable, view_buffer, write_or_grow};
+use super::cache::{CacheUse, ShaderCache};
 use super::device::{Gpu, GpuError, STORAGE_BUFFERS, check_image_size};
 use super::pipelines::{
-    Mode, Pass, Target, Variant, build_pipeline, color_target, fullscreen_pipeline, storage_entry,
+    Fullscreen, Mode, Pass, Target, Variant, build_pipeline, color_target, fullscreen_pipeline,
+    storage_entry,
 };
 use super::readback::{FrameCopy, PendingRgba, Timer};
 
@@ -48,6 +50,10 @@ pub struct RayCaster {
     rects: Vec<[u32; 4]>,
     /// Draws the background (built when first used).
     background: std::sync::OnceLock<wgpu::RenderPipeline>,
+    /// Where the pipelines are kept between runs (`Gpu::pipeline_cache`), and what became
+    /// of the file when the first was built.
+    cache: Option<ShaderCache>,
+    cache_use: CacheUse,
 }
 
 impl RayCaster {
@@ -94,6 +100,12 @@ impl RayCaster {
             .is_some()
     }
 
+    /// What became of the pipeline cache kept between runs when the first pipeline was
+    /// built (loaded, new, ignored with a reason, or off).
+    pub fn pipeline_cache(&self) -> &CacheUse {
+        &self.cache_use
+    }
+
     /// How many ray-caster pipelines are built.
     pub fn pipelines_built(&self) -> usize {
         self.pipelines.iter().filter(|p| p.get().is_some()).count()
@@ -107,6 +119,13 @@ impl RayCaster {
         variant: Variant,
     ) -> Result<Self, GpuError> {
         let device = &gpu.device;
+        let (cache, cache_use) = match &gpu.pipeline_cache {
+            Some(dir) => {
+                let (cache, found) = ShaderCache::open(device, dir, &shader.source);
+                (Some(cache), found)
+            }
+            None => (None, CacheUse::Off),
+        };
         let ((module, layout, pipeline_layout, pipeline), error) =
             crate::platform::validated(device, || {
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -123,12 +142,18 @@ impl RayCaster {
                         bind_group_layouts: &[Some(&layout)],
                         immediate_size: 0,
                     });
-                let pipeline = build_pipeline(device, &module, &pipeline_layout, target, variant);
+                let cached = cache.as_ref().map(|c| &c.cache);
+                let pipeline =
+                    build_pipeline(device, &module, &pipeline_layout, target, variant, cached);
                 (module, layout, pipeline_layout, pipeline)
             });
         if let Some(error) = error {
             return Err(GpuError::Pipeline(error.to_string()));
         }
+        let cache_use = match cache.as_ref().map(ShaderCache::save) {
+            Some(Err(unwritten)) => unwritten,
+            _ => cache_use,
+        };
         let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT] =
             std::array::from_fn(|_| std::sync::OnceLock::new());
         let _ = pipelines[variant.index()].set(pipeline);
@@ -174,6 +199,8 @@ impl RayCaster {
             bind_group,
             rects: Default::default(),
             background: Default::default(),
+            cache,
+            cache_use,
         })
     }
 
@@ -362,15 +389,15 @@ impl RayCaster {
     /// The pipeline of `fs_background`, built on first use.
     fn background_pipeline(&self, gpu: &Gpu) -> &wgpu::RenderPipeline {
         self.background.get_or_init(|| {
-            fullscreen_pipeline(
-                &gpu.device,
-                "fourfold background",
-                &self.module,
-                &self.pipeline_layout,
-                color_target(self.target),
-                "fs_background",
-                &[],
-            )
+            let pipeline = Fullscreen {
+                label: "fourfold background",
+                module: &self.module,
+                layout: &self.pipeline_layout,
+                target: color_target(self.target),
+                fragment: "fs_background",
+                cache: self.cache.as_ref().map(|c| &c.cache),
+            };
+            self.saved(fullscreen_pipeline(&gpu.device, pipeline, &[]))
         })
     }
 
@@ -378,14 +405,24 @@ impl RayCaster {
     /// the first pipeline was built, so the others build too).
     fn pipeline(&self, gpu: &Gpu, variant: Variant) -> &wgpu::RenderPipeline {
         self.pipelines[variant.index()].get_or_init(|| {
-            build_pipeline(
+            self.saved(build_pipeline(
                 &gpu.device,
                 &self.module,
                 &self.pipeline_layout,
                 self.target,
                 variant,
-            )
+                self.cache.as_ref().map(|c| &c.cache),
+            ))
         })
+    }
+
+    /// `pipeline`, once the cache that now holds it is written (a failure to write was
+    /// reported when the first pipeline was built).
+    fn saved(&self, pipeline: wgpu::RenderPipeline) -> wgpu::RenderPipeline {
+        if let Some(cache) = &self.cache {
+            let _ = cache.save();
+        }
+        pipeline
     }
 
     /// A `width`×`height` texture in this caster's target format.

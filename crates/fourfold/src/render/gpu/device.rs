@@ -1,6 +1,10 @@
 //! The device the ray caster draws on, and what it may draw: the storage buffers its
 //! shader reads, its colour format, and the largest picture it can read back.
 
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use super::cache::CacheDir;
 use crate::render::view::tiles::MAX_ENTRIES;
 
 /// Storage buffers the ray caster's shader reads (bindings 0-6).
@@ -76,6 +80,9 @@ pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter: String,
+    /// Where ray casters keep their compiled pipelines between runs (None: nowhere; the
+    /// device has the `PIPELINE_CACHE` feature wherever this is set).
+    pub pipeline_cache: Option<Arc<CacheDir>>,
 }
 
 impl Gpu {
@@ -93,12 +100,27 @@ impl Gpu {
             .contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
-    /// From a device someone else made (the viewer's).
+    /// From a device someone else made (the viewer's), keeping no pipeline cache.
     pub fn from_parts(device: wgpu::Device, queue: wgpu::Queue, adapter: String) -> Self {
         Self {
             device,
             queue,
             adapter,
+            pipeline_cache: None,
         }
+    }
+
+    /// Keeps compiled pipelines in `dir` (None: nowhere), where the device can (its adapter
+    /// is `info`, and it has the `PIPELINE_CACHE` feature).
+    pub fn with_pipeline_cache(mut self, dir: Option<PathBuf>, info: &wgpu::AdapterInfo) -> Self {
+        let able = self
+            .device
+            .features()
+            .contains(wgpu::Features::PIPELINE_CACHE);
+        self.pipeline_cache = dir
+            .filter(|_| able)
+            .and_then(|d| CacheDir::new(d, info))
+            .map(Arc::new);
+        self
     }
 }

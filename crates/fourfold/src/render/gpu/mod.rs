@@ -3,12 +3,14 @@
 //! web page too; the `headless` module adds the waiting a native program may do.
 
 mod buffers;
+mod cache;
 mod caster;
 mod device;
 mod pipelines;
 mod readback;
 
+pub use cache::{CacheDir, CacheUse};
 pub use caster::RayCaster;
 pub use device::{Gpu, GpuError, STORAGE_BUFFERS, TARGET_FORMAT, check_image_size};
-pub use pipelines::{Mode, Pass, Target, fullscreen_pipeline};
+pub use pipelines::{Fullscreen, Mode, Pass, Target, fullscreen_pipeline};
 pub use readback::{Mapping, PendingRgba, TimedRgba, start_texture_read};

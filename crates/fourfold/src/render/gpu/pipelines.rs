@@ -152,20 +152,25 @@ impl Variant {
     }
 }
 
+/// The ray-caster pipeline of `variant` (through `cache`, where there is one).
 pub(super) fn build_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     target: Target,
     variant: Variant,
+    cache: Option<&wgpu::PipelineCache>,
 ) -> wgpu::RenderPipeline {
     fullscreen_pipeline(
         device,
-        "fourfold ray caster",
-        module,
-        layout,
-        color_target(target),
-        "fs_main",
+        Fullscreen {
+            label: "fourfold ray caster",
+            module,
+            layout,
+            target: color_target(target),
+            fragment: "fs_main",
+            cache,
+        },
         &[
             ("MODE", f64::from(variant.mode as u32)),
             ("SLOTS", f64::from(SLOT_TIERS[variant.slots])),
@@ -186,17 +191,31 @@ pub(super) fn color_target(target: Target) -> wgpu::ColorTargetState {
 }
 
 /// A pipeline drawing one triangle over the viewport with `vs_main` (no vertex buffers) and
-/// shading it with the entry point `fragment`, given pipeline constants for the fragment
-/// stage.
+/// shading it with the entry point `fragment` of `module`.
+pub struct Fullscreen<'a> {
+    pub label: &'a str,
+    pub module: &'a wgpu::ShaderModule,
+    pub layout: &'a wgpu::PipelineLayout,
+    pub target: wgpu::ColorTargetState,
+    pub fragment: &'a str,
+    /// Where compiled pipelines are kept between runs, if anywhere.
+    pub cache: Option<&'a wgpu::PipelineCache>,
+}
+
+/// Builds `pipeline`, given pipeline constants for its fragment stage.
 pub fn fullscreen_pipeline(
     device: &wgpu::Device,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::PipelineLayout,
-    target: wgpu::ColorTargetState,
-    fragment: &str,
+    pipeline: Fullscreen<'_>,
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
+    let Fullscreen {
+        label,
+        module,
+        layout,
+        target,
+        fragment,
+        cache,
+    } = pipeline;
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
@@ -219,7 +238,7 @@ pub fn fullscreen_pipeline(
             targets: &[Some(target)],
         }),
         multiview_mask: None,
-        cache: None,
+        cache,
     })
 }
 
