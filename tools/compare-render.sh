@@ -24,7 +24,7 @@ for scene in "${scenes[@]}"; do
       # shellcheck disable=SC2086
       line=$(XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} "$binary" render $scene --size 512x512 -o "$out/$which.png" | grep '^times')
       end=$(date +%s%N)
-      stages=$(echo "$line" | sed -E 's/.*pipeline ([0-9.]+), frame ([0-9.]+)( \(of which the GPU.s pass ([0-9.]+)\))?.*/\1|\2|\4/')
+      stages=$(echo "$line" | sed -E 's/.*pipeline ([0-9.]+)[^,]*, frame ([0-9.]+)( \(of which the GPU.s pass ([0-9.]+)\))?.*/\1|\2|\4/')
       echo "$scene|$which|$(( (end - start) / 1000000 ))|$stages"
     done
   done

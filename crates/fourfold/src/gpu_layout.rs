@@ -98,7 +98,7 @@ pub struct BoxRecord {
     /// The centre minus the domain's centre, projected on v1 and v2 (the pixel whose origin
     /// is at offset (sx, sy) along them sees the centre at (a − sx, b − sy)); |q| − r, the
     /// least distance of a hit in the box (q: the centre projected on n1, n2; r: the
-    /// sphere's radius).
+    /// sphere's radius), or for a slice the least distance along its ray.
     pub view: [f32; 3],
     /// The level (bits 0–7) and leaf flag (bit 8), as in `SphereNode`.
     pub level: u32,

@@ -316,8 +316,8 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let level = boxes[i].level;
     let half = level_half(level);
     let meets = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
-    // (|q| - r is measured from the plane's origin; a slice's ray starts elsewhere.)
-    let near = view.z < (*tr).hits.far || slice_on();
+    // (For a slice, view.z bounds where its ray enters the box: see tiles/section.rs.)
+    let near = view.z < (*tr).hits.far;
     if (meets && near) {
         let c = boxes[i].center;
         trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope, boxes[i].form);

@@ -82,6 +82,9 @@ pub struct Camera {
     pub pixel_size: f64,
     /// What part of each pixel's observer plane is searched.
     pub section: Section,
+    /// How far behind the observer plane's origin along n1 a slice's ray starts: the
+    /// domain's half-diagonal, so that it starts outside the domain (as the shader's).
+    pub slice_start: f64,
     /// In a projection, the place along n2 whose hits are marked.
     pub mark: Option<f64>,
     pub width: u32,
@@ -122,6 +125,7 @@ impl Camera {
             center: std::array::from_fn(|i| c[i] + px * v1[i] + py * v2[i]),
             pixel_size: 2.0 * domain.half_diagonal() / shorter / view.zoom,
             section: Section::of(view),
+            slice_start: domain.half_diagonal(),
             mark: view.mark.filter(|_| Section::of(view) == Section::Plane),
             width,
             height,

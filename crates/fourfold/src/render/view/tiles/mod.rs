@@ -24,12 +24,15 @@
 //! the observer plane, |q| − r, where q is the projection of the centre on (n1, n2). That
 //! projection is the same for every pixel (o moves only along v1 and v2), so one global order
 //! serves all tiles, and a pixel stops at the first box that cannot hold a hit nearer than
-//! the K it keeps: every later one is at least as far (nearest-first with early exit).
+//! the K it keeps: every later one is at least as far (nearest-first with early exit). A
+//! slab or a slice bins only the boxes that meet it, and a slice orders them along its ray
+//! (see `section`).
 
 mod bins;
 mod footprint;
 mod lists;
 mod screen;
+mod section;
 
 pub use crate::gpu_layout::BoxRecord;
 pub use lists::TileLists;

@@ -8,6 +8,7 @@ use crate::render::view::Camera;
 use crate::tree::{CoverBox, Hierarchy};
 
 use super::footprint::{Footprint, Projection, Reach, Run, order_key, pixel_range, record};
+use super::section::SectionTest;
 use super::{COVER_PER_TILE, MAX_TILE, MIN_TILE};
 
 /// The view as the binning sees it: pixel units, and each level's reach on the screen.
@@ -81,13 +82,15 @@ impl<'a> Screen<'a> {
         (cx, cy, [a, b, dot(&c.n1), dot(&c.n2)])
     }
 
-    /// The marched boxes on screen, nearest first (by |q| − r, then node), with their
-    /// records; and each node's place in that order (`u32::MAX`: off screen).
+    /// The marched boxes on screen that meet the section searched, nearest first (by
+    /// |q| − r, or a slice's entry: see `SectionTest`; then node), with their records; and
+    /// each node's place in that order (`u32::MAX`: not binned).
     #[allow(clippy::type_complexity)]
     pub(super) fn boxes_on_screen(
         &self,
         hierarchy: &Hierarchy,
     ) -> (Vec<(u32, u32, BoxRecord)>, Vec<u32>) {
+        let section = SectionTest::new(hierarchy, self.camera);
         let mut on_screen: Vec<(u32, u32, BoxRecord)> = hierarchy
             .nodes
             .par_iter()
@@ -100,7 +103,9 @@ impl<'a> Screen<'a> {
                 let (cx, cy, view) = self.project(node.center);
                 pixel_range(cx, r.hx, self.w)?;
                 pixel_range(cy, r.hy, self.h)?;
-                let record = record(hierarchy, i as u32, view, self.camera);
+                let mut record = record(hierarchy, i as u32, view, self.camera);
+                record.view[2] =
+                    section.key(node.level() as usize, [view[2], view[3]], record.view[2])?;
                 Some((order_key(record.view[2]), i as u32, record))
             })
             .collect();
