@@ -14,7 +14,8 @@
 //!
 //! fidget sees F(p) over the picture's box, p the point of the slice that the pixel and the
 //! depth stand for, intersected with the scene's domain (fourfold marches only within it).
-//! Environment: `FOURFOLD_BENCH_SIZE` (default 512), `FOURFOLD_BENCH_RUNS` (default 5).
+//! Environment: `FOURFOLD_BENCH_SIZE` (default 512), `FOURFOLD_BENCH_RUNS` (default 5),
+//! `FOURFOLD_BIN` (the `fourfold` program to time, where cargo's build is not at hand).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -186,6 +187,12 @@ fn fourfold_frame(gpu: &Gpu, scene: &Scene, size: u32, runs: u32) -> (f64, f64, 
     (best, best_pass, covered)
 }
 
+/// The `fourfold` program: cargo's build of it, or FOURFOLD_BIN (the bench run elsewhere).
+fn fourfold_binary() -> PathBuf {
+    std::env::var_os("FOURFOLD_BIN")
+        .map_or_else(|| env!("CARGO_BIN_EXE_fourfold").into(), PathBuf::from)
+}
+
 fn best_ms(runs: u32, mut work: impl FnMut()) -> f64 {
     work();
     (0..runs)
@@ -246,7 +253,7 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
     let cache = work.join(format!("cache-{index}"));
     let _ = std::fs::remove_dir_all(&cache);
     let fourfold = || {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_fourfold"));
+        let mut c = Command::new(fourfold_binary());
         c.arg("render")
             .arg(&scene_file)
             .args([
