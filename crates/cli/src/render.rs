@@ -237,23 +237,18 @@ pub(crate) fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
 pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
-    // The driver's start-up (50-150 ms) overlaps parsing and the tree's build.
-    let opening = (!args.cpu).then(|| {
-        std::thread::spawn(|| {
-            let t = std::time::Instant::now();
-            (Gpu::new(), t.elapsed().as_secs_f64() * 1e3)
-        })
-    });
     let t = std::time::Instant::now();
     let formula = compile_warning(&scene, warn)?;
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
-    let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
-    let (gpu, open_ms) = match opening.map(std::thread::JoinHandle::join) {
-        None => (None, 0.0),
-        Some(Ok((gpu, ms))) => (Some(gpu.map_err(|e| Failure::runtime(e.to_string()))?), ms),
-        Some(Err(_)) => return Err(Failure::runtime("internal error: opening the GPU failed")),
+    let t = std::time::Instant::now();
+    let gpu = if args.cpu {
+        None
+    } else {
+        Some(Gpu::new().map_err(|e| Failure::runtime(e.to_string()))?)
     };
+    let open_ms = t.elapsed().as_secs_f64() * 1e3;
     let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
+    let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
     let (mut picture, scene) =
         render_fitted(scene, &formula, &prepared, width, height, device, args.fit)
             .map_err(|e| Failure::runtime(e.to_string()))?;

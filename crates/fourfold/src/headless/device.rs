@@ -14,7 +14,13 @@ impl Gpu {
 
     /// As [`Gpu::new`], keeping compiled pipelines in `cache` (None: nowhere).
     pub fn with_cache_dir(cache: Option<PathBuf>) -> Result<Self, GpuError> {
-        let adapter = first_adapter()?;
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let limits = adapter.limits();
         if limits.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
@@ -46,30 +52,6 @@ impl Gpu {
         let adapter = format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type);
         Ok(Self::from_parts(device, queue, adapter).with_pipeline_cache(cache, &info))
     }
-}
-
-/// The first adapter of the backends in WGPU_BACKEND; without it, of Vulkan, Metal and
-/// DX12 first (opening OpenGL's EGL costs start-up time on machines that have Vulkan), then
-/// of every backend.
-fn first_adapter() -> Result<wgpu::Adapter, GpuError> {
-    let from_env = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-    let request = |descriptor: wgpu::InstanceDescriptor| {
-        let instance = wgpu::Instance::new(descriptor);
-        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            ..Default::default()
-        }))
-    };
-    if wgpu::Backends::from_env().is_none() {
-        let primary = wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::PRIMARY,
-            ..wgpu::InstanceDescriptor::new_without_display_handle_from_env()
-        };
-        if let Ok(adapter) = request(primary) {
-            return Ok(adapter);
-        }
-    }
-    request(from_env).map_err(|e| GpuError::NoAdapter(e.to_string()))
 }
 
 /// Where compiled pipelines are kept between runs: `FOURFOLD_CACHE_DIR` if set (empty or
