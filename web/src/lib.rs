@@ -15,7 +15,7 @@ use fourfold::scene::Scene;
 use fourfold_viewer::FourfoldApp;
 use fourfold_viewer::app::default_scene;
 use fourfold_viewer::notice::Notice;
-use fourfold_viewer::platform::certified_left_off;
+use fourfold_viewer::platform::open_link;
 
 /// What the page says when the browser has no WebGPU (index.html says it first, before the
 /// download; this is for a browser that has `navigator.gpu` but no adapter).
@@ -64,11 +64,7 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
         .dyn_into::<web_sys::HtmlCanvasElement>()
         .map_err(|_| format!("`{canvas_id}` is not a canvas"))?;
     let hash = window.location().hash().unwrap_or_default();
-    let linked = fourfold::scene::link::is_link(&hash).then(|| {
-        let (scene, mut problems) = Scene::from_link(&hash, &default_scene());
-        problems.extend(certified_left_off(&scene));
-        (scene, problems)
-    });
+    let linked = fourfold::scene::link::is_link(&hash).then(|| open_link(&hash, &default_scene()));
     let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
     if let eframe::egui_wgpu::WgpuSetup::CreateNew(setup) = &mut wgpu_options.wgpu_setup {
         // WebGL2 has no storage buffers, which the ray caster reads.
@@ -98,10 +94,7 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
                 }
                 if !problems.is_empty() {
                     let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
-                    app.message = Some(Notice::error(format!(
-                        "{} (left at the default)",
-                        said.join("; ")
-                    )));
+                    app.message = Some(Notice::error(said.join("; ")));
                 }
                 app.platform.opened_with(hash);
                 Ok(Box::new(Page(app)))

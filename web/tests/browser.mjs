@@ -7,7 +7,8 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link asking for certified pixels draws plain and says why; a slice's critical
+// error; a link asking for certified pixels draws plain and says why; a heavy link is
+// lowered to the page's bounds, says what it lowered and keeps the page answering; a slice's critical
 // values are ticks under its slider that move the slice when clicked, and Export mesh
 // downloads the slice as an STL; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
@@ -315,6 +316,31 @@ try {
   check(shown.share > 0.01 && /certified/.test(cs.notice ?? '') && certified.errors.length === 0,
     `a certified link draws, plain, and says why: ${JSON.stringify(cs.notice)}`);
   await certified.page.close();
+
+  // A stranger's heavy link (every setting that multiplies the work at its most): lowered to
+  // the page's bounds, with a notice naming each key; the page keeps answering a script
+  // call within 2 s while it builds and draws, and draws a picture.
+  const heavy = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
+    '&render.rays=1024&render.hits=16&tree.max_level=12&tree.min_level=12' +
+    '&tree.node_budget=100000000&render.steps=256&render.bisection_iters=256&render.brute_force=true');
+  let slowest = 0;
+  let hs = null;
+  for (const deadline = Date.now() + TIMEOUT; Date.now() < deadline;) {
+    const asked = Date.now();
+    hs = await status(heavy.page);
+    slowest = Math.max(slowest, Date.now() - asked);
+    if (hs.panic || (hs.generation > 0 && hs.first_frame_of === hs.generation && !hs.drawing && !hs.building)) break;
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  const heavy_ms = Date.now() - heavy.started;
+  const lowered = ['render.rays', 'render.hits', 'tree.max_level', 'tree.min_level', 'tree.node_budget',
+    'render.steps', 'render.bisection_iters', 'render.brute_force'].filter((k) => (hs.notice ?? '').includes(k));
+  const drawn = coverage(await picture(heavy.page));
+  check(slowest < 2000 && lowered.length === 8 && /render.rays 1024 → 100/.test(hs.notice) && drawn.share > 0.01 &&
+    !hs.panic && heavy.errors.length === 0,
+    `a heavy link is lowered (${lowered.length} of 8 keys named) and drawn (${(100 * drawn.share).toFixed(1)}% ` +
+    `covered, ${heavy_ms} ms after opening), the page answering within ${slowest} ms`);
+  await heavy.page.close();
 
   // A slice's critical values: ticks under the slider, coloured by index; a click on one
   // moves the slice there.

@@ -4,6 +4,7 @@
 //! set them or the link key that spelled them, checked by one set of rules against one set
 //! of ranges ([`limits`]).
 
+mod bounds;
 mod check;
 mod examples;
 mod file;
@@ -12,6 +13,7 @@ pub mod limits;
 pub mod link;
 mod settings;
 
+pub use bounds::{LinkBounds, PAGE_LINK_BOUNDS};
 pub use check::{Invalid, Problem};
 pub use examples::EXAMPLES;
 pub use file::SceneError;

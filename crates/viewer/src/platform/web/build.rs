@@ -16,7 +16,7 @@ use crate::job::{JobInputs, JobResult};
 /// Whether this viewer draws certified pixels: not in the browser yet. Chromium on
 /// SwiftShader compiles the certified shader for longer than its GPU watchdog allows and
 /// loses the page, so a web scene that asks for them is drawn plain, with a notice
-/// ([`certified_left_off`]).
+/// (`ui::certified_left_off`).
 pub const CERTIFIED_PIXELS: bool = false;
 
 /// Boxes the slice slider's search for critical values may look at: a page searches in

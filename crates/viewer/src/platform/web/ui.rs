@@ -5,7 +5,7 @@ use eframe::egui;
 use wasm_bindgen::prelude::*;
 use web_time::{Duration, Instant};
 
-use fourfold::scene::{LinkProblem, Scene};
+use fourfold::scene::{LinkProblem, PAGE_LINK_BOUNDS, Scene};
 
 use crate::notice::Notice;
 use crate::outcome::{Outcome, Window};
@@ -82,8 +82,7 @@ fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
     let hash = page.location().hash().unwrap_or_default();
     if hash != state.address.0 && fourfold::scene::link::is_link(&hash) {
         state.address.0 = hash.clone();
-        let (scene, mut problems) = Scene::from_link(&hash, &window.session.scene);
-        problems.extend(certified_left_off(&scene));
+        let (scene, problems) = open_link(&hash, &window.session.scene);
         let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
         return Outcome {
             notice: (!said.is_empty()).then(|| Notice::error(said.join("; "))),
@@ -114,9 +113,22 @@ pub fn page_address() -> String {
         .unwrap_or_default()
 }
 
+/// The scene a share link opens in the page (`fallback`'s where it names no formula), within
+/// the page's bounds on work (`PAGE_LINK_BOUNDS`), and what of the link was left out or
+/// lowered.
+pub fn open_link(hash: &str, fallback: &Scene) -> (Scene, Vec<LinkProblem>) {
+    let (mut scene, mut problems) = Scene::from_link(hash, fallback);
+    for refused in &mut problems {
+        refused.message.push_str(" (left at the default)");
+    }
+    problems.extend(scene.bounded(&PAGE_LINK_BOUNDS));
+    problems.extend(certified_left_off(&scene));
+    (scene, problems)
+}
+
 /// What the page says of a linked scene that asks for certified pixels, which it draws plain
 /// (see `viewer::CERTIFIED_PIXELS`).
-pub fn certified_left_off(scene: &Scene) -> Option<LinkProblem> {
+fn certified_left_off(scene: &Scene) -> Option<LinkProblem> {
     scene.render.certified.then(|| LinkProblem {
         key: "render.certified".into(),
         message: "certified pixels are drawn by the desktop viewer and `fourfold render \
