@@ -15,7 +15,7 @@ use fourfold::scene::Scene;
 use fourfold_viewer::FourfoldApp;
 use fourfold_viewer::app::default_scene;
 use fourfold_viewer::notice::Notice;
-use fourfold_viewer::platform::open_link;
+use fourfold_viewer::platform::{open_link, split_embed};
 
 /// What the page says when the browser has no WebGPU (index.html says it first, before the
 /// download; this is for a browser that has `navigator.gpu` but no adapter).
@@ -64,7 +64,9 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
         .dyn_into::<web_sys::HtmlCanvasElement>()
         .map_err(|_| format!("`{canvas_id}` is not a canvas"))?;
     let hash = window.location().hash().unwrap_or_default();
-    let linked = fourfold::scene::link::is_link(&hash).then(|| open_link(&hash, &default_scene()));
+    // `#embed&…` shows the picture alone (an iframe); the rest is the scene's link.
+    let (_, link) = split_embed(&hash);
+    let linked = fourfold::scene::link::is_link(&link).then(|| open_link(&link, &default_scene()));
     let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
     if let eframe::egui_wgpu::WgpuSetup::CreateNew(setup) = &mut wgpu_options.wgpu_setup {
         // WebGL2 has no storage buffers, which the ray caster reads.
@@ -175,6 +177,8 @@ pub fn status() -> String {
             "critical": critical,
             "critical_strip": rect(app.critical_strip_rect),
             "mesh_button": rect(app.platform.mesh_button),
+            "embed": app.platform.embedded(),
+            "embed_link": rect(app.embed_link_rect),
         })
         .to_string()
     })

@@ -8,7 +8,8 @@
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
 // error; a link asking for certified pixels draws plain and says why; a heavy link is
-// lowered to the page's bounds, says what it lowered and keeps the page answering; a slice's critical
+// lowered to the page's bounds, says what it lowered and keeps the page answering; embed
+// mode shows the picture alone and turns on a drag; a slice's critical
 // values are ticks under its slider that move the slice when clicked, and Export mesh
 // downloads the slice as an STL; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
@@ -341,6 +342,41 @@ try {
     `a heavy link is lowered (${lowered.length} of 8 keys named) and drawn (${(100 * drawn.share).toFixed(1)}% ` +
     `covered, ${heavy_ms} ms after opening), the page answering within ${slowest} ms`);
   await heavy.page.close();
+
+  // Embed mode (`#embed&…`, for an iframe): the picture alone, filling the page, no editor;
+  // a drag turns it; the address keeps `embed`; a link opens the full page on the scene.
+  const embedded = await open('#embed&formula=' + encodeURIComponent('x^2 + y^2 - z^2 - w^2 - 0.1') +
+    '&angles=0.3,0,0,0.5,0,0');
+  const es = await settled(embedded.page);
+  const eshown = await picture(embedded.page);
+  const [ex0, ey0, ex1, ey1] = es.picture;
+  const fills = (ex1 - ex0) >= 1270 && (ey1 - ey0) >= 790;
+  await embedded.page.mouse.move((ex0 + ex1) / 2, (ey0 + ey1) / 2);
+  await embedded.page.mouse.down();
+  await embedded.page.mouse.move((ex0 + ex1) / 2 + 80, (ey0 + ey1) / 2 + 40, { steps: 8 });
+  await embedded.page.mouse.up();
+  await embedded.page.waitForFunction((link) => {
+    const s = JSON.parse(window.fourfold.status());
+    return s.link !== link && !s.drawing && !s.building;
+  }, es.link, { timeout: TIMEOUT, polling: 50 });
+  const eturned = await status(embedded.page);
+  const eangles = (s) => s.link.match(/angles=[^&]*/)?.[0];
+  const moved = changed(eshown, await picture(embedded.page));
+  await embedded.page.waitForFunction(() => /^#embed&/.test(location.hash), null, { timeout: 5000 });
+  const [lx0, ly0, lx1, ly1] = eturned.embed_link;
+  const [full] = await Promise.all([
+    embedded.page.waitForEvent('popup', { timeout: 10000 }),
+    embedded.page.mouse.click((lx0 + lx1) / 2, (ly0 + ly1) / 2),
+  ]);
+  const full_url = decodeURIComponent(full.url());
+  await full.close();
+  check(es.embed && es.editor === null && es.controls === null && fills && coverage(eshown).share > 0.01 &&
+    eangles(eturned) !== eangles(es) && moved > 0.01 && !/embed/.test(full_url) &&
+    full_url.includes(eangles(eturned)) && embedded.errors.length === 0,
+    `embed mode shows the picture alone (${ex1 - ex0}x${ey1 - ey0}, no editor), a drag turns it `
+    + `(${eangles(es)} → ${eangles(eturned)}, ${(100 * moved).toFixed(1)}% of pixels changed), `
+    + `and its link opens the full page on the turned scene`);
+  await embedded.page.close();
 
   // A slice's critical values: ticks under the slider, coloured by index; a click on one
   // moves the slice there.

@@ -686,3 +686,31 @@ fn the_slice_slider_jumps_between_proved_critical_values() {
             .is_none()
     );
 }
+
+#[test]
+fn copy_embed_code_gives_an_iframe_of_the_scene_on_screen() {
+    let mut scene = small_scene();
+    scene.formula = "x^2 + y^2 - z^2 - w^2 = 0.1".into();
+    let mut h = harness(scene);
+    settle(&mut h);
+    h.get_by_label("Copy embed code").click();
+    h.step();
+    let copied = h
+        .output()
+        .platform_output
+        .commands
+        .iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyText(text) => Some(text.clone()),
+            _ => None,
+        })
+        .expect("the embed code is copied");
+    let link = h.state().session.link_fragment();
+    assert!(
+        copied.starts_with("<iframe src=\"index.html#embed&amp;")
+            && copied.contains(&link.replace('&', "&amp;"))
+            && copied.contains("title=\"fourfold: x^2 + y^2 - z^2 - w^2 = 0.1\"")
+            && copied.ends_with("></iframe>"),
+        "{copied}"
+    );
+}

@@ -5,6 +5,7 @@
 
 mod critical_strip;
 mod editor;
+mod embed;
 mod inset;
 mod picture;
 mod settings_panel;
@@ -63,6 +64,8 @@ pub struct FourfoldApp {
     /// tests type into the one and read the other).
     pub editor_rect: Option<egui::Rect>,
     pub picture_rect: Option<egui::Rect>,
+    /// Where the embedded picture's "open in fourfold" link was at the last frame.
+    pub embed_link_rect: Option<egui::Rect>,
     /// The picture was still being drawn (or a tree built) at the last frame.
     pub drawing: bool,
     /// Where the controls panel was at the last frame (tests check that the formula's
@@ -122,6 +125,7 @@ impl FourfoldApp {
             controls_rect: None,
             editor_rect: None,
             picture_rect: None,
+            embed_link_rect: None,
             drawing: true,
             inset: Progressive::default(),
             inset_caster: None,
@@ -229,6 +233,11 @@ impl eframe::App for FourfoldApp {
             _ => false,
         };
         self.fit_when_ready();
+        if self.platform.embedded() {
+            let more = self.embedded_picture(ui);
+            self.finish_frame(ui, gpu.as_ref(), more, searching);
+            return;
+        }
         self.shortcuts(ui.ctx());
 
         // The panels leave their background to the frame's clear colour (clear_color below):
@@ -290,6 +299,28 @@ impl eframe::App for FourfoldApp {
             .show(ui, |ui| {
                 more = self.picture(ui);
             });
+        self.finish_frame(ui, gpu.as_ref(), more, searching);
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        // An embedded picture is someone else's scene: the user's own stays stored.
+        if self.platform.embedded() {
+            return;
+        }
+        eframe::set_value(storage, KEY_SCENE, &self.session.scene.to_toml());
+        eframe::set_value(storage, KEY_UI, &self.ui);
+    }
+}
+
+impl FourfoldApp {
+    /// The end of every frame: the platform's part, the build started by an edit of this
+    /// frame, the undo history, and whether to draw again (`more`: the picture is not
+    /// complete; `searching`: critical values are being searched).
+    fn finish_frame(&mut self, ui: &mut egui::Ui, gpu: Option<&Gpu>, more: bool, searching: bool) {
         let window = Window {
             session: &self.session,
             settings: &mut self.ui,
@@ -300,7 +331,7 @@ impl eframe::App for FourfoldApp {
         if self.session.building() {
             // An edit made in this frame starts building now, not a frame later (a frame
             // is long on a software GPU, and the page builds in its frames).
-            self.session.poll(gpu.as_ref());
+            self.session.poll(gpu);
         }
         self.record_history(ui.ctx());
         let busy = self.session.building() || self.platform.busy() || searching;
@@ -310,15 +341,6 @@ impl eframe::App for FourfoldApp {
         } else {
             self.pacing.idle();
         }
-    }
-
-    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
-        visuals.panel_fill.to_normalized_gamma_f32()
-    }
-
-    fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        eframe::set_value(storage, KEY_SCENE, &self.session.scene.to_toml());
-        eframe::set_value(storage, KEY_UI, &self.ui);
     }
 }
 

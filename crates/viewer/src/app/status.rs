@@ -59,6 +59,17 @@ impl FourfoldApp {
                 ui.ctx().copy_text(self.share_link());
                 self.message = Some(Notice::done("link copied"));
             }
+            if ui
+                .button("Copy embed code")
+                .on_hover_text(
+                    "an <iframe> showing this picture alone (drag turns it) for a course page \
+                     or slides",
+                )
+                .clicked()
+            {
+                ui.ctx().copy_text(self.embed_code());
+                self.message = Some(Notice::done("embed code copied"));
+            }
             if ui.button("Copy formula").clicked() {
                 ui.ctx().copy_text(self.session.text.clone());
                 self.message = Some(Notice::done("formula copied"));

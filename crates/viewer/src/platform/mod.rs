@@ -8,7 +8,8 @@
 //! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and
 //!   `warm_up`, `pause`;
 //! - `State`: the platform's own part of the app, with `top_bar`, `file_actions`,
-//!   `sections` (panels only one side has), `end_frame` and `busy`;
+//!   `sections` (panels only one side has), `end_frame`, `busy` and `embedded` (the
+//!   page's picture alone, for an iframe);
 //! - the exports of `file_actions`: a picture of the scene, the slice's mesh (a file
 //!   written off the window's thread, or a download);
 //! - `page_address`: the web page's address, for share links.

@@ -23,6 +23,11 @@ pub struct State {
 }
 
 impl State {
+    /// Whether the window shows the picture alone: a web page's embed mode, never here.
+    pub fn embedded(&self) -> bool {
+        false
+    }
+
     /// Whether something runs in the background that the window should keep polling.
     pub fn busy(&self) -> bool {
         self.png.is_some() || self.mesh.is_some() || self.animation.is_some() || self.gallery.busy()

@@ -9,4 +9,6 @@ mod ui;
 pub use build::{
     Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
 };
-pub use ui::{State, end_frame, file_actions, open_link, page_address, sections, top_bar};
+pub use ui::{
+    State, end_frame, file_actions, open_link, page_address, sections, split_embed, top_bar,
+};

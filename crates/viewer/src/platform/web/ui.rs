@@ -22,6 +22,8 @@ pub struct State {
     upload: files::Upload,
     png: Option<files::PngDownload>,
     address: (String, Option<Instant>),
+    /// Whether the page shows the picture alone (`#embed&…`: an iframe in a course page).
+    embed: bool,
     /// Where "Export mesh" was at the last frame (the page's tests click it).
     pub mesh_button: Option<egui::Rect>,
 }
@@ -33,10 +35,32 @@ impl State {
     }
 
     /// The address's fragment the page opened with (so that the first frame does not take
-    /// it for a new link).
+    /// it for a new link), and whether it asks for the picture alone.
     pub fn opened_with(&mut self, hash: String) {
+        self.embed = split_embed(&hash).0;
         self.address.0 = hash;
     }
+
+    /// Whether the page shows the picture alone, for an iframe (`#embed&…`).
+    pub fn embedded(&self) -> bool {
+        self.embed
+    }
+}
+
+/// Whether a link asks for the picture alone (its `embed` key: `#embed&formula=…`), and the
+/// link without that key (a scene's link: the key is the page's, not the scene's).
+pub fn split_embed(hash: &str) -> (bool, String) {
+    let fragment = hash.strip_prefix('#').unwrap_or(hash);
+    let mut embed = false;
+    let rest: Vec<&str> = fragment
+        .split('&')
+        .filter(|part| {
+            let key = part.split('=').next().unwrap_or_default();
+            embed |= key == "embed";
+            key != "embed"
+        })
+        .collect();
+    (embed, format!("#{}", rest.join("&")))
 }
 
 /// The top bar has nothing of the page's own (the gallery draws on a thread: not here yet).
@@ -80,9 +104,11 @@ fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
         return Outcome::default();
     };
     let hash = page.location().hash().unwrap_or_default();
-    if hash != state.address.0 && fourfold::scene::link::is_link(&hash) {
+    let (embed, linked) = split_embed(&hash);
+    if hash != state.address.0 && fourfold::scene::link::is_link(&linked) {
         state.address.0 = hash.clone();
-        let (scene, problems) = open_link(&hash, &window.session.scene);
+        state.embed = embed;
+        let (scene, problems) = open_link(&linked, &window.session.scene);
         let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
         return Outcome {
             notice: (!said.is_empty()).then(|| Notice::error(said.join("; "))),
@@ -93,7 +119,8 @@ fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
     if state.address.1.is_some_and(|t| t.elapsed() < ADDRESS_EVERY) {
         return Outcome::default();
     }
-    let link = format!("#{}", window.session.link_fragment());
+    let embed = if state.embed { "embed&" } else { "" };
+    let link = format!("#{embed}{}", window.session.link_fragment());
     if link == state.address.0 {
         return Outcome::default();
     }
