@@ -336,10 +336,10 @@ try {
   const heavy_ms = Date.now() - heavy.started;
   const lowered = ['render.rays', 'render.hits', 'tree.max_level', 'tree.min_level', 'tree.node_budget',
     'render.steps', 'render.bisection_iters', 'render.brute_force'].filter((k) => (hs.notice ?? '').includes(k));
-  const drawn = coverage(await picture(heavy.page));
-  check(slowest < 2000 && lowered.length === 8 && /render.rays 1024 → 100/.test(hs.notice) && drawn.share > 0.01 &&
+  const heavy_drawn = coverage(await picture(heavy.page));
+  check(slowest < 2000 && lowered.length === 8 && /render.rays 1024 → 100/.test(hs.notice) && heavy_drawn.share > 0.01 &&
     !hs.panic && heavy.errors.length === 0,
-    `a heavy link is lowered (${lowered.length} of 8 keys named) and drawn (${(100 * drawn.share).toFixed(1)}% ` +
+    `a heavy link is lowered (${lowered.length} of 8 keys named) and drawn (${(100 * heavy_drawn.share).toFixed(1)}% ` +
     `covered, ${heavy_ms} ms after opening), the page answering within ${slowest} ms`);
   await heavy.page.close();
 
