@@ -59,8 +59,9 @@ impl FourfoldApp {
                 ui.ctx().copy_text(self.share_link());
                 self.message = Some(Notice::done("link copied"));
             }
-            if ui
-                .button("Copy embed code")
+            if platform::EMBEDS
+                && ui
+                    .button("Copy embed code")
                 .on_hover_text(
                     "an <iframe> showing this picture alone (drag turns it) for a course page \
                      or slides",

@@ -12,5 +12,5 @@ mod window;
 pub use build::{
     Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
 };
-pub use ui::{State, end_frame, file_actions, page_address, sections, top_bar};
+pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections, top_bar};
 pub use window::run;

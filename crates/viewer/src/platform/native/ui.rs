@@ -6,6 +6,9 @@ use crate::outcome::{Outcome, Window};
 
 use super::{animation, files, gallery};
 
+/// Whether the window offers an embed code: only a page has an address an iframe can show.
+pub const EMBEDS: bool = false;
+
 /// The share link's page, relative: the desktop has no address of its own.
 pub fn page_address() -> String {
     "index.html".to_string()

@@ -10,5 +10,5 @@ pub use build::{
     Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
 };
 pub use ui::{
-    State, end_frame, file_actions, open_link, page_address, sections, split_embed, top_bar,
+    EMBEDS, State, end_frame, file_actions, open_link, page_address, sections, split_embed, top_bar,
 };

@@ -132,6 +132,9 @@ fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
     Outcome::default()
 }
 
+/// Whether the window offers an embed code (Copy embed code): a page has an address.
+pub const EMBEDS: bool = true;
+
 /// The page's address without its `#…` part, for "Copy link".
 pub fn page_address() -> String {
     web_sys::window()
