@@ -14,7 +14,6 @@ use wasm_bindgen::prelude::*;
 use fourfold::scene::Scene;
 use fourfold_viewer::FourfoldApp;
 use fourfold_viewer::app::default_scene;
-use fourfold_viewer::notice::Notice;
 use fourfold_viewer::platform::{open_link, split_embed};
 
 /// What the page says when the browser has no WebGPU (index.html says it first, before the
@@ -83,9 +82,9 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
             canvas,
             options,
             Box::new(move |cc| {
-                let (scene, problems) = match linked {
-                    Some((scene, problems)) => (Some(scene), problems),
-                    None => (None, Vec::new()),
+                let (scene, notice) = match linked {
+                    Some((scene, notice)) => (Some(scene), notice),
+                    None => (None, None),
                 };
                 let from_link = scene.is_some();
                 let mut app = FourfoldApp::new(cc, scene);
@@ -94,9 +93,8 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
                 if app.gpu().is_none() {
                     return Err(NO_WEBGPU.into());
                 }
-                if !problems.is_empty() {
-                    let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
-                    app.message = Some(Notice::error(said.join("; ")));
+                if notice.is_some() {
+                    app.message = notice;
                 }
                 app.platform.opened_with(hash);
                 Ok(Box::new(Page(app)))

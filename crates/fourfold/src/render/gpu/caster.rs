@@ -395,7 +395,7 @@ impl RayCaster {
                 layout: &self.pipeline_layout,
                 target: color_target(self.target),
                 fragment: "fs_background",
-                cache: self.cache.as_ref().map(|c| &c.cache),
+                cache: self.kept(),
             };
             self.saved(fullscreen_pipeline(&gpu.device, pipeline, &[]))
         })
@@ -411,9 +411,14 @@ impl RayCaster {
                 &self.pipeline_layout,
                 self.target,
                 variant,
-                self.cache.as_ref().map(|c| &c.cache),
+                self.kept(),
             ))
         })
+    }
+
+    /// The pipeline cache kept between runs, if any.
+    fn kept(&self) -> Option<&wgpu::PipelineCache> {
+        self.cache.as_ref().map(|c| &c.cache)
     }
 
     /// `pipeline`, once the cache that now holds it is written (a failure to write was

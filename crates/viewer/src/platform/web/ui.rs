@@ -104,17 +104,18 @@ fn sync_address(state: &mut State, window: Window<'_>) -> Outcome {
         return Outcome::default();
     };
     let hash = page.location().hash().unwrap_or_default();
-    let (embed, linked) = split_embed(&hash);
-    if hash != state.address.0 && fourfold::scene::link::is_link(&linked) {
-        state.address.0 = hash.clone();
-        state.embed = embed;
-        let (scene, problems) = open_link(&linked, &window.session.scene);
-        let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
-        return Outcome {
-            notice: (!said.is_empty()).then(|| Notice::error(said.join("; "))),
-            open: Some((scene, false)),
-            ..Outcome::default()
-        };
+    if hash != state.address.0 {
+        let (embed, linked) = split_embed(&hash);
+        if fourfold::scene::link::is_link(&linked) {
+            state.address.0 = hash;
+            state.embed = embed;
+            let (scene, notice) = open_link(&linked, &window.session.scene);
+            return Outcome {
+                notice,
+                open: Some((scene, false)),
+                ..Outcome::default()
+            };
+        }
     }
     if state.address.1.is_some_and(|t| t.elapsed() < ADDRESS_EVERY) {
         return Outcome::default();
@@ -144,16 +145,18 @@ pub fn page_address() -> String {
 }
 
 /// The scene a share link opens in the page (`fallback`'s where it names no formula), within
-/// the page's bounds on work (`PAGE_LINK_BOUNDS`), and what of the link was left out or
-/// lowered.
-pub fn open_link(hash: &str, fallback: &Scene) -> (Scene, Vec<LinkProblem>) {
+/// the page's bounds on work (`PAGE_LINK_BOUNDS`), and the notice saying what of the link was
+/// left out or lowered (None: nothing was).
+pub fn open_link(hash: &str, fallback: &Scene) -> (Scene, Option<Notice>) {
     let (mut scene, mut problems) = Scene::from_link(hash, fallback);
     for refused in &mut problems {
         refused.message.push_str(" (left at the default)");
     }
     problems.extend(scene.bounded(&PAGE_LINK_BOUNDS));
     problems.extend(certified_left_off(&scene));
-    (scene, problems)
+    let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
+    let notice = (!said.is_empty()).then(|| Notice::error(said.join("; ")));
+    (scene, notice)
 }
 
 /// What the page says of a linked scene that asks for certified pixels, which it draws plain
