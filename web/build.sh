@@ -24,13 +24,29 @@ if [ "$(wasm-bindgen --version 2>/dev/null | cut -d' ' -f2)" != "$version" ]; th
     || fail "wasm-bindgen was installed but is not on PATH: add ~/.cargo/bin to PATH"
 fi
 
-cargo build --release --target wasm32-unknown-unknown -p fourfold-web \
+# The web profile (Cargo.toml) trades speed for size: the download comes before the first
+# picture. wasm-opt shrinks the module further before wasm-bindgen writes the glue (binaryen
+# 108, Debian's, renumbers the glue's externref table when it runs after).
+cargo build --profile web --target wasm32-unknown-unknown -p fourfold-web \
   || fail "the wasm build failed (see above)"
+wasm=target/wasm32-unknown-unknown/web/fourfold_web.wasm
+if command -v wasm-opt >/dev/null; then
+  echo "shrinking the wasm with $(wasm-opt --version)…"
+  wasm-opt -Oz --enable-reference-types --enable-bulk-memory --enable-simd \
+    --enable-nontrapping-float-to-int --enable-sign-ext --enable-mutable-globals \
+    --enable-multivalue "$wasm" -o target/wasm32-unknown-unknown/web/fourfold_web.opt.wasm \
+    || fail "wasm-opt failed (see above)"
+  wasm=target/wasm32-unknown-unknown/web/fourfold_web.opt.wasm
+else
+  echo "web/build.sh: no wasm-opt (binaryen): the page's wasm stays larger than it need be;" >&2
+  echo "  install it with: apt-get install binaryen" >&2
+fi
 rm -rf web/dist
 mkdir -p web/dist
-wasm-bindgen --target web --no-typescript --out-dir web/dist \
-  target/wasm32-unknown-unknown/release/fourfold_web.wasm \
+wasm-bindgen --target web --no-typescript --out-dir web/dist --out-name fourfold_web "$wasm" \
   || fail "wasm-bindgen could not make the JavaScript glue"
-cp web/index.html web/dist/
-echo "built web/dist ($(du -h web/dist/fourfold_web_bg.wasm | cut -f1) of wasm); serve it with:"
+# The page's progress bar counts the download against the wasm's size.
+bytes=$(wc -c < web/dist/fourfold_web_bg.wasm)
+sed "s/@WASM_BYTES@/$bytes/" web/index.html > web/dist/index.html
+echo "built web/dist ($(du -h web/dist/fourfold_web_bg.wasm | cut -f1) of wasm, $(gzip -9c web/dist/fourfold_web_bg.wasm | wc -c) bytes gzipped); serve it with:"
 echo "  python3 -m http.server -d web/dist"
