@@ -5,6 +5,8 @@
 
 #![cfg(target_arch = "wasm32")]
 
+mod recovery;
+
 use std::cell::RefCell;
 
 use eframe::egui;
@@ -14,6 +16,7 @@ use wasm_bindgen::prelude::*;
 use fourfold::scene::Scene;
 use fourfold_viewer::FourfoldApp;
 use fourfold_viewer::app::default_scene;
+use fourfold_viewer::notice::Notice;
 use fourfold_viewer::platform::{open_link, split_embed};
 
 /// What the page says when the browser has no WebGPU (index.html says it first, before the
@@ -93,9 +96,16 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
                 if app.gpu().is_none() {
                     return Err(NO_WEBGPU.into());
                 }
-                if notice.is_some() {
-                    app.message = notice;
+                if let Some(state) = &cc.wgpu_render_state {
+                    recovery::restart_when_lost(&state.device, current_link);
                 }
+                app.message = match (recovery::restarted_after_loss(), notice) {
+                    (Some(lost), Some(notice)) => {
+                        Some(Notice::error(format!("{lost}; {}", notice.text)))
+                    }
+                    (Some(lost), None) => Some(Notice::error(lost)),
+                    (None, notice) => notice,
+                };
                 app.platform.opened_with(hash);
                 Ok(Box::new(Page(app)))
             }),
@@ -109,12 +119,27 @@ pub async fn start(canvas_id: String) -> Result<(), JsValue> {
     Ok(())
 }
 
+/// The address's fragment that reopens the scene on screen (and keeps embed mode).
+fn current_link() -> Option<String> {
+    RUNNER.with(|runner| {
+        let runner = runner.try_borrow().ok()?;
+        let page = runner.as_ref()?.app_mut::<Page>()?;
+        let embed = if page.0.platform.embedded() {
+            "embed&"
+        } else {
+            ""
+        };
+        Some(format!("#{embed}{}", page.0.session.link_fragment()))
+    })
+}
+
 /// The page's state for scripts and tests, as JSON: the picture's generation and when its
 /// first frame was drawn, the last edit's latency and its stages, the editor's text, the
-/// formula on screen, the error shown, whether a build runs or the picture is still being
-/// drawn, the UI's frame time, where the editor, the controls' panel and the picture are
-/// (CSS pixels), the slice's place and its critical values with where their ticks are, and a
-/// panic if one happened.
+/// formula on screen and the example it is (if one), the error shown, whether a build runs
+/// or the picture is still being drawn, the UI's frame time, where the editor, the
+/// controls' panel and the picture are (CSS pixels), the slice's place and its critical
+/// values with where their ticks are, the gallery (open, its button, pictures drawn, where
+/// each example's name is), and a panic if one happened.
 #[wasm_bindgen]
 pub fn status() -> String {
     RUNNER.with(|runner| {
@@ -162,6 +187,7 @@ pub fn status() -> String {
             },
             "text": app.session.text,
             "formula": app.session.scene.formula,
+            "preset": app.preset,
             "error": app.session.error,
             "building": app.session.building(),
             "notice": app.message.as_ref().map(|m| m.text.clone()),
@@ -177,6 +203,12 @@ pub fn status() -> String {
             "mesh_button": rect(app.platform.mesh_button),
             "embed": app.platform.embedded(),
             "embed_link": rect(app.embed_link_rect),
+            "gallery": {
+                "open": app.gallery.open,
+                "button": rect(app.gallery.button),
+                "pictures": app.gallery.made(),
+                "names": app.gallery.names.iter().map(|(n, r)| (n, rect(Some(*r)))).collect::<Vec<_>>(),
+            },
         })
         .to_string()
     })

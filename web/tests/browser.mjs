@@ -9,11 +9,13 @@
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
 // error; a link asking for certified pixels draws plain and says why; a heavy link is
 // lowered to the page's bounds, says what it lowered and keeps the page answering; embed
-// mode shows the picture alone and turns on a drag; a slice's critical
+// mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
+// one; a lost GPU device restarts the page on its scene; a slice's critical
 // values are ticks under its slider that move the slice when clicked, and Export mesh
 // downloads the slice as an STL; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
-// compiles in Chromium's WebGPU; without WebGPU the page says what it needs. With --measure it also prints the wasm's size, load
+// compiles in Chromium's WebGPU; without WebGPU the page says what it needs; the wasm is at
+// most 2.5 MB gzipped. With --measure it also prints the wasm's size, load
 // → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
 
 import { chromium } from 'playwright-core';
@@ -95,9 +97,11 @@ async function compile_in_webgpu(code) {
   return problems;
 }
 
-/** A new page at `hash`, with its console errors collected. */
-async function open(hash = '') {
+/** A new page at `hash`, with its console errors collected (`init`: a script run in it
+ * before the page's own, at every load). */
+async function open(hash = '', init = null) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  if (init) await page.addInitScript(init);
   const errors = [];
   page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
   page.on('pageerror', (e) => errors.push(String(e)));
@@ -191,6 +195,15 @@ try {
   const seen = coverage(home);
   check(seen.share > 0.02 && seen.levels > 20,
     `the default scene draws a shaded picture (${(100 * seen.share).toFixed(1)}% covered, ${seen.levels} grey levels)`);
+
+  // The download: at most 2.5 MB of wasm gzipped (web/build.sh shrinks it with wasm-opt),
+  // its progress counted against its size while it loads.
+  const wasm_bytes = fs.readFileSync(path.join(dist, 'fourfold_web_bg.wasm'));
+  const gzipped = zlib.gzipSync(wasm_bytes, { level: 9 }).length;
+  const bar = await page.evaluate(() => [document.getElementById('progress').max, document.getElementById('progress').value]);
+  check(gzipped <= 2_500_000 && bar[0] === wasm_bytes.length && bar[1] === 0,
+    `the wasm is ${(wasm_bytes.length / 1e6).toFixed(2)} MB, ${(gzipped / 1e6).toFixed(2)} MB gzipped (at most 2.50; `
+    + `web/build.sh shrinks it with binaryen's wasm-opt), its download's progress bar out of ${bar[0]} bytes`);
 
   // Dragging the picture turns the manifold in 4D.
   const [px0, py0, px1, py1] = first.picture;
@@ -377,6 +390,53 @@ try {
     + `(${eangles(es)} → ${eangles(eturned)}, ${(100 * moved).toFixed(1)}% of pixels changed), `
     + `and its link opens the full page on the turned scene`);
   await embedded.page.close();
+
+  // The gallery: every example as a picture drawn in the page; a click on a name opens it.
+  const gallery = await open();
+  let gs = await settled(gallery.page);
+  const middle = ([x0, y0, x1, y1]) => [(x0 + x1) / 2, (y0 + y1) / 2];
+  await gallery.page.mouse.click(...middle(gs.gallery.button));
+  await gallery.page.waitForFunction(() => JSON.parse(window.fourfold.status()).gallery.pictures >= 2,
+    null, { timeout: TIMEOUT, polling: 100 });
+  gs = await status(gallery.page);
+  const [pick, at] = gs.gallery.names.find(([name, r]) => name !== gs.preset && r[3] < 790);
+  await gallery.page.mouse.click(...middle(at));
+  const picked = await settled(gallery.page, gs.generation);
+  const picked_drawn = coverage(await picture(gallery.page));
+  check(gs.gallery.open && gs.gallery.names.length === JSON.parse(await gallery.page.evaluate(() => window.fourfold.example_links())).length && picked.preset === pick &&
+    !picked.gallery.open && picked_drawn.share > 0.01 && gallery.errors.length === 0,
+    `the gallery lists ${gs.gallery.names.length} examples, draws their pictures (${gs.gallery.pictures} so far), `
+    + `and a click on ${pick} opens it (${(100 * picked_drawn.share).toFixed(1)}% covered)`);
+  await gallery.page.close();
+
+  // A lost GPU device (the test destroys it, as a driver reset would) restarts the page on
+  // the scene it had, saying so.
+  const lost = await open(link, () => {
+    window.devices = [];
+    const request = window.GPUAdapter?.prototype.requestDevice;
+    if (request) {
+      GPUAdapter.prototype.requestDevice = async function (...args) {
+        const device = await request.apply(this, args);
+        window.devices.push(device);
+        return device;
+      };
+    }
+  });
+  const before_loss = await settled(lost.page);
+  await lost.page.evaluate(() => window.devices.forEach((d) => d.destroy()));
+  let after_loss = null;
+  for (const deadline = Date.now() + TIMEOUT; Date.now() < deadline && !after_loss;) {
+    await new Promise((r) => setTimeout(r, 200));
+    // (The page reloads: a call may meet the old page, or the new one before it starts.)
+    after_loss = await lost.page.evaluate(() => window.fourfold && JSON.parse(window.fourfold.status()))
+      .then((s) => (s && /GPU device was lost/.test(s.notice ?? '') ? s : null), () => null);
+  }
+  const recovered = after_loss && await settled(lost.page);
+  const recovered_drawn = recovered && coverage(await picture(lost.page));
+  check(recovered && recovered.formula === before_loss.formula && recovered_drawn.share > 0.01,
+    `a lost GPU device restarts the page on its formula (${recovered?.formula}), drawn `
+    + `(${(100 * (recovered_drawn?.share ?? 0)).toFixed(1)}% covered), saying: ${JSON.stringify(after_loss?.notice)}`);
+  await lost.page.close();
 
   // A slice's critical values: ticks under the slider, coloured by index; a click on one
   // moves the slice there.

@@ -9,6 +9,7 @@ pub mod app;
 mod blit;
 pub mod critical;
 mod export;
+pub mod gallery;
 pub mod history;
 pub mod job;
 pub mod notice;

@@ -528,7 +528,7 @@ fn the_gallery_lists_every_example_scene() {
     settle(&mut h);
     let app = h.state();
     assert_eq!(app.preset, Some("tiger"));
-    assert!(!app.platform.gallery_open);
+    assert!(!app.gallery.open);
     assert!(!app.fit_pending);
 }
 

@@ -20,6 +20,7 @@ use fourfold::render::Gpu;
 use fourfold::render::view::framing::fit;
 use fourfold::scene::{EXAMPLES, Scene, Speaker};
 
+use crate::gallery::Gallery;
 use crate::history::History;
 use crate::notice::Notice;
 use crate::pacing::Pacing;
@@ -40,8 +41,10 @@ pub struct FourfoldApp {
     renderer: Option<std::sync::Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>>,
     /// A short message after an action ("saved …", or what went wrong).
     pub message: Option<Notice>,
-    /// What only this platform has (the gallery, exports, uploads, the address bar).
+    /// What only this platform has (exports, uploads, the address bar).
     pub platform: platform::State,
+    /// The example scenes as pictures, in a window of their own.
+    pub gallery: Gallery,
     pub pacing: Pacing,
     /// Edit latency of the last edit: text change to the first frame of its picture, ms.
     pub edit_latency_ms: Option<f64>,
@@ -115,6 +118,7 @@ impl FourfoldApp {
             renderer,
             message: None,
             platform: platform::State::default(),
+            gallery: Gallery::default(),
             pacing: Pacing::default(),
             edit_latency_ms: None,
             latency_generation: 0,
@@ -328,13 +332,17 @@ impl FourfoldApp {
         };
         let outcome = platform::end_frame(&mut self.platform, ui.ctx(), window);
         self.apply(outcome);
+        if let Some(name) = self.gallery.show(ui.ctx(), gpu) {
+            self.load_preset(name);
+        }
         if self.session.building() {
             // An edit made in this frame starts building now, not a frame later (a frame
             // is long on a software GPU, and the page builds in its frames).
             self.session.poll(gpu);
         }
         self.record_history(ui.ctx());
-        let busy = self.session.building() || self.platform.busy() || searching;
+        let busy =
+            self.session.building() || self.platform.busy() || self.gallery.busy() || searching;
         self.drawing = more || self.session.building();
         if more || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();

@@ -15,7 +15,13 @@ impl FourfoldApp {
     pub(crate) fn top_bar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("fourfold").strong());
-            platform::top_bar(&mut self.platform, ui);
+            let gallery = ui
+                .selectable_label(self.gallery.open, "Gallery")
+                .on_hover_text("every example scene, as pictures");
+            self.gallery.button = Some(gallery.rect);
+            if gallery.clicked() {
+                self.gallery.open = !self.gallery.open;
+            }
             let now = self.snapshot();
             if ui
                 .add_enabled(self.history.can_undo(&now), egui::Button::new("Undo"))

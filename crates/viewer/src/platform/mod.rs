@@ -7,11 +7,13 @@
 //!   may search, and where (a thread, or slices of the window's frames);
 //! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and
 //!   `warm_up`, `pause`;
-//! - `State`: the platform's own part of the app, with `top_bar`, `file_actions`,
+//! - `Thumbnails`: how the gallery's pictures are made (a thread and a device of their own,
+//!   or slices of the window's frames on its device);
+//! - `State`: the platform's own part of the app, with `file_actions`,
 //!   `sections` (panels only one side has), `end_frame`, `busy` and `embedded` (the
 //!   page's picture alone, for an iframe);
 //! - the exports of `file_actions`: a picture of the scene, the slice's mesh (a file
-//!   written off the window's thread, or a download);
+//!   written off the window's thread, or a download), and the desktop's animation export;
 //! - `page_address`: the web page's address, for share links.
 
 #[cfg(not(target_arch = "wasm32"))]

@@ -1,16 +1,17 @@
 //! The desktop side of the viewer: a native window, builds on a thread of their own, files
 //! at paths typed in, and what needs a thread and a GPU device of its own beside the
-//! window's (the gallery, PNG and animation exports).
+//! window's (the gallery's pictures, PNG and animation exports).
 
 mod animation;
 mod build;
 mod files;
-mod gallery;
+mod thumbnails;
 mod ui;
 mod window;
 
 pub use build::{
     Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
 };
-pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections, top_bar};
+pub use thumbnails::Thumbnails;
+pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections};
 pub use window::run;

@@ -1,10 +1,10 @@
-//! The desktop's part of the window: the gallery, and the exports running beside it.
+//! The desktop's part of the window: the exports running beside it.
 
 use eframe::egui;
 
 use crate::outcome::{Outcome, Window};
 
-use super::{animation, files, gallery};
+use super::{animation, files};
 
 /// Whether the window offers an embed code: only a page has an address an iframe can show.
 pub const EMBEDS: bool = false;
@@ -14,12 +14,9 @@ pub fn page_address() -> String {
     "index.html".to_string()
 }
 
-/// The desktop's part of the window: the gallery and the exports running beside it.
+/// The desktop's part of the window: the exports running beside it.
 #[derive(Default)]
 pub struct State {
-    gallery: gallery::Gallery,
-    /// Whether the gallery's window is open.
-    pub gallery_open: bool,
     png: Option<files::Export>,
     mesh: Option<files::Export>,
     animation: Option<animation::AnimationExport>,
@@ -33,18 +30,7 @@ impl State {
 
     /// Whether something runs in the background that the window should keep polling.
     pub fn busy(&self) -> bool {
-        self.png.is_some() || self.mesh.is_some() || self.animation.is_some() || self.gallery.busy()
-    }
-}
-
-/// The top bar's Gallery button.
-pub fn top_bar(state: &mut State, ui: &mut egui::Ui) {
-    if ui
-        .selectable_label(state.gallery_open, "Gallery")
-        .on_hover_text("every example scene, as pictures")
-        .clicked()
-    {
-        state.gallery_open = !state.gallery_open;
+        self.png.is_some() || self.mesh.is_some() || self.animation.is_some()
     }
 }
 
@@ -65,13 +51,9 @@ pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) ->
     files::actions(&mut state.png, &mut state.mesh, ui, window)
 }
 
-/// At the end of each frame: the gallery's window, and the exports' outcomes.
-pub fn end_frame(state: &mut State, ctx: &egui::Context, _window: Window<'_>) -> Outcome {
+/// At the end of each frame: the exports' outcomes.
+pub fn end_frame(state: &mut State, _ctx: &egui::Context, _window: Window<'_>) -> Outcome {
     let mut outcome = Outcome::default();
-    if let Some(name) = state.gallery.show(ctx, &mut state.gallery_open) {
-        outcome.preset = Some(name);
-        state.gallery_open = false;
-    }
     for export in [&mut state.png, &mut state.mesh] {
         if let Some(notice) = export.as_ref().and_then(files::Export::poll) {
             outcome.notice = Some(notice);

@@ -4,11 +4,13 @@
 
 mod build;
 mod files;
+mod thumbnails;
 mod ui;
 
 pub use build::{
     Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
 };
+pub use thumbnails::Thumbnails;
 pub use ui::{
-    EMBEDS, State, end_frame, file_actions, open_link, page_address, sections, split_embed, top_bar,
+    EMBEDS, State, end_frame, file_actions, open_link, page_address, sections, split_embed,
 };

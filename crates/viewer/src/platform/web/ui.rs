@@ -63,9 +63,6 @@ pub fn split_embed(hash: &str) -> (bool, String) {
     (embed, format!("#{}", rest.join("&")))
 }
 
-/// The top bar has nothing of the page's own (the gallery draws on a thread: not here yet).
-pub fn top_bar(_state: &mut State, _ui: &mut egui::Ui) {}
-
 /// No sections of the page's own (animations are drawn on a thread: not here yet).
 pub fn sections(_state: &mut State, _ui: &mut egui::Ui, _window: Window<'_>) -> Outcome {
     Outcome::default()
