@@ -201,6 +201,8 @@ pub fn status() -> String {
             "critical": critical,
             "critical_strip": rect(app.critical_strip_rect),
             "mesh_button": rect(app.platform.mesh_button),
+            "animation_header": rect(app.platform.animation_header),
+            "animation_button": rect(app.platform.animation_button),
             "embed": app.platform.embedded(),
             "embed_link": rect(app.embed_link_rect),
             "gallery": {

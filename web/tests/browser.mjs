@@ -10,7 +10,8 @@
 // error; a link asking for certified pixels draws plain and says why; a heavy link is
 // lowered to the page's bounds, says what it lowered and keeps the page answering; embed
 // mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
-// one; a lost GPU device restarts the page on its scene; a slice's critical
+// one; Export animation downloads a GIF of the frames asked for; a lost GPU device
+// restarts the page on its scene; a slice's critical
 // values are ticks under its slider that move the slice when clicked, and Export mesh
 // downloads the slice as an STL; an undefined constant
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
@@ -95,6 +96,31 @@ async function compile_in_webgpu(code) {
   if (scope) problems.push(scope.message);
   device.destroy();
   return problems;
+}
+
+/** An animated GIF's size and frame count, read block by block. */
+function gif_frames(bytes) {
+  const skip_sub_blocks = (at) => {
+    while (bytes[at] !== 0) at += bytes[at] + 1;
+    return at + 1;
+  };
+  if (bytes.toString('latin1', 0, 3) !== 'GIF') return { frames: 0, width: 0, height: 0 };
+  const [width, height] = [bytes.readUInt16LE(6), bytes.readUInt16LE(8)];
+  let at = 13 + (bytes[10] & 0x80 ? 3 * 2 ** ((bytes[10] & 7) + 1) : 0);
+  let frames = 0;
+  while (at < bytes.length && bytes[at] !== 0x3b) {
+    if (bytes[at] === 0x21) {
+      at = skip_sub_blocks(at + 2);
+    } else if (bytes[at] === 0x2c) {
+      frames += 1;
+      const flags = bytes[at + 9];
+      at += 10 + (flags & 0x80 ? 3 * 2 ** ((flags & 7) + 1) : 0);
+      at = skip_sub_blocks(at + 1);
+    } else {
+      return { frames: -1, width, height };
+    }
+  }
+  return { frames, width, height };
 }
 
 /** A new page at `hash`, with its console errors collected (`init`: a script run in it
@@ -408,6 +434,31 @@ try {
     `the gallery lists ${gs.gallery.names.length} examples, draws their pictures (${gs.gallery.pictures} so far), `
     + `and a click on ${pick} opens it (${(100 * picked_drawn.share).toFixed(1)}% covered)`);
   await gallery.page.close();
+
+  // Animation export: a GIF of the frames asked for (the settings the page keeps, set
+  // before it loads: 3 frames of 48×32), drawn over the page's frames and downloaded.
+  const animated = await open('', () => localStorage.setItem('fourfold.ui',
+    '(export_size: (48, 32), animation: (motion: Turn, plane: "xw", frames: 3, fps: 10.0))'));
+  const as0 = await settled(animated.page);
+  await animated.page.mouse.click(...middle(as0.animation_header));
+  // (The section opens over a few frames: its button is clicked once it stays put.)
+  let ab = null;
+  for (const deadline = Date.now() + TIMEOUT; Date.now() < deadline;) {
+    const seen = (await status(animated.page)).animation_button;
+    if (seen && JSON.stringify(seen) === JSON.stringify(ab)) break;
+    ab = seen;
+    await new Promise((r) => setTimeout(r, 500));
+  }
+  const [gif_download] = await Promise.all([
+    animated.page.waitForEvent('download', { timeout: TIMEOUT }),
+    animated.page.mouse.click(...middle(ab)),
+  ]);
+  const gif = gif_frames(fs.readFileSync(await gif_download.path()));
+  const gif_notice = (await status(animated.page)).notice ?? '';
+  check(gif_download.suggestedFilename() === 'fourfold.gif' && gif.frames === 3 && gif.width === 48 &&
+    gif.height === 32 && /downloaded \(3 frames/.test(gif_notice) && animated.errors.length === 0,
+    `Export animation downloads an animated GIF of ${gif.frames} frames of ${gif.width}×${gif.height}: ${JSON.stringify(gif_notice)}`);
+  await animated.page.close();
 
   // A lost GPU device (the test destroys it, as a driver reset would) restarts the page on
   // the scene it had, saying so.

@@ -5,6 +5,7 @@
 //! widgets. What the desktop and the page do differently is `platform`'s. The picture is
 //! made by the library's ray caster, the same as `fourfold render`'s.
 
+pub mod animation;
 pub mod app;
 mod blit;
 pub mod critical;

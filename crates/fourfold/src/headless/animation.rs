@@ -1,14 +1,13 @@
-//! Drawing an animation: its frames one after the other on one device (the tree rebuilt only
-//! when a parameter changes), handed to a writer, with a stop flag checked between frames.
+//! Drawing an animation: its frames ([`AnimationFrames`]) one after the other on one device,
+//! each waited for and handed to a writer, with a stop flag checked between frames.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::formula::CompiledFormula;
 use crate::render::animation::Animation;
-use crate::render::picture::{Device, Painter};
+use crate::render::picture::Device;
 use crate::render::verdict::VerdictCounts;
-use crate::render::view::{FrameOptions, Rotation4, framing};
-use crate::render::{Gpu, Prepared, shader};
+use crate::render::{AnimationFrames, Gpu};
 use crate::scene::Scene;
 
 /// Where frames are drawn.
@@ -44,61 +43,24 @@ pub fn draw(
     stop: &AtomicBool,
     mut frame: impl FnMut(u32, Vec<u8>) -> Result<(), String>,
 ) -> Result<Drawn, String> {
-    let mut scene = scene.clone();
-    let mut prepared =
-        Prepared::new(formula, &animation.scene_at(&scene, 0)).map_err(|e| e.to_string())?;
-    if fit {
-        let rotations: Vec<Rotation4> = (0..animation.frames)
-            .map(|k| animation.rotation(&scene, k))
-            .collect();
-        if let Some(view) = framing::fit_through(
-            &prepared.hierarchy,
-            &scene.domain,
-            &scene.view,
-            &rotations,
-            width,
-            height,
-        ) {
-            scene.view.zoom = view.zoom;
-            scene.view.pan = view.pan;
-        }
-    }
-    let shader = shader::generate(formula).map_err(|e| e.to_string())?;
     let device = match device {
         FrameDevice::Gpu(gpu) => Device::Gpu(gpu),
         FrameDevice::Cpu => Device::Cpu,
     };
-    let first = animation.scene_at(&scene, 0);
-    let mut painter =
-        Painter::new(device, &shader, &prepared.hierarchy, &first).map_err(|e| e.to_string())?;
+    let mut frames = AnimationFrames::new(scene, formula, animation, [width, height], fit, device)?;
     let mut drawn = Drawn {
         verdicts: scene.render.certified.then(VerdictCounts::default),
         ..Drawn::default()
     };
-    for k in 0..animation.frames {
+    loop {
         if stop.load(Ordering::Relaxed) {
             return Ok(drawn);
         }
-        let at = animation.scene_at(&scene, k);
-        if k > 0 && at.params != animation.scene_at(&scene, k - 1).params {
-            prepared = Prepared::new(formula, &at).map_err(|e| e.to_string())?;
-            painter
-                .set_hierarchy(&prepared.hierarchy)
-                .map_err(|e| e.to_string())?;
-        }
-        let options = FrameOptions {
-            rotation: Some(animation.rotation(&at, k)),
-            ..FrameOptions::default()
+        let k = frames.next();
+        let Some(pending) = frames.start_next(formula)? else {
+            return Ok(drawn);
         };
-        let picture = painter
-            .start(
-                prepared.source(formula, at.render.certified),
-                &at,
-                [width, height],
-                options,
-            )
-            .and_then(|pending| pending.wait())
-            .map_err(|e| e.to_string())?;
+        let picture = pending.wait().map_err(|e| e.to_string())?;
         drawn.cut += picture.cut_pixels.len();
         if let (Some(total), Some(counts)) = (&mut drawn.verdicts, picture.verdict_counts()) {
             *total += counts;
@@ -106,5 +68,4 @@ pub fn draw(
         frame(k, picture.rgba)?;
         drawn.frames = k + 1;
     }
-    Ok(drawn)
 }

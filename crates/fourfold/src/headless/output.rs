@@ -5,6 +5,8 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+use crate::render::gif::{GifFrames, frame_delay_ms};
+
 /// Where the frames go, by the output's name: `.gif`, `.png` or `.apng` (an animated PNG),
 /// or a folder (a name without an extension, or ending in '/') of `frame-0001.png`, ….
 #[derive(Debug, Clone, PartialEq)]
@@ -44,20 +46,14 @@ impl Output {
         fps: f64,
         frames: u32,
     ) -> Result<FrameWriter, String> {
-        let delay_ms = (1000.0 / fps).round().clamp(1.0, 65_535.0) as u16;
+        let delay_ms = frame_delay_ms(fps);
         match self {
             Output::Gif(path) => {
-                let file = create(path)?;
-                let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
-                encoder
-                    .set_repeat(image::codecs::gif::Repeat::Infinite)
+                let frames = GifFrames::new(create(path)?, width, height, fps)
                     .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 Ok(FrameWriter::Gif {
-                    encoder,
+                    frames,
                     path: path.clone(),
-                    width,
-                    height,
-                    delay_ms,
                     count: 0,
                 })
             }
@@ -99,11 +95,8 @@ fn create(path: &Path) -> Result<BufWriter<File>, String> {
 /// An output being written, a frame at a time.
 pub enum FrameWriter {
     Gif {
-        encoder: image::codecs::gif::GifEncoder<BufWriter<File>>,
+        frames: GifFrames<BufWriter<File>>,
         path: PathBuf,
-        width: u32,
-        height: u32,
-        delay_ms: u16,
         count: u32,
     },
     Apng {
@@ -126,18 +119,12 @@ impl FrameWriter {
     pub fn add(&mut self, rgba: Vec<u8>) -> Result<(), String> {
         match self {
             FrameWriter::Gif {
-                encoder,
+                frames,
                 path,
-                width,
-                height,
-                delay_ms,
                 count,
             } => {
-                let image = image::RgbaImage::from_raw(*width, *height, rgba)
-                    .ok_or("internal error: a frame of the wrong size")?;
-                let delay = image::Delay::from_numer_denom_ms(u32::from(*delay_ms), 1);
-                encoder
-                    .encode_frame(image::Frame::from_parts(image, 0, 0, delay))
+                frames
+                    .add(rgba)
                     .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 *count += 1;
             }
@@ -177,13 +164,12 @@ impl FrameWriter {
     pub fn finish(self) -> Result<String, String> {
         match self {
             FrameWriter::Gif {
-                encoder,
+                frames,
                 path,
                 count,
-                ..
             } => {
                 // Dropping the encoder writes the GIF's trailer.
-                drop(encoder);
+                drop(frames);
                 Ok(format!("{} ({count} frames, animated GIF)", path.display()))
             }
             FrameWriter::Apng {

@@ -2,9 +2,12 @@
 //! ([`shader`]), the GPU ray caster ([`gpu`]) and its CPU twin ([`twin`]), the verdicts of
 //! certified pixels ([`verdict`]), and over them the picture API ([`picture`]) every front
 //! end draws with; [`prepare`] makes the tree a picture is drawn from, [`animation`] says
-//! what moves from frame to frame.
+//! what moves from frame to frame, [`frames`] starts an animation's frames and [`gif`]
+//! writes them.
 
 pub mod animation;
+pub mod frames;
+pub mod gif;
 pub mod gpu;
 pub mod picture;
 pub mod prepare;
@@ -14,6 +17,7 @@ pub mod twin;
 pub mod verdict;
 pub mod view;
 
+pub use frames::AnimationFrames;
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
 pub use picture::{Device, Painter, PendingPicture, Picture, RenderError, Source, StageTimes};
 pub use prepare::{PrepareSteps, Prepared};

@@ -13,7 +13,9 @@
 //!   `sections` (panels only one side has), `end_frame`, `busy` and `embedded` (the
 //!   page's picture alone, for an iframe);
 //! - the exports of `file_actions`: a picture of the scene, the slice's mesh (a file
-//!   written off the window's thread, or a download), and the desktop's animation export;
+//!   written off the window's thread, or a download), and in `sections` the animation
+//!   export (drawn on a thread of its own into a file, or over the window's frames into a
+//!   GIF download);
 //! - `page_address`: the web page's address, for share links.
 
 #[cfg(not(target_arch = "wasm32"))]

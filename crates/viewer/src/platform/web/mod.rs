@@ -2,6 +2,7 @@
 //! one thread), the share link kept in the address bar, files as uploads and downloads.
 //! The page's entry (`web/`) starts the viewer in its canvas.
 
+mod animation;
 mod build;
 mod files;
 mod thumbnails;

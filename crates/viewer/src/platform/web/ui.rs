@@ -10,7 +10,7 @@ use fourfold::scene::{LinkProblem, PAGE_LINK_BOUNDS, Scene};
 use crate::notice::Notice;
 use crate::outcome::{Outcome, Window};
 
-use super::files;
+use super::{animation, files};
 
 /// The address bar is rewritten at most this often (browsers throttle faster rewrites).
 const ADDRESS_EVERY: Duration = Duration::from_millis(500);
@@ -21,17 +21,21 @@ const ADDRESS_EVERY: Duration = Duration::from_millis(500);
 pub struct State {
     upload: files::Upload,
     png: Option<files::PngDownload>,
+    animation: Option<animation::AnimationDownload>,
     address: (String, Option<Instant>),
     /// Whether the page shows the picture alone (`#embed&…`: an iframe in a course page).
     embed: bool,
-    /// Where "Export mesh" was at the last frame (the page's tests click it).
+    /// Where "Export mesh", the "Export animation" section's header and its button were at
+    /// the last frame (the page's tests click them).
     pub mesh_button: Option<egui::Rect>,
+    pub animation_header: Option<egui::Rect>,
+    pub animation_button: Option<egui::Rect>,
 }
 
 impl State {
     /// Whether something runs in the background that the window should keep polling.
     pub fn busy(&self) -> bool {
-        self.png.is_some()
+        self.png.is_some() || self.animation.is_some()
     }
 
     /// The address's fragment the page opened with (so that the first frame does not take
@@ -63,9 +67,21 @@ pub fn split_embed(hash: &str) -> (bool, String) {
     (embed, format!("#{}", rest.join("&")))
 }
 
-/// No sections of the page's own (animations are drawn on a thread: not here yet).
-pub fn sections(_state: &mut State, _ui: &mut egui::Ui, _window: Window<'_>) -> Outcome {
-    Outcome::default()
+/// The page's own section: "Export animation" (a GIF download, drawn over the window's
+/// frames).
+pub fn sections(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) -> Outcome {
+    let section = egui::CollapsingHeader::new(egui::RichText::new("Export animation").heading())
+        .id_salt("fourfold animation")
+        .show(ui, |ui| {
+            animation::section(
+                &mut state.animation,
+                &mut state.animation_button,
+                ui,
+                window,
+            )
+        });
+    state.animation_header = Some(section.header_response.rect);
+    section.body_returned.unwrap_or_default()
 }
 
 /// Open as an upload; save and export as downloads.
@@ -79,9 +95,19 @@ pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) ->
     )
 }
 
-/// At the end of each frame: the PNG's read-back, and the address bar.
+/// At the end of each frame: the PNG's read-back, the animation's next frame, and the
+/// address bar.
 pub fn end_frame(state: &mut State, ctx: &egui::Context, window: Window<'_>) -> Outcome {
     let mut outcome = Outcome::default();
+    if let Some(export) = &mut state.animation {
+        match export.poll() {
+            Some(notice) => {
+                outcome.notice = Some(notice);
+                state.animation = None;
+            }
+            None => ctx.request_repaint(),
+        }
+    }
     if let Some(download) = &mut state.png {
         match download.poll() {
             Some(notice) => {
