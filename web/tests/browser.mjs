@@ -449,10 +449,19 @@ try {
     ab = seen;
     await new Promise((r) => setTimeout(r, 500));
   }
-  const [gif_download] = await Promise.all([
-    animated.page.waitForEvent('download', { timeout: TIMEOUT }),
-    animated.page.mouse.click(...middle(ab)),
-  ]);
+  // (A click that lands while egui still settles the panel is lost: it is clicked again
+  // until the export says it started.)
+  const gif_downloaded = animated.page.waitForEvent('download', { timeout: TIMEOUT }).catch((e) => e);
+  let started_notice = '';
+  for (let tries = 0; tries < 5 && !/fourfold\.gif/.test(started_notice); tries++) {
+    await animated.page.mouse.click(...middle(ab));
+    for (let waited = 0; waited < 20 && !/fourfold\.gif/.test(started_notice); waited++) {
+      await new Promise((r) => setTimeout(r, 500));
+      started_notice = (await status(animated.page)).notice ?? '';
+    }
+  }
+  const gif_download = await gif_downloaded;
+  if (gif_download instanceof Error) throw new Error(`no GIF downloaded (the page said ${JSON.stringify(started_notice)}): ${gif_download.message}`);
   const gif = gif_frames(fs.readFileSync(await gif_download.path()));
   const gif_notice = (await status(animated.page)).notice ?? '';
   check(gif_download.suggestedFilename() === 'fourfold.gif' && gif.frames === 3 && gif.width === 48 &&
