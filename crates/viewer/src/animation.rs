@@ -97,31 +97,24 @@ pub enum Asked {
 /// "Export animation", or while one runs (`running`: frames drawn, of all) its progress and
 /// Cancel; what was asked, and where the button (Export animation, or Cancel) is.
 pub fn start_or_progress(ui: &mut egui::Ui, running: Option<(u32, u32)>) -> (Asked, egui::Rect) {
-    match running {
+    let (label, wanted) = match running {
         Some((done, all)) => {
             ui.add(
                 egui::ProgressBar::new(done as f32 / all.max(1) as f32)
                     .desired_width(90.0)
                     .text(format!("{done}/{all}")),
             );
-            let cancel = ui.button("Cancel");
-            let asked = if cancel.clicked() {
-                Asked::Cancel
-            } else {
-                Asked::Nothing
-            };
-            (asked, cancel.rect)
+            ("Cancel", Asked::Cancel)
         }
-        None => {
-            let start = ui.button("Export animation");
-            let asked = if start.clicked() {
-                Asked::Start
-            } else {
-                Asked::Nothing
-            };
-            (asked, start.rect)
-        }
-    }
+        None => ("Export animation", Asked::Start),
+    };
+    let button = ui.button(label);
+    let asked = if button.clicked() {
+        wanted
+    } else {
+        Asked::Nothing
+    };
+    (asked, button.rect)
 }
 
 /// The animation "Export animation" is set to make, or why it cannot be made.

@@ -99,25 +99,33 @@ pub fn file_actions(state: &mut State, ui: &mut egui::Ui, window: Window<'_>) ->
 /// address bar.
 pub fn end_frame(state: &mut State, ctx: &egui::Context, window: Window<'_>) -> Outcome {
     let mut outcome = Outcome::default();
-    if let Some(export) = &mut state.animation {
-        match export.poll() {
-            Some(notice) => {
-                outcome.notice = Some(notice);
-                state.animation = None;
-            }
-            None => ctx.request_repaint(),
-        }
-    }
-    if let Some(download) = &mut state.png {
-        match download.poll() {
-            Some(notice) => {
-                outcome.notice = Some(notice);
-                state.png = None;
-            }
-            None => ctx.request_repaint(),
-        }
+    let ended = [
+        finished(
+            &mut state.animation,
+            animation::AnimationDownload::poll,
+            ctx,
+        ),
+        finished(&mut state.png, files::PngDownload::poll, ctx),
+    ];
+    for notice in ended.into_iter().flatten() {
+        outcome.notice = Some(notice);
     }
     outcome.and(sync_address(state, window))
+}
+
+/// The outcome of the work in `slot` once `poll` says it ended (the slot then emptied);
+/// else asks for another frame to poll it in.
+fn finished<T>(
+    slot: &mut Option<T>,
+    poll: impl FnOnce(&mut T) -> Option<Notice>,
+    ctx: &egui::Context,
+) -> Option<Notice> {
+    let notice = poll(slot.as_mut()?);
+    match notice {
+        Some(_) => *slot = None,
+        None => ctx.request_repaint(),
+    }
+    notice
 }
 
 /// Keeps the address bar a share link of the scene on screen, and opens a link typed or
