@@ -244,10 +244,34 @@ fn iv_holds(lo: f32, hi: f32, c: f32) -> bool {
     return (lo <= c && c <= hi) || (lo <= c + IV_TAU && c + IV_TAU <= hi) || (lo <= c - IV_TAU && c - IV_TAU <= hi);
 }
 
-// sin: WGSL's sin has an absolute error of 2^-11 on [-pi, pi] and none promised outside
-// (§15.7.4), so each bound is first turned into it (the turn's own error, at most
-// |x| 2^-20 + 4e-6 for |x| < 2^12, is added to the slack); wider or farther intervals give
-// [-1, 1]. The extremes are found on the turned interval, with a margin of 2e-3.
+// sin at one point x, |x| < 2^12, as an interval. WGSL's own sin promises only 2^-11
+// (§15.7.4), which leaves every enclosure of a trigonometric F some 1e-3 wide and the
+// pixels near M undecided, so it is computed from + - * alone (each within 2^-23
+// relative): r = x - k pi/2 with k = round(x 2/pi), in interval arithmetic with pi/2
+// split into 1.5703125 (k times it is exact) and the rest as an interval; then sin r or
+// cos r (|r| < 0.786) by their Taylor polynomials to r^9 and r^10 at r's centre. The
+// error: truncation below 0.786^11/11! < 2e-9, and a dozen roundings of terms whose
+// magnitudes sum below cosh(0.786) < 1.33, under 2.1e-6; 4e-6 is taken, plus r's width
+// (sin and cos are 1-Lipschitz).
+fn iv_sin_at(x: f32) -> vec2<f32> {
+    let k = round(x * 0.636619772);
+    let head = iv_sub(vec2<f32>(x), vec2<f32>(k * 1.5703125));
+    let r = iv_sub(head, iv_mul(vec2<f32>(k), vec2<f32>(4.83826792333275079727e-4, 4.83826821437105536461e-4)));
+    let c = 0.5 * (r.x + r.y);
+    let q = c * c;
+    let s = c * (1.0 + q * (-0.16666667 + q * (0.008333334 + q * (-0.0001984127 + q * 2.7557319e-6))));
+    let co = 1.0 + q * (-0.5 + q * (0.041666668 + q * (-0.0013888889 + q * (2.4801588e-5 - q * 2.755732e-7))));
+    // x = k pi/2 + r: sin x is sin r, cos r, -sin r, -cos r as k is 0, 1, 2, 3 mod 4.
+    let quadrant = i32(k) & 3;
+    let v = select(s, co, (quadrant & 1) == 1) * select(1.0, -1.0, quadrant >= 2);
+    let e = 4e-6 + (r.y - r.x);
+    return vec2<f32>(iv_down(v - e), iv_up(v + e));
+}
+
+// sin over an interval: the enclosures at its two ends (iv_sin_at), widened to 1 or -1
+// where it may hold an extreme; wider or farther intervals give [-1, 1]. The extremes are
+// found on the interval turned into [-pi, pi] (the turn's own error, at most |x| 2^-20 +
+// 4e-6 for |x| < 2^12, is far within the margin of 2e-3).
 fn iv_sin(a: vec2<f32>) -> vec2<f32> {
     if (iv_is_empty(a)) {
         return IV_EMPTY;
@@ -256,14 +280,12 @@ fn iv_sin(a: vec2<f32>) -> vec2<f32> {
     if (a.y - a.x >= IV_TAU - 0.01 || far >= 4096.0) {
         return vec2<f32>(-1.0, 1.0);
     }
-    let slack = 4.8828125e-4 + far * 9.5367431640625e-7 + 4e-6;
     let ra = iv_turn(a.x);
     let width = iv_up_n(a.y - a.x, 2u);
-    let rb = iv_turn(a.y);
-    let sa = sin(ra);
-    let sb = sin(rb);
-    var lo = min(sa, sb) - slack;
-    var hi = max(sa, sb) + slack;
+    let sa = iv_sin_at(a.x);
+    let sb = iv_sin_at(a.y);
+    var lo = min(sa.x, sb.x);
+    var hi = max(sa.y, sb.y);
     let m = 2e-3;
     if (iv_holds(ra - m, ra + width + m, 0.5 * IV_PI)) {
         hi = 1.0;
