@@ -299,6 +299,24 @@ fn cert_root(o: vec4<f32>, cert: Cert) -> vec2<f32> {
     return 0.5 * (pa + pb);
 }
 
+// Whether F is continuous on the segment between a ray's two samples (s, t in ab.xy and
+// ab.zw): everywhere in the domain (flag 2048), or else on the box around the segment,
+// within the domain, as F's enclosure there says (F undefined in part of the domain, as a
+// sqrt's or ln's, is continuous away from that part: most hits are proved so, without a
+// search that must find both signs in one cell).
+fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>) -> bool {
+    if ((u.control.z & 2048u) != 0u) {
+        return true;
+    }
+    let x = plane_box(o, vec2<f32>(min(ab.x, ab.z), max(ab.x, ab.z)), vec2<f32>(min(ab.y, ab.w), max(ab.y, ab.w)));
+    if (any(x.lo < iv_up4(u.domain_lo)) || any(x.hi > iv_down4(u.domain_hi))) {
+        return false;
+    }
+    iv_jump = false;
+    let f = ff_f_box(x.lo, x.hi);
+    return !iv_jump && !iv_is_empty(f);
+}
+
 // Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes: the
 // certifying lists' where bound, else the walk's marched boxes, or for brute force the
 // domain. For a hit the rays found nothing for, aims a ray through the proved root and
@@ -308,7 +326,7 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     let o = (*tr).plane;
     var cert: Cert;
     cert.budget = u.march.y;
-    if ((*tr).bracketed && (u.control.z & 2048u) != 0u) {
+    if ((*tr).bracketed && bracket_continuous(o, (*tr).bracket)) {
         // A ray's sign change, proved at its two ends (in the domain) where it can be: no
         // search needed.
         let inner_lo = iv_up4(u.domain_lo);

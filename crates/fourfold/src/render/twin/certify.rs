@@ -63,7 +63,7 @@ impl<'a> Certifier<'a> {
             pos: None,
             neg: None,
         };
-        if let Some((a, b)) = bracket.filter(|_| self.u.control.flags & FLAG_CONTINUOUS != 0) {
+        if let Some((a, b)) = bracket.filter(|&(a, b)| self.continuous_between(o, a, b)) {
             let domain = self.domain();
             for p in [a, b] {
                 let sign = self.sign_at(o, p, &domain);
@@ -90,6 +90,23 @@ impl<'a> Certifier<'a> {
             },
             bracket: None,
         }
+    }
+
+    /// Whether F is continuous on the plane's segment from a to b (a ray's two samples): on
+    /// the whole domain, or else on the box around the segment, within the domain, as its
+    /// enclosure says (the shader's `bracket_continuous`).
+    fn continuous_between(&mut self, o: [f32; 4], a: [f64; 2], b: [f64; 2]) -> bool {
+        if self.u.control.flags & FLAG_CONTINUOUS != 0 {
+            return true;
+        }
+        let span = |i: usize| Interval::new(a[i].min(b[i]), a[i].max(b[i]));
+        let x = self.plane_box(o, span(0), span(1));
+        if !inside(&x, &self.domain()) {
+            return false;
+        }
+        let tape = &self.formula.tape_f;
+        let f = self.eval.eval(tape, &x, self.params);
+        !f.is_empty() && self.eval.continuous_on_last_box(tape)
     }
 
     /// The box [lo, hi] within the domain, the same box from o, and the range of (s, t) in
