@@ -180,8 +180,8 @@ def _scene(scene: SceneLike, settings: dict) -> Scene:
 class Picture(np.ndarray):
     """A rendered picture: an (h, w, 4) uint8 RGBA array, with what its making says.
 
-    `verdicts`: with `certified=True`, each pixel's verdict (EMPTY, HIT or UNDECIDED) as an
-    (h, w) uint8 array, else None; `counts` their numbers; `info` the adapter, the stage
+    `verdicts`: each pixel's verdict (EMPTY, HIT or UNDECIDED) as an (h, w) uint8 array, or
+    None with `certified=False`; `counts` their numbers; `info` the adapter, the stage
     times, the tree's statistics; `scene` the scene as drawn (zoomed and centred with
     `fit=True`). Shown inline in Jupyter.
     """
@@ -204,7 +204,7 @@ class Picture(np.ndarray):
 
     @property
     def counts(self) -> Optional[dict]:
-        """With `certified=True`: how many pixels are hit, empty and undecided."""
+        """How many pixels are hit, empty and undecided (None with `certified=False`)."""
         return self.info.get("counts")
 
     @property
@@ -241,7 +241,8 @@ def render(
     centres on the manifold; `cpu` draws on the CPU reference renderer instead of the GPU.
     `settings` are the scene's keywords: `angles=[θ1, ..., θ6]`, `domain=[x0, x1, ..., w0,
     w1]`, `params={"R": 2.0}`, `rays`, `hits`, `background="#rrggbb"`, `slice=C`,
-    `slab=(C, H)`, `colour_by="hidden"`, `certified=True`, `max_level`, ... (see `Scene`).
+    `slab=(C, H)`, `colour_by="hidden"`, `certified=False` (the plain ray pencil: pictures are
+    certified by default), `max_level`, ... (see `Scene`).
     """
     if size is not None:
         settings["size"] = size

@@ -303,8 +303,8 @@ impl Scene {
         if let Some([c, h]) = s.view.slab {
             parts.push(format!("slab=({c}, {h})"));
         }
-        if s.render.certified {
-            parts.push("certified=True".into());
+        if !s.render.certified {
+            parts.push("certified=False".into());
         }
         if self.size != DEFAULT_SIZE {
             parts.push(format!("size={:?}", self.size));

@@ -75,9 +75,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub brute_force: bool,
     /// Certify every pixel (docs/method.md §5.9): prove it shows M (hit) or not (empty),
-    /// or mark it undecided, and print the counts.
-    #[arg(long)]
+    /// or mark it undecided, and print the counts. The default; overrides a scene file's
+    /// `certified = false`.
+    #[arg(long, conflicts_with = "uncertified")]
     pub certified: bool,
+    /// Draw the plain ray pencil without proving pixels (faster; a single pass may miss thin
+    /// parts of M): the scene key `certified = false`.
+    #[arg(long)]
+    pub uncertified: bool,
     /// Certified pixels: the most cells of a pixel's observer plane to enclose F over, 1 to
     /// 8192 (the scene's, else 2048); more decide more pixels, slower.
     #[arg(long, allow_hyphen_values = true)]
@@ -208,7 +213,7 @@ pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
         let choices = [("marker", Undecided::Marker), ("hatch", Undecided::Hatch)];
         r.undecided = choice("undecided", word, choices)?;
     }
-    r.certified |= args.certified;
+    r.certified = (r.certified || args.certified) && !args.uncertified;
     r.brute_force |= args.brute_force;
     r.silhouette.enabled &= !args.no_silhouette;
     r.border.enabled &= !args.no_border;

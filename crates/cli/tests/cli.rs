@@ -47,8 +47,12 @@ fn certified_flags_set_the_scene_s_keys() {
     assert!(s.render.certified);
     assert_eq!(s.render.cert_budget, 64);
     assert_eq!(s.render.undecided, fourfold::scene::Undecided::Hatch);
-    let plain = scene(&[]).unwrap();
-    assert!(!plain.render.certified);
+    // Certified by default; --uncertified asks for the plain pencil, and not with
+    // --certified.
+    assert!(scene(&[]).unwrap().render.certified);
+    assert!(!scene(&["--uncertified"]).unwrap().render.certified);
+    let both = ["fourfold", "render", "x", "--certified", "--uncertified"];
+    assert!(Cli::try_parse_from(both).is_err());
 }
 
 #[test]
@@ -301,6 +305,39 @@ fn render_fit_frames_the_manifold_not_the_domain() {
         widths[1],
         widths[0]
     );
+}
+
+#[test]
+fn render_certifies_by_default_and_uncertified_draws_the_plain_pencil() {
+    // A formula with no flag writes a proved picture and its counts; --uncertified the
+    // plain pencil, without counts.
+    let dir = std::env::temp_dir().join(format!("fourfold-default-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("d.png");
+    let run = |extra: &[&str]| {
+        let mut argv = vec![
+            "render",
+            "(sqrt(x^2 + y^2) - 0.8)^2 + z^2 + w^2 = 0.02",
+            "--size",
+            "32x32",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        argv.extend(extra);
+        let (code, stdout, stderr) = fourfold(&argv);
+        assert_eq!(code, Some(0), "{stderr}");
+        stdout
+    };
+    let proved = run(&[]);
+    let counts = proved
+        .lines()
+        .find_map(|l| l.strip_prefix("certified pixels (budget 2048 cells): "))
+        .unwrap_or_else(|| panic!("no counts: {proved}"));
+    let hit: usize = counts.split(' ').next().unwrap().parse().unwrap();
+    assert!(hit > 20, "{counts}");
+    let plain = run(&["--uncertified"]);
+    assert!(!plain.contains("certified pixels"), "{plain}");
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -741,7 +778,8 @@ fn parameter_warnings_reach_the_caller_and_the_binary_s_stderr() {
 fn a_tiny_constant_f_draws_nothing_on_the_gpu_as_on_the_cpu() {
     // Found by the fuzzer: F is the constant 7e-22, so there is no surface. The march's
     // sign-change test multiplied two such samples; the product, below f32's normals, was
-    // flushed to 0 on the GPU and taken for a sign change.
+    // flushed to 0 on the GPU and taken for a sign change. (The march's test: the plain
+    // pencil; certified, the enclosures of atan2^90 hold 0 and pixels stay undecided.)
     let dir = std::env::temp_dir().join("fourfold-tiny-constant");
     std::fs::create_dir_all(&dir).unwrap();
     let mut pictures = Vec::new();
@@ -760,6 +798,7 @@ fn a_tiny_constant_f_draws_nothing_on_the_gpu_as_on_the_cpu() {
             "--min-level",
             "2",
             "--brute-force",
+            "--uncertified",
             "-o",
         ]);
         command.arg(&png);

@@ -173,6 +173,8 @@ fn small(scene: &Scene) -> Scene {
     s.tree.max_level = s.tree.max_level.min(5);
     s.tree.min_level = s.tree.min_level.min(4);
     s.render.rays = s.render.rays.min(12);
+    // These tests are of the ray pencil (certified pixels: tests/certified.rs).
+    s.render.certified = false;
     s
 }
 
@@ -1282,6 +1284,7 @@ fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
     let shader = shader::generate(&formula).unwrap();
     let mut projection = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
     projection.tree.max_level = 4;
+    projection.render.certified = false;
     let mut slice = projection.clone();
     slice.view.slice = Some(0.3);
     let mut slab = projection.clone();

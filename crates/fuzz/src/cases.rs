@@ -109,7 +109,7 @@ impl FormulaCase {
         ];
         args.extend(self.param_args());
         match &self.mode {
-            Mode::Plain => {}
+            Mode::Plain => args.push("--uncertified".to_string()),
             Mode::Certified { budget } => {
                 args.extend(["--certified", "--cert-budget"].map(String::from));
                 args.push(budget.to_string());

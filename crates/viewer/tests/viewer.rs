@@ -340,18 +340,14 @@ fn the_brute_force_checkbox_switches_once_its_pipeline_is_warm() {
     assert!(!app.progressive.paint().layers.is_empty());
 }
 
+/// The settled picture is certified by default, its counts under it; the switch turns the
+/// proof off (the plain pencil, no counts).
 #[test]
-fn the_certified_switch_proves_every_pixel_and_counts_them() {
+fn the_settled_picture_is_certified_by_default_and_the_switch_turns_it_off() {
     let mut h = harness(small_scene());
-    settle(&mut h);
-    h.get_by_label_contains("Rendering").click();
-    h.step();
-    h.get_by_label_contains("certified pixels")
-        .click_accesskit();
-    h.step();
     assert!(
         h.state().session.scene.render.certified,
-        "the switch did nothing"
+        "a scene is not certified by default"
     );
     settle(&mut h);
     let deadline = Instant::now() + Duration::from_secs(120);
@@ -361,11 +357,24 @@ fn the_certified_switch_proves_every_pixel_and_counts_them() {
         std::thread::sleep(Duration::from_millis(5));
     }
     h.step();
-    let app = h.state();
-    let c = app.progressive.verdicts.unwrap();
+    let c = h.state().progressive.verdicts.unwrap();
     assert!(c.hit > 0 && c.empty > 0, "{c:?}");
     let said = format!("certified: {} hit · {} empty", c.hit, c.empty);
     assert!(h.query_by_label_contains(&said).is_some(), "no {said:?}");
+    h.get_by_label_contains("Rendering").click();
+    h.step();
+    h.get_by_label_contains("certified pixels")
+        .click_accesskit();
+    h.step();
+    assert!(
+        !h.state().session.scene.render.certified,
+        "the switch did nothing"
+    );
+    settle(&mut h);
+    assert!(
+        h.query_by_label_contains("certified:").is_none(),
+        "a plain picture still shows certified counts"
+    );
 }
 
 #[test]
@@ -547,7 +556,7 @@ fn an_animation_exports_in_the_background_with_its_progress() {
     h.get_by_label_contains("Export animation").click();
     h.step();
     h.get_by_role_and_label(egui::accesskit::Role::Button, "Export animation")
-        .click();
+        .click_accesskit();
     h.step();
     let deadline = Instant::now() + Duration::from_secs(120);
     loop {

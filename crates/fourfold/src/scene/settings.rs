@@ -356,7 +356,8 @@ pub struct RenderSettings {
     pub color_by: ColorBy,
     /// Certify every pixel: prove it hit (F changes sign on its observer plane), empty (F
     /// has no zero there), or leave it undecided once `cert_budget` cells are spent
-    /// (docs/method.md §5.9).
+    /// (docs/method.md §5.9). On by default: what fourfold writes and settles on is proved;
+    /// off draws the chapter's plain ray pencil.
     pub certified: bool,
     /// Certified pixels: the most cells of a pixel's observer plane F is enclosed over.
     pub cert_budget: u32,
@@ -413,7 +414,7 @@ impl Default for RenderSettings {
             seed: 1,
             brute_force: false,
             color_by: ColorBy::Surface,
-            certified: false,
+            certified: true,
             cert_budget: DEFAULT_CERT_BUDGET,
             undecided: Undecided::Marker,
         }
