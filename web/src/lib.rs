@@ -192,6 +192,10 @@ pub fn status() -> String {
             "building": app.session.building(),
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
+            "certified": app.session.scene.render.certified,
+            "verdicts": app.progressive.verdicts.map(|c| {
+                serde_json::json!({ "hit": c.hit, "empty": c.empty, "undecided": c.undecided })
+            }),
             "ui_frame_ms": app.pacing.ui_frame_ms,
             "editor": rect(app.editor_rect),
             "controls": rect(app.controls_rect),

@@ -7,7 +7,8 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link asking for certified pixels draws plain and says why; a heavy link is
+// error; a link draws plain (certified pixels are the desktop's) and keeps its own setting
+// for certified pixels in the page's link; a heavy link is
 // lowered to the page's bounds, says what it lowered and keeps the page answering; embed
 // mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
 // one; Export animation downloads a GIF of the frames asked for; a lost GPU device
@@ -348,14 +349,19 @@ try {
   check(s.formula === 'x^2 + y^2 - z^2 - w^2 - 0.1' && changed(home, linked) > 0.02,
     `a share link draws its formula (${(100 * changed(home, linked)).toFixed(1)}% of pixels differ from the default)`);
 
-  // A certified link: drawn plain, saying that certified pixels are the desktop's for now.
-  const certified = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
-    '&render.certified=true&render.rays=4');
-  const cs = await settled(certified.page);
-  const shown = coverage(await picture(certified.page));
-  check(shown.share > 0.01 && /certified/.test(cs.notice ?? '') && certified.errors.length === 0,
-    `a certified link draws, plain, and says why: ${JSON.stringify(cs.notice)}`);
-  await certified.page.close();
+  // Certified pixels are the desktop's for now: the page draws the plain pencil, and its
+  // links keep the scene's own setting (a link made here still certifies on the desktop).
+  for (const [asked, tail] of [[true, ''], [false, '&render.certified=false']]) {
+    const opened = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
+      '&render.rays=4' + tail);
+    const s = await settled(opened.page);
+    const shown = coverage(await picture(opened.page));
+    check(shown.share > 0.01 && !s.certified && /certified=false/.test(s.link) === !asked
+      && opened.errors.length === 0,
+      `a link ${asked ? 'certified (the default)' : 'with certified=false'} draws plain in the page, `
+      + `its link keeping the setting: ${s.link.split('#')[1]}`);
+    await opened.page.close();
+  }
 
   // A stranger's heavy link (every setting that multiplies the work at its most): lowered to
   // the page's bounds, with a notice naming each key; the page keeps answering a script

@@ -66,6 +66,10 @@ pub const SLICE_BUDGET: std::ops::RangeInclusive<Duration> =
 pub struct Session {
     /// The scene as the user has set it; `scene.formula` is the last text that compiled.
     pub scene: Scene,
+    /// The scene's own `certified` where this platform draws the plain pencil instead
+    /// (`platform::CERTIFIED_PIXELS`): kept for its links, so that a link made in the page
+    /// still certifies on the desktop.
+    certified_asked: bool,
     /// The text in the editor (may not compile).
     pub text: String,
     /// The caret message of the text, if it does not compile (or why its picture failed).
@@ -103,10 +107,12 @@ pub struct Session {
 
 impl Session {
     pub fn new(mut scene: Scene) -> Self {
+        let certified_asked = scene.render.certified;
         scene.render.certified &= platform::CERTIFIED_PIXELS;
         let text = scene.formula.clone();
         Self {
             scene,
+            certified_asked,
             text,
             error: None,
             error_at: None,
@@ -227,6 +233,7 @@ impl Session {
 
     /// Replaces the whole scene (a preset or a file) and builds it.
     pub fn load_scene(&mut self, mut scene: Scene, gpu: Option<&Gpu>) {
+        self.certified_asked = scene.render.certified;
         scene.render.certified &= platform::CERTIFIED_PIXELS;
         let text = scene.formula.clone();
         self.scene = scene;
@@ -366,6 +373,9 @@ impl Session {
         let mut scene = self.scene.clone();
         if self.program.is_some() {
             scene.params.retain(|name, _| names.contains(name));
+        }
+        if !platform::CERTIFIED_PIXELS {
+            scene.render.certified = self.certified_asked;
         }
         scene.to_link()
     }

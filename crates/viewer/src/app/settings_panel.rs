@@ -108,8 +108,8 @@ impl FourfoldApp {
             egui::Checkbox::new(&mut r.certified, "certified pixels"),
         )
         .on_disabled_hover_text(
-            "Certified pixels are drawn by the desktop viewer and `fourfold render \
-             --certified`, not yet in the browser.",
+            "Certified pixels are drawn by the desktop viewer and `fourfold render` (both \
+             by default), not yet in the browser: the page draws the plain pencil.",
         )
         .on_hover_text(
             "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \

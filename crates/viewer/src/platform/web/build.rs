@@ -13,10 +13,11 @@ use fourfold::tree::Hierarchy;
 
 use crate::job::{JobInputs, JobResult};
 
-/// Whether this viewer draws certified pixels: not in the browser yet. Chromium on
-/// SwiftShader compiles the certified shader for longer than its GPU watchdog allows and
-/// loses the page, so a web scene that asks for them is drawn plain, with a notice
-/// (`ui::certified_left_off`).
+/// Whether this viewer draws certified pixels: not in the browser yet. On Chromium's
+/// SwiftShader (the page's tests) the certified pass of the default scene ran for three
+/// minutes and then lost the GPU device; on hardware adapters it is untried. The page draws
+/// the plain pencil, and keeps the scene's own setting for its links
+/// (`Session::link_fragment`).
 pub const CERTIFIED_PIXELS: bool = false;
 
 /// Boxes the slice slider's search for critical values may look at: a page searches in

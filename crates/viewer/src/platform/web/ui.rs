@@ -5,7 +5,7 @@ use eframe::egui;
 use wasm_bindgen::prelude::*;
 use web_time::{Duration, Instant};
 
-use fourfold::scene::{LinkProblem, PAGE_LINK_BOUNDS, Scene};
+use fourfold::scene::{PAGE_LINK_BOUNDS, Scene};
 
 use crate::notice::Notice;
 use crate::outcome::{Outcome, Window};
@@ -184,19 +184,7 @@ pub fn open_link(hash: &str, fallback: &Scene) -> (Scene, Option<Notice>) {
         refused.message.push_str(" (left at the default)");
     }
     problems.extend(scene.bounded(&PAGE_LINK_BOUNDS));
-    problems.extend(certified_left_off(&scene));
     let said: Vec<String> = problems.iter().map(|p| p.to_string()).collect();
     let notice = (!said.is_empty()).then(|| Notice::error(said.join("; ")));
     (scene, notice)
-}
-
-/// What the page says of a linked scene that asks for certified pixels, which it draws plain
-/// (see `viewer::CERTIFIED_PIXELS`).
-fn certified_left_off(scene: &Scene) -> Option<LinkProblem> {
-    scene.render.certified.then(|| LinkProblem {
-        key: "render.certified".into(),
-        message: "certified pixels are drawn by the desktop viewer and `fourfold render \
-                  --certified`, not yet in the browser"
-            .into(),
-    })
 }
