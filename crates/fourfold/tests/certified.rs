@@ -114,6 +114,27 @@ fn certified_pictures(
     (uniforms, verdicts)
 }
 
+/// Ten scenes the certified search was not tuned for (tests/data/unseen: a thin shell, a
+/// tube around a helix, sqrt and ln of arguments that turn negative inside the domain,
+/// kinks of abs and max, saddles, trigonometric lattices, parameters), parsed.
+fn unseen_scenes() -> Vec<(String, Scene)> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen");
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| {
+            (
+                p.file_stem().unwrap().to_string_lossy().into_owned(),
+                Scene::load(p).unwrap(),
+            )
+        })
+        .collect()
+}
+
 /// Against an independent look: wherever a dense grid of points on a pixel's observer plane
 /// finds F taking both signs in the domain, neither the GPU nor the CPU twin says EMPTY;
 /// and every HIT pixel's plane does hold a sign change (found by a finer grid).
@@ -159,6 +180,57 @@ fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
             assert!(
                 hits > 20,
                 "{name}, {device}: only {hits} hit pixels: the scene shows nothing"
+            );
+        }
+    }
+}
+
+/// On ten scenes the search was not tuned for, at 96² and the default budget: no pixel where
+/// a dense look at its plane finds F taking both signs is EMPTY, on the GPU or the CPU twin;
+/// and few covered pixels (hit or undecided) stay undecided: at most 0.5% on the CPU twin
+/// (issue 34's target), at most 1% on the GPU, whose f32 search is less decisive at the
+/// kinks of abs and max (the shares are printed).
+#[test]
+fn unseen_scenes_are_sound_and_decided() {
+    let gpu = gpu();
+    let side = 96;
+    for (name, scene) in unseen_scenes() {
+        let (u, verdicts) = certified_pictures(&gpu, &scene, side, DEFAULT_CERT_BUDGET);
+        let formula = CompiledFormula::compile(&scene.formula).unwrap();
+        let params = scene.param_values(&formula.param_names());
+        for (k, (device, limit)) in [("GPU", 0.01), ("CPU", 0.005)].into_iter().enumerate() {
+            let v = &verdicts[k];
+            // (A finer look within two pixels of a covered one, where thin parts would be
+            // missed.)
+            let covered = |x: i64, y: i64| {
+                (0..side as i64).contains(&x)
+                    && (0..side as i64).contains(&y)
+                    && v[(y * side as i64 + x) as usize] != Verdict::Empty
+            };
+            for (i, verdict) in v.iter().enumerate() {
+                let px = (i as u32 % side, i as u32 / side);
+                let (x, y) = (i64::from(px.0), i64::from(px.1));
+                let near = (-2..=2).any(|dy| (-2..=2).any(|dx| covered(x + dx, y + dy)));
+                let grid = if near { 128 } else { 32 };
+                assert!(
+                    *verdict != Verdict::Empty
+                        || !dense_sign_change(&u, &formula, &params, px, grid),
+                    "{name}, {device}: pixel {px:?} is EMPTY but F changes sign on its plane"
+                );
+            }
+            let count = |w: Verdict| v.iter().filter(|&&x| x == w).count();
+            let (hit, undecided) = (count(Verdict::Hit), count(Verdict::Undecided));
+            let share = undecided as f64 / (hit + undecided).max(1) as f64;
+            eprintln!(
+                "{name}, {device}: {hit} hit, {undecided} undecided ({:.2}% of the covered)",
+                100.0 * share
+            );
+            assert!(hit > 50, "{name}, {device}: only {hit} hit pixels");
+            assert!(
+                share <= limit,
+                "{name}, {device}: {:.2}% of the covered pixels undecided (at most {:.1}%)",
+                100.0 * share,
+                100.0 * limit
             );
         }
     }
