@@ -1,4 +1,4 @@
-//! Certified pixels against the plain ray caster: `cargo bench --bench certified`.
+//! Certified pixels against the plain ray caster: `cargo bench -p fourfold --bench certified`.
 //!
 //! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
 //! 1. the certified frame against the plain one with the same rays (16), at SIZE² (default
@@ -6,9 +6,11 @@
 //!    each with its tree at level 6: by the wall clock (binning, upload, pass and read-back)
 //!    and, in brackets, the GPU's pass alone, best of FOURFOLD_BENCH_RUNS (default 3) after a
 //!    warm-up frame (which compiles the pipeline);
-//! 2. for every example scene with its own settings, the verdicts of a certified frame at
-//!    SIZE² and the default budget: the share of undecided pixels among those that may show
-//!    M (hit or undecided). FOURFOLD_BENCH_QUICK=1 skips it.
+//! 2. for every example scene with its own settings, and the ten scenes of
+//!    tests/data/unseen, the verdicts of a certified frame at SIZE² and the default budget:
+//!    the share of undecided pixels among those that may show M (hit or undecided); and the
+//!    plain frame's recall: the share of the proved hits that a single plain frame (the
+//!    scene's rays, 16 by default) draws as background. FOURFOLD_BENCH_QUICK=1 skips it.
 
 use std::time::Instant;
 
@@ -17,32 +19,36 @@ mod common;
 use common::env_u32;
 use fourfold::CompiledFormula;
 use fourfold::render::shader;
-use fourfold::render::verdict::{VerdictCounts, take_marks};
+use fourfold::render::verdict::{Verdict, VerdictCounts, take_marks};
 use fourfold::render::{Gpu, Prepared, RayCaster};
 use fourfold::scene::{EXAMPLES, Scene};
 
+/// A frame's best wall-clock and GPU-pass milliseconds, its pixels and verdicts.
+struct Timed {
+    ms: f64,
+    gpu_ms: Option<f64>,
+    rgba: Vec<u8>,
+    verdicts: Vec<Verdict>,
+}
+
 /// The best wall-clock and GPU-pass milliseconds of `runs` frames (after one to warm up),
-/// and the last frame's verdict counts.
-fn time_frames(
-    gpu: &Gpu,
-    scene: &Scene,
-    size: u32,
-    runs: u32,
-) -> (f64, Option<f64>, VerdictCounts) {
+/// and the last frame's pixels and verdicts.
+fn time_frames(gpu: &Gpu, scene: &Scene, size: u32, runs: u32) -> Timed {
     let formula = CompiledFormula::compile(&scene.formula).expect("example formulas compile");
     let prepared = Prepared::new(&formula, scene).expect("the tree builds");
     let shader = shader::generate(&formula).expect("the shader validates");
     let mut caster = RayCaster::new(gpu, &shader, &prepared.hierarchy).expect("pipeline");
     let (camera, uniforms) = prepared.frame(scene, size, size, Default::default());
     let certifying = uniforms.certified().then(|| prepared.certifying());
-    let (mut best, mut best_gpu, mut counts) =
-        (f64::INFINITY, None::<f64>, VerdictCounts::default());
+    let (mut best, mut best_gpu) = (f64::INFINITY, None::<f64>);
+    let (mut last, mut verdicts) = (Vec::new(), Vec::new());
     for run in 0..=runs {
         let t = Instant::now();
         caster.bin_view(gpu, &prepared.hierarchy, certifying, &camera, &uniforms);
         let (mut rgba, gpu_ms) = caster.render_rgba_timed(gpu, &uniforms).expect("frame");
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        counts = VerdictCounts::of(&take_marks(&mut rgba).1);
+        verdicts = take_marks(&mut rgba).1;
+        last = rgba;
         if run > 0 {
             best = best.min(ms);
             best_gpu = match (best_gpu, gpu_ms) {
@@ -51,7 +57,33 @@ fn time_frames(
             };
         }
     }
-    (best, best_gpu, counts)
+    Timed {
+        ms: best,
+        gpu_ms: best_gpu,
+        rgba: last,
+        verdicts,
+    }
+}
+
+/// The ten scenes of tests/data/unseen, by name.
+fn unseen() -> Vec<(String, Scene)> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen");
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .expect("tests/data/unseen")
+        .map(|e| e.expect("a file").path())
+        .collect();
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| {
+            let name = p
+                .file_stem()
+                .expect("a name")
+                .to_string_lossy()
+                .into_owned();
+            (name, Scene::load(p).expect("the scenes parse"))
+        })
+        .collect()
 }
 
 fn example(name: &str) -> Scene {
@@ -80,9 +112,13 @@ fn main() {
         scene.render.rays = 16;
         scene.tree.max_level = 6;
         scene.tree.min_level = scene.tree.min_level.min(6);
-        let (plain, plain_gpu, _) = time_frames(&gpu, &scene, size, runs);
+        scene.render.certified = false;
+        let plain = time_frames(&gpu, &scene, size, runs);
         scene.render.certified = true;
-        let (cert, cert_gpu, counts) = time_frames(&gpu, &scene, size, runs);
+        let cert = time_frames(&gpu, &scene, size, runs);
+        let counts = VerdictCounts::of(&cert.verdicts);
+        let (plain_gpu, cert_gpu) = (plain.gpu_ms, cert.gpu_ms);
+        let (plain, cert) = (plain.ms, cert.ms);
         let bracket = |g: Option<f64>| g.map_or(String::new(), |g| format!(" [{g:.1}]"));
         let gpu_ratio = plain_gpu
             .zip(cert_gpu)
@@ -100,20 +136,39 @@ fn main() {
     if std::env::var("FOURFOLD_BENCH_QUICK").is_ok_and(|v| v == "1") {
         return;
     }
-    println!("\n## Verdicts per example scene, {size}x{size}, its own settings, default budget\n");
-    println!("| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] |");
-    println!("|---|---|---|---|---|---|");
-    for (name, _) in EXAMPLES {
-        let mut scene = example(name);
+    println!(
+        "\n## Verdicts per scene, {size}x{size}, its own settings, default budget; the plain \
+         frame's misses\n"
+    );
+    println!(
+        "| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] | proved hits a plain frame misses |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let examples = EXAMPLES
+        .iter()
+        .map(|(name, _)| (name.to_string(), example(name)));
+    for (name, mut scene) in examples.chain(unseen()) {
         scene.render.certified = true;
-        let (ms, gpu_ms, c) = time_frames(&gpu, &scene, size, 1);
+        let cert = time_frames(&gpu, &scene, size, 1);
+        scene.render.certified = false;
+        let plain = time_frames(&gpu, &scene, size, 0);
+        let c = VerdictCounts::of(&cert.verdicts);
+        let background = scene.render.background.0;
+        let missed = cert
+            .verdicts
+            .iter()
+            .zip(plain.rgba.chunks(4))
+            .filter(|(v, p)| **v == Verdict::Hit && p[..3] == background)
+            .count();
         println!(
-            "| {name} | {} | {} | {} | {:.2}% | {ms:.0}{} |",
+            "| {name} | {} | {} | {} | {:.2}% | {:.0}{} | {missed} ({:.2}%) |",
             c.hit,
             c.empty,
             c.undecided,
             c.undecided_share(),
-            gpu_ms.map_or(String::new(), |g| format!(" [{g:.0}]"))
+            cert.ms,
+            cert.gpu_ms.map_or(String::new(), |g| format!(" [{g:.0}]")),
+            100.0 * missed as f64 / c.hit.max(1) as f64
         );
     }
 }

@@ -1,4 +1,4 @@
-//! Critical-value search benchmark: `cargo bench --bench critical`. For every example
+//! Critical-value search benchmark: `cargo bench -p fourfold --bench critical`. For every example
 //! scene, in its own view, the search at its default level and budget: the time (best of
 //! three), boxes looked at, and what it found (proved points, degenerate and undecided
 //! clusters, and the finest boxes left in them). `FOURFOLD_BENCH_LEVELS=6,8` picks levels.

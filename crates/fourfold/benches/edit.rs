@@ -1,4 +1,4 @@
-//! Edit latency of the viewer, stage by stage: `cargo bench --bench edit`.
+//! Edit latency of the viewer, stage by stage: `cargo bench -p fourfold --bench edit`.
 //!
 //! For three presets, from the formula string to the first picture, the way the viewer does
 //! it on an edit (src/viewer/session.rs, progressive.rs): parse, gradient (lowering and

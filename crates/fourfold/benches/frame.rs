@@ -1,4 +1,4 @@
-//! Frame-time benchmark of the GPU ray caster: `cargo bench --bench frame`.
+//! Frame-time benchmark of the GPU ray caster: `cargo bench -p fourfold --bench frame`.
 //!
 //! In one run, on the first adapter wgpu finds (lavapipe on a machine without a GPU):
 //! 1. the chapter's scene and the glome at SIZE² (default 512) with 8, 16 and 32 rays, drawn

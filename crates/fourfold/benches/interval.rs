@@ -1,4 +1,4 @@
-//! Interval-evaluation throughput: `cargo bench --bench interval`.
+//! Interval-evaluation throughput: `cargo bench -p fourfold --bench interval`.
 //!
 //! Boxes per second, on one thread, for F alone and for F + ∇F (five outputs), on the chapter's
 //! formula, the glome, the tiger (square roots) and a trigonometric formula, over the same

@@ -1,4 +1,4 @@
-//! Slice mesh benchmark: `cargo bench --bench mesh`. For every example scene, in its own
+//! Slice mesh benchmark: `cargo bench -p fourfold --bench mesh`. For every example scene, in its own
 //! view, the slice at 0 (the middle of the domain along n2) meshed at levels 6 and 8: the
 //! time (best of three), triangles, octree cells kept, the largest vertex distance
 //! |F|/|∇F| against the tolerance, and the vertices beyond it. `FOURFOLD_BENCH_LEVELS=5,7`

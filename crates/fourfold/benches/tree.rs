@@ -1,4 +1,4 @@
-//! Tree build benchmark: `cargo bench --bench tree`. Prints, in one run, build time and
+//! Tree build benchmark: `cargo bench -p fourfold --bench tree`. Prints, in one run, build time and
 //! leaves for the glome, the chapter's scene, the tiger and a trigonometric formula: at each
 //! scene's own settings, then refined to levels 4..7 under both criteria settings, on one
 //! thread (as in the browser) and on all threads, and interval evaluations per second. Each
@@ -14,7 +14,7 @@ use fourfold::CompiledFormula;
 use fourfold::scene::Scene;
 use fourfold::tree::{BuildSettings, Tree16};
 
-/// The trigonometric formula of `cargo bench --bench interval`, on the default domain.
+/// The trigonometric formula of `cargo bench -p fourfold --bench interval`, on the default domain.
 const TRIG: &str = "sin(3x)cos(3y) + sin(3z)cos(3w) - 0.2";
 
 fn best_ms(runs: usize, mut f: impl FnMut() -> Tree16) -> (f64, Tree16) {

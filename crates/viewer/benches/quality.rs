@@ -1,4 +1,4 @@
-//! How settled the viewer's picture is when it stops refining: `cargo bench --bench quality`.
+//! How settled the viewer's picture is when it stops refining: `cargo bench -p fourfold-viewer --bench quality`.
 //!
 //! For each example scene at SIZE² (default 512) with its own view and settings, the passes
 //! the viewer accumulates once the picture is complete (`ACCUMULATED_PASSES` full-size
