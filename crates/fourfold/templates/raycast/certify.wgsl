@@ -134,8 +134,10 @@ fn narrow(range: vec2<f32>, n: vec4<f32>, m: vec4<f32>, other: vec2<f32>, lo: ve
 }
 
 // Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi]
-// and the domain.
-fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>) {
+// and the domain, spending at most `cap` cells of the budget.
+fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>, cap: u32) {
+    // The budget this box may spend down to.
+    let floor = select(0u, (*cert).budget - cap, (*cert).budget > cap);
     // The box within the domain (boxes are padded beyond it; both rounded outward).
     let lo = max(iv_down4(blo), iv_down4(u.domain_lo));
     let hi = min(iv_up4(bhi), iv_up4(u.domain_hi));
@@ -180,7 +182,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         if (c.x > c.y || c.z > c.w) {
             continue;
         }
-        if ((*cert).budget == 0u) {
+        if ((*cert).budget == floor) {
             (*cert).undecided = true;
             break;
         }
@@ -317,7 +319,52 @@ fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>) -> bool {
     return !iv_jump && !iv_is_empty(f);
 }
 
-// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes: the
+// Searches the pixel's boxes, each with at most `cap` cells (stopping at once after a
+// hit): the certifying lists' where bound, else the walk's marched boxes, or for brute
+// force the domain.
+fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u32>, cap: u32) {
+    let o = (*tr).plane;
+    if (MODE == 1u && u.cert_tiling.z != 0u) {
+        let tile = px / max(u.cert_tiling.x, 1u);
+        let t = tile.x + tile.y * u.cert_tiling.y;
+        let end = cert_tiles[t + 1u];
+        var c = cert_tiles[t];
+        loop {
+            if (c >= end || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
+                break;
+            }
+            let i = cert_tiles[u.cert_tiling.w + c];
+            let half = level_half(cert_boxes[i].level);
+            // (The tile's boxes that cannot meet this pixel's plane, as visit_box tests.)
+            let view = cert_boxes[i].view;
+            if (meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half))) {
+                certify_box(cert, o, cert_boxes[i].center - half, cert_boxes[i].center + half, cap);
+            }
+            c = c + 1u;
+        }
+    } else if (MODE != 0u) {
+        var i = 0u;
+        loop {
+            if (i >= u.counts.x || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
+                break;
+            }
+            let node = nodes[i];
+            let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
+            let half = level_half(node.info);
+            let rel = c - o;
+            let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, sphere_radius(half));
+            let boxed = (node.info & MARCHED) != 0u;
+            if (meets && boxed) {
+                certify_box(cert, o, c - half, c + half, cap);
+            }
+            i = select(node.skip, i + 1u, meets && !boxed);
+        }
+    } else {
+        certify_box(cert, o, u.domain_lo, u.domain_hi, cap);
+    }
+}
+
+// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes (search_boxes): the
 // certifying lists' where bound, else the walk's marched boxes, or for brute force the
 // domain. For a hit the rays found nothing for, aims a ray through the proved root and
 // marches it through the tile's boxes, so its hits are shaded as the others are (the root
@@ -336,44 +383,17 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
             cert_note(&cert, cert_sign(o, p, inner_lo, inner_hi), p);
         }
     }
-    // (Each search below stops at once after a hit.)
-    if (MODE == 1u && u.cert_tiling.z != 0u) {
-        let tile = px / max(u.cert_tiling.x, 1u);
-        let t = tile.x + tile.y * u.cert_tiling.y;
-        let end = cert_tiles[t + 1u];
-        var c = cert_tiles[t];
-        loop {
-            if (c >= end || cert.hit || (cert.budget == 0u && cert.undecided)) {
-                break;
-            }
-            let i = cert_tiles[u.cert_tiling.w + c];
-            let half = level_half(cert_boxes[i].level);
-            // (The tile's boxes that cannot meet this pixel's plane, as visit_box tests.)
-            let view = cert_boxes[i].view;
-            if (meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half))) {
-                certify_box(&cert, o, cert_boxes[i].center - half, cert_boxes[i].center + half);
-            }
-            c = c + 1u;
+    // Two passes over the boxes: in the first each box may spend an eighth of the budget,
+    // so that one hard box (a kink, a pole, a grazing plane) cannot spend it all before a
+    // later one shows the root; what stays undecided is searched again, whole, with what
+    // is left.
+    for (var round = 0u; round < 2u; round = round + 1u) {
+        if (round == 1u && (cert.hit || !cert.undecided || cert.budget == 0u)) {
+            break;
         }
-    } else if (MODE != 0u) {
-        var i = 0u;
-        loop {
-            if (i >= u.counts.x || cert.hit || (cert.budget == 0u && cert.undecided)) {
-                break;
-            }
-            let node = nodes[i];
-            let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
-            let half = level_half(node.info);
-            let rel = c - o;
-            let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, sphere_radius(half));
-            let boxed = (node.info & MARCHED) != 0u;
-            if (meets && boxed) {
-                certify_box(&cert, o, c - half, c + half);
-            }
-            i = select(node.skip, i + 1u, meets && !boxed);
-        }
-    } else {
-        certify_box(&cert, o, u.domain_lo, u.domain_hi);
+        cert.undecided = false;
+        let cap = select(cert.budget, max(u.march.y / 8u, 1u), round == 0u && MODE != 0u);
+        search_boxes(tr, &cert, px, cap);
     }
     if (!cert.hit) {
         return select(CERT_EMPTY, CERT_UNDECIDED, cert.undecided);

@@ -70,11 +70,25 @@ impl<'a> Certifier<'a> {
                 search.note(sign, p);
             }
         }
-        for &(lo, hi) in boxes {
-            if (search.budget == 0 && search.undecided) || search.hit().is_some() {
+        // As the shader: two passes, each box first held to an eighth of the budget (but
+        // for brute force's one box), then what stays undecided searched again, whole.
+        let budget = self.u.march.cert_budget;
+        for round in 0..2 {
+            if round == 1 && (search.hit().is_some() || !search.undecided || search.budget == 0) {
                 break;
             }
-            self.certify_box(&mut search, o, lo, hi);
+            search.undecided = false;
+            let cap = if round == 0 && !self.u.brute_force() {
+                (budget / 8).max(1)
+            } else {
+                search.budget
+            };
+            for &(lo, hi) in boxes {
+                if (search.budget == 0 && search.undecided) || search.hit().is_some() {
+                    break;
+                }
+                self.certify_box(&mut search, o, lo, hi, cap);
+            }
         }
         if let Some(bracket) = search.hit() {
             return Outcome {
@@ -142,8 +156,18 @@ impl<'a> Certifier<'a> {
         Some((bx, rel, (s, t)))
     }
 
-    fn certify_box(&mut self, search: &mut Search, o: [f32; 4], lo: [f32; 4], hi: [f32; 4]) {
+    /// Certifies the part of the plane within the box [lo, hi] and the domain, spending at
+    /// most `cap` cells of the budget (the shader's `certify_box`).
+    fn certify_box(
+        &mut self,
+        search: &mut Search,
+        o: [f32; 4],
+        lo: [f32; 4],
+        hi: [f32; 4],
+        cap: u32,
+    ) {
         let u = self.u;
+        let floor = search.budget.saturating_sub(cap);
         let domain = self.domain();
         let Some((bx, rel, (s, t))) = self.plane_cell(o, lo, hi) else {
             return;
@@ -160,7 +184,7 @@ impl<'a> Certifier<'a> {
             if search.hit().is_some() {
                 return;
             }
-            if search.budget == 0 {
+            if search.budget == floor {
                 search.undecided = true;
                 return;
             }
