@@ -91,7 +91,16 @@ impl JobInputs {
                     RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
                         .map_err(|e| e.to_string())
                         .and_then(|mut caster| {
-                            warm_up(gpu, &mut caster, hierarchy, &first).map(|()| caster)
+                            warm_up(gpu, &mut caster, hierarchy, &first)?;
+                            // The settled picture's certified pipeline too, off the window's
+                            // frames: its compile (seconds on llvmpipe) would stall the first
+                            // still frame.
+                            let mut settled = first.clone();
+                            settled.render.certified = self.scene.render.certified;
+                            if self.certifying && settled.render.certified {
+                                warm_up(gpu, &mut caster, hierarchy, &settled)?;
+                            }
+                            Ok(caster)
                         }),
                 )
             }

@@ -377,6 +377,45 @@ fn the_settled_picture_is_certified_by_default_and_the_switch_turns_it_off() {
     );
 }
 
+/// A build makes the settled picture's certified pipeline with the plain one, off the
+/// window's frames (its compile, seconds on llvmpipe, would stall the first still frame),
+/// and only for a certified scene.
+#[test]
+fn a_build_makes_the_certified_pipeline_before_any_frame() {
+    use fourfold::render::{Gpu, Program};
+    use fourfold_viewer::job::JobInputs;
+    use fourfold_viewer::platform::BuildWork;
+    let gpu = Gpu::new().unwrap();
+    for certified in [true, false] {
+        let mut scene = small_scene();
+        scene.render.certified = certified;
+        let inputs = JobInputs {
+            generation: 1,
+            program: Program::new(&scene.formula).unwrap(),
+            scene,
+            gpu: Some(gpu.clone()),
+            certifying: true,
+            make_pipeline: true,
+            brute_force: false,
+        };
+        let mut work = BuildWork::start(inputs).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(120);
+        let result = loop {
+            if let Some(result) = work.poll(Duration::ZERO) {
+                break result.unwrap();
+            }
+            assert!(Instant::now() < deadline, "no build in 120 s");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        let caster = result.caster.unwrap().unwrap();
+        assert_eq!(
+            caster.pipelines_built(),
+            if certified { 2 } else { 1 },
+            "certified: {certified}"
+        );
+    }
+}
+
 #[test]
 fn a_picture_converges_with_one_binning_per_resolution() {
     let mut h = harness(small_scene());
