@@ -22,7 +22,10 @@ def test_render_shape_and_type():
     p = fourfold.render(GLOME, size=(64, 48))
     assert p.shape == (48, 64, 4) and p.dtype == np.uint8
     assert isinstance(p, np.ndarray) and isinstance(p, fourfold.Picture)
-    assert p.verdicts is None and p.counts is None
+    # Certified by default: a verdict per pixel, counted; certified=False the plain pencil.
+    assert p.verdicts.shape == (48, 64) and sum(p.counts.values()) == 64 * 48
+    plain = fourfold.render(GLOME, size=(64, 48), certified=False)
+    assert plain.verdicts is None and plain.counts is None
     assert p.adapter
     # Something is drawn, and the corners are the background.
     assert (p[0, 0, :3] == [20, 22, 30]).all()

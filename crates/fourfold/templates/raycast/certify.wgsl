@@ -364,11 +364,10 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
     }
 }
 
-// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes (search_boxes): the
-// certifying lists' where bound, else the walk's marched boxes, or for brute force the
-// domain. For a hit the rays found nothing for, aims a ray through the proved root and
-// marches it through the tile's boxes, so its hits are shaded as the others are (the root
-// itself if the march misses it).
+// Classifies the pixel (CERT_EMPTY, CERT_HIT or CERT_UNDECIDED) over its boxes
+// (search_boxes). For a hit the rays found nothing for, aims a ray through the proved root
+// and marches it through the tile's boxes, so its hits are shaded as the others are (the
+// root itself if the march misses it).
 fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     let o = (*tr).plane;
     var cert: Cert;
@@ -386,9 +385,9 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     // Two passes over the boxes: in the first each box may spend an eighth of the budget,
     // so that one hard box (a kink, a pole, a grazing plane) cannot spend it all before a
     // later one shows the root; what stays undecided is searched again, whole, with what
-    // is left.
+    // is left (brute force's one box is searched whole at once).
     for (var round = 0u; round < 2u; round = round + 1u) {
-        if (round == 1u && (cert.hit || !cert.undecided || cert.budget == 0u)) {
+        if (round == 1u && (MODE == 0u || cert.hit || !cert.undecided || cert.budget == 0u)) {
             break;
         }
         cert.undecided = false;

@@ -70,15 +70,16 @@ impl<'a> Certifier<'a> {
                 search.note(sign, p);
             }
         }
-        // As the shader: two passes, each box first held to an eighth of the budget (but
-        // for brute force's one box), then what stays undecided searched again, whole.
-        let budget = self.u.march.cert_budget;
+        // As the shader: two passes, each box first held to an eighth of the budget, then
+        // what stays undecided searched again, whole (brute force's one box whole at once).
+        let (budget, brute_force) = (self.u.march.cert_budget, self.u.brute_force());
         for round in 0..2 {
-            if round == 1 && (search.hit().is_some() || !search.undecided || search.budget == 0) {
+            let done = search.hit().is_some() || !search.undecided || search.budget == 0;
+            if round == 1 && (brute_force || done) {
                 break;
             }
             search.undecided = false;
-            let cap = if round == 0 && !self.u.brute_force() {
+            let cap = if round == 0 && !brute_force {
                 (budget / 8).max(1)
             } else {
                 search.budget
