@@ -13,11 +13,13 @@ use fourfold::tree::Hierarchy;
 
 use crate::job::{JobInputs, JobResult};
 
-/// Whether this viewer draws certified pixels: not in the browser yet. On Chromium's
-/// SwiftShader (the page's tests) the certified pass of the default scene ran for three
-/// minutes and then lost the GPU device; on hardware adapters it is untried. The page draws
-/// the plain pencil, and keeps the scene's own setting for its links
-/// (`Session::link_fragment`).
+/// Whether this viewer draws certified pixels: not in the browser yet. A page cannot wait
+/// for the GPU, so the progressive picture submits squares as fast as it encodes them; on
+/// Chromium's SwiftShader (the page's tests) a certified stage so queued kept the GPU busy
+/// for minutes, the page drew no frame in that time, and once the device was lost. (The
+/// certified pipeline itself compiles there in 5.7 s, the plain one in 1.4 s.) Pacing the
+/// runs by the GPU's completion would lift this. The page draws the plain pencil, and
+/// keeps the scene's own setting for its links (`Session::link_fragment`).
 pub const CERTIFIED_PIXELS: bool = false;
 
 /// Boxes the slice slider's search for critical values may look at: a page searches in
