@@ -136,10 +136,10 @@ fn current_link() -> Option<String> {
 /// The page's state for scripts and tests, as JSON: the picture's generation and when its
 /// first frame was drawn, the last edit's latency and its stages, the editor's text, the
 /// formula on screen and the example it is (if one), the error shown, whether a build runs
-/// or the picture is still being drawn, the UI's frame time, where the editor, the
-/// controls' panel and the picture are (CSS pixels), the slice's place and its critical
-/// values with where their ticks are, the gallery (open, its button, pictures drawn, where
-/// each example's name is), and a panic if one happened.
+/// or the picture is still being drawn, whether it is drawn certified, the UI's frame time,
+/// where the editor, the controls' panel and the picture are (CSS pixels), the slice's
+/// place and its critical values with where their ticks are, the gallery (open, its
+/// button, pictures drawn, where each example's name is), and a panic if one happened.
 #[wasm_bindgen]
 pub fn status() -> String {
     RUNNER.with(|runner| {
@@ -193,9 +193,6 @@ pub fn status() -> String {
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
             "certified": app.session.scene.render.certified,
-            "verdicts": app.progressive.verdicts.map(|c| {
-                serde_json::json!({ "hit": c.hit, "empty": c.empty, "undecided": c.undecided })
-            }),
             "ui_frame_ms": app.pacing.ui_frame_ms,
             "editor": rect(app.editor_rect),
             "controls": rect(app.controls_rect),

@@ -15,6 +15,8 @@
 use std::time::Instant;
 
 mod common;
+#[path = "../tests/support/unseen.rs"]
+mod unseen;
 
 use common::env_u32;
 use fourfold::CompiledFormula;
@@ -63,27 +65,6 @@ fn time_frames(gpu: &Gpu, scene: &Scene, size: u32, runs: u32) -> Timed {
         rgba: last,
         verdicts,
     }
-}
-
-/// The ten scenes of tests/data/unseen, by name.
-fn unseen() -> Vec<(String, Scene)> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen");
-    let mut paths: Vec<_> = std::fs::read_dir(dir)
-        .expect("tests/data/unseen")
-        .map(|e| e.expect("a file").path())
-        .collect();
-    paths.sort();
-    paths
-        .iter()
-        .map(|p| {
-            let name = p
-                .file_stem()
-                .expect("a name")
-                .to_string_lossy()
-                .into_owned();
-            (name, Scene::load(p).expect("the scenes parse"))
-        })
-        .collect()
 }
 
 fn example(name: &str) -> Scene {
@@ -147,7 +128,7 @@ fn main() {
     let examples = EXAMPLES
         .iter()
         .map(|(name, _)| (name.to_string(), example(name)));
-    for (name, mut scene) in examples.chain(unseen()) {
+    for (name, mut scene) in examples.chain(unseen::unseen_scenes()) {
         scene.render.certified = true;
         let cert = time_frames(&gpu, &scene, size, 1);
         scene.render.certified = false;

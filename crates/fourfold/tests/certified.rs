@@ -3,6 +3,8 @@
 //! with the other evaluators, in tests/conformance.rs.)
 
 mod common;
+#[path = "support/unseen.rs"]
+mod unseen;
 
 use common::example_scenes_named;
 use fourfold::CompiledFormula;
@@ -13,6 +15,7 @@ use fourfold::render::verdict::Verdict;
 use fourfold::render::view::FLAG_SLAB;
 use fourfold::render::{Gpu, Prepared, Uniforms};
 use fourfold::scene::{DEFAULT_CERT_BUDGET, Scene};
+use unseen::unseen_scenes;
 
 fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
@@ -112,27 +115,6 @@ fn certified_pictures(
             .expect("a certified picture has verdicts")
     });
     (uniforms, verdicts)
-}
-
-/// Ten scenes the certified search was not tuned for (tests/data/unseen: a thin shell, a
-/// tube around a helix, sqrt and ln of arguments that turn negative inside the domain,
-/// kinks of abs and max, saddles, trigonometric lattices, parameters), parsed.
-fn unseen_scenes() -> Vec<(String, Scene)> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen");
-    let mut paths: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    paths.sort();
-    paths
-        .iter()
-        .map(|p| {
-            (
-                p.file_stem().unwrap().to_string_lossy().into_owned(),
-                Scene::load(p).unwrap(),
-            )
-        })
-        .collect()
 }
 
 /// Against an independent look: wherever a dense grid of points on a pixel's observer plane

@@ -306,12 +306,13 @@ fn cert_root(o: vec4<f32>, cert: Cert) -> vec2<f32> {
 // within the domain, as F's enclosure there says (F undefined in part of the domain, as a
 // sqrt's or ln's, is continuous away from that part: most hits are proved so, without a
 // search that must find both signs in one cell).
-fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>) -> bool {
+// (inner_lo and inner_hi: the domain, rounded inward.)
+fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>, inner_lo: vec4<f32>, inner_hi: vec4<f32>) -> bool {
     if ((u.control.z & 2048u) != 0u) {
         return true;
     }
     let x = plane_box(o, vec2<f32>(min(ab.x, ab.z), max(ab.x, ab.z)), vec2<f32>(min(ab.y, ab.w), max(ab.y, ab.w)));
-    if (any(x.lo < iv_up4(u.domain_lo)) || any(x.hi > iv_down4(u.domain_hi))) {
+    if (any(x.lo < inner_lo) || any(x.hi > inner_hi)) {
         return false;
     }
     iv_jump = false;
@@ -372,11 +373,11 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     let o = (*tr).plane;
     var cert: Cert;
     cert.budget = u.march.y;
-    if ((*tr).bracketed && bracket_continuous(o, (*tr).bracket)) {
+    let inner_lo = iv_up4(u.domain_lo);
+    let inner_hi = iv_down4(u.domain_hi);
+    if ((*tr).bracketed && bracket_continuous(o, (*tr).bracket, inner_lo, inner_hi)) {
         // A ray's sign change, proved at its two ends (in the domain) where it can be: no
         // search needed.
-        let inner_lo = iv_up4(u.domain_lo);
-        let inner_hi = iv_down4(u.domain_hi);
         for (var k = 0u; k < 2u; k = k + 1u) {
             let p = select((*tr).bracket.zw, (*tr).bracket.xy, k == 0u);
             cert_note(&cert, cert_sign(o, p, inner_lo, inner_hi), p);
