@@ -207,8 +207,11 @@ impl Progressive {
             let index = texture_index(stage.div);
             let (width, height) = (self.textures[index].width, self.textures[index].height);
             let cols = width.div_ceil(self.tile);
+            // Previews and the frames while the user interacts are plain (fast); the full
+            // picture once still is certified where the scene asks.
+            let certified =
+                scene.render.certified && certifying.is_some() && stage.div == 1 && !interacting;
             if self.next_tile >= cols * height.div_ceil(self.tile) {
-                let certified = scene.render.certified && certifying.is_some();
                 self.complete_stage(gpu, stage, certified);
                 continue;
             }
@@ -229,8 +232,10 @@ impl Progressive {
                     rays: Some(stage.rays),
                     ..FrameOptions::default()
                 };
+                let mut drawn = scene.clone();
+                drawn.render.certified = certified;
                 let (camera, uniforms) =
-                    view::frame(scene, hierarchy, params, [width, height], options);
+                    view::frame(&drawn, hierarchy, params, [width, height], options);
                 frame = Some((self.stage, camera, uniforms));
             }
             let (_, camera, uniforms) = frame.as_ref().expect("made above");
