@@ -141,6 +141,11 @@ pub const FLAG_CERTIFIED: u32 = 512;
 pub const FLAG_HATCH: u32 = 1024;
 /// F is continuous on the whole domain (`Hierarchy::continuous`).
 pub const FLAG_CONTINUOUS: u32 = 2048;
+/// A pass blended into a running mean leaves each pixel where it finds no hit as it is (the
+/// shader discards it): the plain passes that smooth a certified picture keep what its
+/// certified pass proved (a hit the pencil misses, an undecided mark). Cleared by the ray
+/// caster for a pass that overwrites.
+pub const FLAG_KEEP_MISSES: u32 = 4096;
 
 /// Entries of the per-level table (levels 0..=15).
 pub const LEVEL_SLOTS: usize = 16;

@@ -301,3 +301,85 @@ fn undecided_pixels_are_never_background() {
         );
     }
 }
+
+/// The viewer's settled picture: a certified pass, then plain passes blended into it
+/// (`FrameOptions::keep_misses`). Where a plain pass finds no hit, the pixel stays as the
+/// certified pass drew it (a proved hit the pencil misses keeps M's colour, an undecided one
+/// its mark); where it finds one, the pixel is the mean of the two.
+#[test]
+fn plain_passes_blended_into_a_certified_picture_keep_what_it_proved() {
+    use fourfold::render::{FrameOptions, Pass, RayCaster, Target, shader};
+    let gpu = gpu();
+    let scenes = unseen_scenes()
+        .into_iter()
+        .filter(|(name, _)| name == "helix-tube" || name == "gyroid-4d");
+    for (name, scene) in scenes {
+        let mut scene = scene.clone();
+        scene.render.rays = 2;
+        scene.render.certified = true;
+        let formula = CompiledFormula::compile(&scene.formula).unwrap();
+        let prepared = Prepared::new(&formula, &scene).unwrap();
+        let shader = shader::generate(&formula).unwrap();
+        let side = 64;
+        let (camera, proved) = prepared.frame(&scene, side, side, FrameOptions::default());
+        let mut plain_scene = scene.clone();
+        plain_scene.render.certified = false;
+        let second = |keep_misses| FrameOptions {
+            frame: 1,
+            keep_misses,
+            ..FrameOptions::default()
+        };
+        let (_, plain) = prepared.frame(&plain_scene, side, side, second(false));
+        let (_, keeping) = prepared.frame(&plain_scene, side, side, second(true));
+        let h = &prepared.hierarchy;
+        let certifying = Some(prepared.certifying());
+        let mut offscreen = RayCaster::new(&gpu, &shader, h).unwrap();
+        offscreen.bin_view(&gpu, h, certifying, &camera, &proved);
+        let first = offscreen.render_rgba(&gpu, &proved).unwrap();
+        let next = offscreen.render_rgba(&gpu, &plain).unwrap();
+        let target = Target {
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            accumulate: true,
+        };
+        let mut caster = RayCaster::with_target(&gpu, &shader, h, target).unwrap();
+        caster.bin_view(&gpu, h, certifying, &camera, &proved);
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let texture = caster.target_texture(&gpu, side, side, usage);
+        let view = texture.create_view(&Default::default());
+        for (uniforms, weight) in [(&proved, 1.0), (&keeping, 0.5)] {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let pass = Pass {
+                region: None,
+                weight,
+            };
+            caster.encode_pass(&gpu, &mut encoder, &view, uniforms, pass);
+            gpu.queue.submit([encoder.finish()]);
+        }
+        let got = common::read_texture(&gpu, &texture);
+        let background = scene.render.background.0;
+        let (mut kept_hits, mut blended) = (0, 0);
+        for i in 0..(side * side) as usize {
+            let rgb = |p: &[u8]| [p[4 * i], p[4 * i + 1], p[4 * i + 2]];
+            let (a, b, g) = (rgb(&first), rgb(&next), rgb(&got));
+            let expected = if b == background {
+                kept_hits += usize::from(first[4 * i + 3] == Verdict::Hit.alpha() && a != b);
+                a
+            } else {
+                blended += 1;
+                std::array::from_fn(|k| ((u16::from(a[k]) + u16::from(b[k])) / 2) as u8)
+            };
+            let off = (0..3).map(|k| g[k].abs_diff(expected[k])).max().unwrap();
+            assert!(
+                off <= 2,
+                "{name}: pixel {i} is {g:?}, expected {expected:?} (certified {a:?}, plain {b:?})"
+            );
+        }
+        eprintln!(
+            "{name}: {kept_hits} proved hits kept where the plain pass saw none, {blended} blended"
+        );
+        assert!(
+            kept_hits > 10,
+            "{name}: only {kept_hits} proved hits the plain pass missed"
+        );
+    }
+}

@@ -143,6 +143,10 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     }
     let alpha = f32(255u - 2u * verdict - select(1u, 0u, probe >= rounds)) / 255.0;
     let count = tr.hits.count;
+    if (count == 0u && (u.control.z & 4096u) != 0u) {
+        // A pass blended into a certified picture keeps what it proved here (FLAG_KEEP_MISSES).
+        discard;
+    }
     if (count == 0u) {
         let empty = select(u.background.rgb, undecided_color(px), verdict == CERT_UNDECIDED);
         return vec4<f32>(empty, alpha);

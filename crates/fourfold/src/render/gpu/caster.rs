@@ -7,7 +7,7 @@
 use bytemuck::Zeroable;
 
 use crate::render::shader::Shader;
-use crate::render::view::{Camera, TileLists, Tiling, Uniforms};
+use crate::render::view::{Camera, FLAG_KEEP_MISSES, TileLists, Tiling, Uniforms};
 use crate::scene::Scene;
 use crate::tree::Hierarchy;
 
@@ -299,6 +299,11 @@ impl RayCaster {
         let mut uniforms = *uniforms;
         uniforms.tiling = self.tiling;
         uniforms.cert_tiling = self.cert_tiling;
+        // A pass that overwrites has nothing to keep where it finds no hit.
+        let overwrite = !self.target.accumulate || pass.weight >= 1.0;
+        if overwrite {
+            uniforms.control.flags &= !FLAG_KEEP_MISSES;
+        }
         gpu.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         let mode = if uniforms.brute_force() {
@@ -312,7 +317,6 @@ impl RayCaster {
         // background goes elsewhere where the pass overwrites (a pass blended into the
         // running mean of passes of the same view finds it there already, and blending it
         // with itself keeps it).
-        let overwrite = !self.target.accumulate || pass.weight >= 1.0;
         let whole = pass.region.is_none() && !self.target.accumulate;
         let load = if !whole {
             wgpu::LoadOp::Load

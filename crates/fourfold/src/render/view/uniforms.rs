@@ -5,8 +5,8 @@ use bytemuck::Zeroable;
 
 pub use crate::gpu_layout::{
     Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_CERTIFIED, FLAG_CONTINUOUS, FLAG_HATCH,
-    FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB, FLAG_SLICE,
-    Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
+    FLAG_HIDDEN, FLAG_KEEP_MISSES, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE,
+    FLAG_SLAB, FLAG_SLICE, Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size, Tiling, Uniforms,
 };
 use crate::scene::{ColorBy, RenderSettings, Sampling, Undecided};
 use crate::tree::{Hierarchy, LevelInfo};
@@ -64,6 +64,9 @@ pub struct FrameOptions {
     pub rotation: Option<Rotation4>,
     /// Rays per pixel instead of the scene's (the viewer's quick passes).
     pub rays: Option<u32>,
+    /// Leave the pixels where this pass finds no hit as the target holds them
+    /// (`FLAG_KEEP_MISSES`; only a pass blended into a running mean heeds it).
+    pub keep_misses: bool,
 }
 
 impl Uniforms {
@@ -92,6 +95,9 @@ impl Uniforms {
         });
         let norm = light.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-12);
         let mut flags = setting_flags(render, hierarchy);
+        if options.keep_misses {
+            flags |= FLAG_KEEP_MISSES;
+        }
         let mut hidden = Hidden::zeroed();
         if render.color_by == ColorBy::Hidden {
             flags |= FLAG_HIDDEN;
