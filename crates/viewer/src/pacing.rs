@@ -10,6 +10,11 @@ const FRAME_TARGET_MS: f64 = 40.0;
 /// most while the user drags (a quicker preview).
 const RAY_BUDGET_MS: [f64; 2] = [3.0, 20.0];
 const RAY_BUDGET_DRAGGING_MS: f64 = 12.0;
+/// Time from submitting a run of the picture's squares to the word that it is done, where
+/// the window cannot wait for the GPU (a page), at least and at most: the word comes a frame
+/// or more later, and the bound keeps a run far inside a browser's GPU watchdog and the
+/// window's frames near their pace on a slow adapter.
+const GPU_RUN_MS: [f64; 2] = [50.0, 250.0];
 /// How long after the last drag or scroll the user still counts as interacting.
 const INTERACTION_LINGERS: Duration = Duration::from_millis(150);
 
@@ -71,6 +76,13 @@ impl Pacing {
             RAY_BUDGET_MS[1]
         };
         (FRAME_TARGET_MS - rest_ms).clamp(RAY_BUDGET_MS[0], cap)
+    }
+
+    /// Milliseconds from submitting one run of squares to the word that it is done, where
+    /// the window cannot wait for the GPU: six UI frames (the word takes one or more),
+    /// within `GPU_RUN_MS`.
+    pub fn gpu_run_ms(&self) -> f64 {
+        (6.0 * self.ui_frame_ms).clamp(GPU_RUN_MS[0], GPU_RUN_MS[1])
     }
 
     /// The ray casting of this frame took `ms`.

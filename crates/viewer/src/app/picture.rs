@@ -18,6 +18,7 @@ use super::FourfoldApp;
 use super::inset::InsetCaster;
 use crate::job::VIEW_TARGET;
 use crate::notice::Notice;
+use crate::platform;
 use crate::progressive::{Progressive, Subject};
 
 /// Ray casting for the projection beside a slice gets at least this much of a UI frame.
@@ -246,7 +247,11 @@ impl FourfoldApp {
             return false;
         }
         let interacting = self.pacing.interacting();
-        let budget_ms = self.pacing.ray_budget_ms();
+        let budget_ms = if platform::WAITS_FOR_GPU {
+            self.pacing.ray_budget_ms()
+        } else {
+            self.pacing.gpu_run_ms()
+        };
         let started = Instant::now();
         let mut more = false;
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {

@@ -3,6 +3,8 @@
 //! target):
 //!
 //! - `CERTIFIED_PIXELS`: whether the viewer draws certified pixels;
+//! - `WAITS_FOR_GPU`: whether the window's thread may wait for the GPU's work (a page
+//!   cannot: its picture's runs are paced by the queue's word that the last is done);
 //! - `CRITICAL_BOX_BUDGET` and `CriticalWork`: how long the slice slider's critical values
 //!   may search, and where (a thread, or slices of the window's frames);
 //! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and

@@ -1,7 +1,8 @@
 //! The progressive renderer's state: which stage of which picture is being drawn, how fast
 //! squares go, and what is on screen.
 
-use std::sync::Arc;
+use std::collections::VecDeque;
+use std::sync::{Arc, OnceLock};
 
 use eframe::egui_wgpu;
 use web_time::Instant;
@@ -17,6 +18,27 @@ use super::binning::Binner;
 use super::paint::{Paint, Progress, layers};
 use super::stages::{self, Stage, UNIT, ViewKey, texture_index};
 use super::textures::{self, StageTexture};
+use crate::platform;
+
+/// The most squares one run may hold where the window cannot wait for the GPU: 16384
+/// pixels, seconds of certified squares on M on Chromium's SwiftShader.
+const PAGE_RUN_SQUARES: u32 = 256;
+
+/// Runs on their way through the GPU at most: where the word that a run is done comes a
+/// frame or more later, a second one keeps the GPU busy meanwhile.
+const RUNS_IN_FLIGHT: usize = if platform::WAITS_FOR_GPU { 1 } else { 2 };
+
+/// A run of squares on its way through the GPU: timed from its submission to the queue's
+/// word that it is done (at once natively, where the window waits for it; a frame or more
+/// later in a page).
+struct Run {
+    squares: u32,
+    rays: f64,
+    /// The milliseconds it was sized to take.
+    planned_ms: f64,
+    submitted: Instant,
+    done: Arc<OnceLock<Instant>>,
+}
 
 /// What a progressive picture draws: a ray caster with its hierarchy and parameter values,
 /// seen as `scene` says, for the session's picture `generation` (a new one starts again).
@@ -65,6 +87,10 @@ pub struct Progressive {
     /// the counts once they are in (None: not certified, or not yet).
     verdict_read: Option<PendingRgba>,
     pub verdicts: Option<VerdictCounts>,
+    /// The runs the GPU has not finished yet (only where the window cannot wait for it),
+    /// oldest first, and when the last one landed was done.
+    in_flight: VecDeque<Run>,
+    last_done: Option<Instant>,
 }
 
 impl Default for Progressive {
@@ -90,6 +116,8 @@ impl Default for Progressive {
             binner: Binner::default(),
             verdict_read: None,
             verdicts: None,
+            in_flight: VecDeque::new(),
+            last_done: None,
         }
     }
 }
@@ -203,14 +231,21 @@ impl Progressive {
         let mut runs = 0;
         let mut frame: Option<(usize, Camera, Uniforms)> = None;
         while self.stage < self.stages.len() {
+            // Few runs at a time on the GPU: the next is sized by how long the last took.
+            if !self.land_runs() {
+                return true;
+            }
             let stage = self.stages[self.stage];
             let index = texture_index(stage.div);
             let (width, height) = (self.textures[index].width, self.textures[index].height);
             let cols = width.div_ceil(self.tile);
             // Previews and the frames while the user interacts are plain (fast); the full
-            // picture once still is certified where the scene asks.
-            let certified =
+            // picture once still is certified where the scene asks: its first pass proves
+            // each pixel, the plain passes averaged into it after keep what it proved where
+            // their rays find nothing.
+            let settled =
                 scene.render.certified && certifying.is_some() && stage.div == 1 && !interacting;
+            let certified = settled && stage.frame == 0;
             if self.next_tile >= cols * height.div_ceil(self.tile) {
                 self.complete_stage(gpu, stage, certified);
                 continue;
@@ -230,6 +265,7 @@ impl Progressive {
                 let options = FrameOptions {
                     frame: stage.frame,
                     rays: Some(stage.rays),
+                    keep_misses: settled && !certified,
                     ..FrameOptions::default()
                 };
                 let mut drawn = scene.clone();
@@ -250,9 +286,14 @@ impl Progressive {
             {
                 return true;
             }
-            // As many squares of this row as fit in what is left of the budget (with a
-            // margin: squares vary, and an overrun costs the window a frame).
-            let left = (0.5 * (budget_ms - started.elapsed().as_secs_f64() * 1e3)).max(1.0);
+            // As many squares as fit in what is left of the budget (with a margin: squares
+            // vary, and an overrun costs the window a frame); where the window cannot wait
+            // for the GPU, the budget is the GPU time one run may take.
+            let left = if platform::WAITS_FOR_GPU {
+                (0.5 * (budget_ms - started.elapsed().as_secs_f64() * 1e3)).max(1.0)
+            } else {
+                budget_ms
+            };
             self.draw_run(gpu, caster, uniforms, stage, left);
             runs += 1;
         }
@@ -300,7 +341,7 @@ impl Progressive {
     }
 
     /// Draws the next run of squares of the stage in progress, as many as `left_ms` holds
-    /// at the measured time per square, and updates the measurements.
+    /// at the measured time per square: along the row, or whole rows from a row's start.
     fn draw_run(
         &mut self,
         gpu: &Gpu,
@@ -312,13 +353,22 @@ impl Progressive {
         let texture = &self.textures[texture_index(stage.div)];
         let (width, height) = (texture.width, texture.height);
         let cols = width.div_ceil(self.tile);
+        let rows = height.div_ceil(self.tile);
         let (tx, ty) = (self.next_tile % cols, self.next_tile / cols);
         let run = match self.unit_ms {
             None => 1,
-            Some(u) => ((left_ms / u.max(1e-3)) as u32).clamp(1, cols - tx),
+            Some(u) => ((left_ms / u.max(1e-3)) as u32).max(1),
         };
-        let region = [tx * self.tile, ty * self.tile, run * self.tile, self.tile];
-        let t = Instant::now();
+        let (region, squares) = if tx == 0 && run >= cols {
+            let n = (run / cols).min(rows - ty);
+            ([0, ty * self.tile, width, n * self.tile], n * cols)
+        } else {
+            let n = run.min(cols - tx);
+            (
+                [tx * self.tile, ty * self.tile, n * self.tile, self.tile],
+                n,
+            )
+        };
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
@@ -332,27 +382,75 @@ impl Progressive {
                 weight: stage.weight,
             },
         );
+        let submitted = Instant::now();
         gpu.queue.submit([encoder.finish()]);
-        let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        let run_ms = t.elapsed().as_secs_f64() * 1e3;
-        let per_unit = run_ms / f64::from(run);
-        // Slower squares count at once, faster ones slowly: never plan a run too long.
-        self.unit_ms = Some(match self.unit_ms {
-            Some(u) if per_unit < u => 0.8 * u + 0.2 * per_unit,
-            _ => per_unit,
+        let done = Arc::new(OnceLock::new());
+        let flag = Arc::clone(&done);
+        gpu.queue.on_submitted_work_done(move || {
+            let _ = flag.set(Instant::now());
         });
-        let w = (run * self.tile).min(width - region[0]);
-        let h = self.tile.min(height - region[1]);
-        let rays = f64::from(w * h * stage.rays);
+        if platform::WAITS_FOR_GPU {
+            let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        }
+        let w = region[2].min(width - region[0]);
+        let h = region[3].min(height - region[1]);
+        self.in_flight.push_back(Run {
+            squares,
+            rays: f64::from(w * h * stage.rays),
+            planned_ms: left_ms,
+            submitted,
+            done,
+        });
+        self.next_tile += squares;
+    }
+
+    /// Takes the measurements of the runs the GPU is done with; whether another may go.
+    fn land_runs(&mut self) -> bool {
+        while let Some(run) = self.in_flight.front() {
+            let Some(&done) = run.done.get() else {
+                break;
+            };
+            let run = self.in_flight.pop_front().expect("looked at above");
+            self.land(&run, done);
+        }
+        self.in_flight.len() < RUNS_IN_FLIGHT
+    }
+
+    /// Takes the measurements of `run`, done at `done`.
+    fn land(&mut self, run: &Run, done: Instant) {
+        // (A run queued behind another starts when that one is done.)
+        let start = self
+            .last_done
+            .map_or(run.submitted, |d| d.max(run.submitted));
+        self.last_done = Some(done);
+        let run_ms = done.duration_since(start).as_secs_f64() * 1e3;
+        let per_unit = run_ms / f64::from(run.squares);
+        self.unit_ms = Some(if platform::WAITS_FOR_GPU {
+            // Slower squares count at once, faster ones slowly: never plan a run too long.
+            match self.unit_ms {
+                Some(u) if per_unit < u => 0.8 * u + 0.2 * per_unit,
+                _ => per_unit,
+            }
+        } else {
+            // Where the word that a run is done comes a frame or more later, a small run's
+            // time is mostly that wait: one done within its plan is doubled, up to a
+            // bound (a square on M may cost a thousand of sky, and a run is not taken
+            // back once queued); one that overran shrinks in proportion.
+            let next = if run_ms <= run.planned_ms {
+                (2 * run.squares).min(PAGE_RUN_SQUARES)
+            } else {
+                ((f64::from(run.squares) * run.planned_ms / run_ms) as u32).max(1)
+            };
+            run.planned_ms / f64::from(next)
+        });
         if run_ms > 0.05 {
-            let measured = rays / run_ms;
+            let measured = run.rays / run_ms;
             self.rays_per_ms = if measured < self.rays_per_ms {
                 measured
             } else {
                 0.9 * self.rays_per_ms + 0.1 * measured
             };
         }
-        self.next_tile += run;
     }
 
     /// The layers to paint, bottom first (see `paint::layers`).

@@ -19,6 +19,10 @@ use crate::job::{JobInputs, JobResult};
 /// The desktop draws certified pixels (the web page cannot yet: see its platform module).
 pub const CERTIFIED_PIXELS: bool = true;
 
+/// The window's thread may wait for the GPU to finish a run of the picture's squares, and
+/// so time it as it draws.
+pub const WAITS_FOR_GPU: bool = true;
+
 /// Boxes the slice slider's search for critical values may look at: on a thread of its
 /// own, the library's default.
 pub const CRITICAL_BOX_BUDGET: usize = fourfold::scene::limits::CRITICAL_BOX_BUDGET;

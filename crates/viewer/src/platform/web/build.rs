@@ -13,14 +13,20 @@ use fourfold::tree::Hierarchy;
 
 use crate::job::{JobInputs, JobResult};
 
-/// Whether this viewer draws certified pixels: not in the browser yet. A page cannot wait
-/// for the GPU, so the progressive picture submits squares as fast as it encodes them; on
-/// Chromium's SwiftShader (the page's tests) a certified stage so queued kept the GPU busy
-/// for minutes, the page drew no frame in that time, and once the device was lost. (The
-/// certified pipeline itself compiles there in 5.7 s, the plain one in 1.4 s.) Pacing the
-/// runs by the GPU's completion would lift this. The page draws the plain pencil, and
-/// keeps the scene's own setting for its links (`Session::link_fragment`).
+/// Whether this viewer draws certified pixels: not in the browser yet. Queued as fast as
+/// they were encoded, a certified stage's squares kept Chromium's SwiftShader (the page's
+/// tests) busy for minutes and once lost the device; paced one run at a time
+/// (`WAITS_FOR_GPU`), the first run of certified squares still did not finish there within
+/// minutes, even of a 320×240 picture of a quadric whose plain stages took a second (the
+/// certified pipeline compiles there in 5.7 s; why its draw does not end is not known).
+/// The page draws the plain pencil, and keeps the scene's own setting for its links
+/// (`Session::link_fragment`).
 pub const CERTIFIED_PIXELS: bool = false;
+
+/// A page cannot wait for the GPU: the picture's squares go one run at a time, the next
+/// only once the queue says the last is done (queued as fast as they were encoded, a
+/// stage's squares could keep a software GPU busy for minutes).
+pub const WAITS_FOR_GPU: bool = false;
 
 /// Boxes the slice slider's search for critical values may look at: a page searches in
 /// slices of its frames, so a search that needs more than a few seconds of them is cut

@@ -9,7 +9,8 @@ mod thumbnails;
 mod ui;
 
 pub use build::{
-    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, pause,
+    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU,
+    pause,
 };
 pub use thumbnails::Thumbnails;
 pub use ui::{
