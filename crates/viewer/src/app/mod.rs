@@ -71,6 +71,9 @@ pub struct FourfoldApp {
     pub embed_link_rect: Option<egui::Rect>,
     /// The picture was still being drawn (or a tree built) at the last frame.
     pub drawing: bool,
+    /// Every picture with more to draw waited for the GPU at the last frame (the queue
+    /// wakes the window when a run is done).
+    picture_waits: bool,
     /// Where the controls panel was at the last frame (tests check that the formula's
     /// error stays inside it).
     pub controls_rect: Option<egui::Rect>,
@@ -112,7 +115,7 @@ impl FourfoldApp {
         };
         let mut app = Self {
             session: Session::new(scene.clone()),
-            progressive: Progressive::default(),
+            progressive: Progressive::waking(cc.egui_ctx.clone()),
             ui,
             gpu,
             renderer,
@@ -131,7 +134,8 @@ impl FourfoldApp {
             picture_rect: None,
             embed_link_rect: None,
             drawing: true,
-            inset: Progressive::default(),
+            picture_waits: false,
+            inset: Progressive::waking(cc.egui_ctx.clone()),
             inset_caster: None,
             critical: Default::default(),
             critical_strip_rect: None,
@@ -344,7 +348,9 @@ impl FourfoldApp {
         let busy =
             self.session.building() || self.platform.busy() || self.gallery.busy() || searching;
         self.drawing = more || self.session.building();
-        if more || busy || self.ui.auto_rotate {
+        // A picture waiting for the GPU is woken by the queue when a run is done: no frame
+        // is drawn meanwhile (on a software GPU they would take its time).
+        if (more && !self.picture_waits) || busy || self.ui.auto_rotate {
             ui.ctx().request_repaint();
         } else {
             self.pacing.idle();

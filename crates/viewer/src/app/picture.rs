@@ -254,6 +254,8 @@ impl FourfoldApp {
         };
         let started = Instant::now();
         let mut more = false;
+        // Whether every picture with more to draw waits for the GPU to wake the window.
+        let mut waits = true;
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {
             let mut renderer = renderer.write();
             let s = &mut self.session;
@@ -277,6 +279,7 @@ impl FourfoldApp {
                     interacting,
                     budget_ms,
                 );
+                waits &= !more || self.progressive.waiting();
             }
             if let (Some(size), Some(inset)) = (inset, &mut self.inset_caster) {
                 let scene = projection_beside(&s.scene);
@@ -289,7 +292,7 @@ impl FourfoldApp {
                     generation: s.picture_generation,
                 };
                 let left = budget_ms - started.elapsed().as_secs_f64() * 1e3;
-                more |= self.inset.step(
+                let inset_more = self.inset.step(
                     gpu,
                     &mut renderer,
                     subject,
@@ -297,8 +300,11 @@ impl FourfoldApp {
                     interacting,
                     left.max(RAY_FLOOR_MS),
                 );
+                waits &= !inset_more || self.inset.waiting();
+                more |= inset_more;
             }
         }
+        self.picture_waits = more && waits;
         let took_ms = started.elapsed().as_secs_f64() * 1e3;
         self.pacing.rays_took(took_ms);
         if std::env::var_os("FOURFOLD_TRACE").is_some() {

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 use std::sync::{Arc, OnceLock};
 
-use eframe::egui_wgpu;
+use eframe::{egui, egui_wgpu};
 use web_time::Instant;
 
 use fourfold::render::gpu::{PendingRgba, start_texture_read};
@@ -91,6 +91,10 @@ pub struct Progressive {
     /// oldest first, and when the last one landed was done.
     in_flight: VecDeque<Run>,
     last_done: Option<Instant>,
+    /// Whether the last step stopped to wait for a run in flight, and the window to wake
+    /// when one is done.
+    waiting: bool,
+    wake: Option<egui::Context>,
 }
 
 impl Default for Progressive {
@@ -118,11 +122,28 @@ impl Default for Progressive {
             verdicts: None,
             in_flight: VecDeque::new(),
             last_done: None,
+            waiting: false,
+            wake: None,
         }
     }
 }
 
 impl Progressive {
+    /// A progressive picture that asks `ctx` for a frame whenever the GPU is done with a
+    /// run of its squares.
+    pub fn waking(ctx: egui::Context) -> Self {
+        Self {
+            wake: Some(ctx),
+            ..Self::default()
+        }
+    }
+
+    /// Whether the last step stopped to wait for the GPU, which wakes the window when it
+    /// is done.
+    pub fn waiting(&self) -> bool {
+        self.waiting
+    }
+
     /// Rays per millisecond measured so far.
     pub fn throughput(&self) -> f64 {
         self.rays_per_ms
@@ -218,6 +239,7 @@ impl Progressive {
             scene,
             generation,
         } = subject;
+        self.waiting = false;
         self.ensure_textures(gpu, caster, renderer, size);
         self.read_verdicts(gpu);
         let full_key = (ViewKey::new(scene, size), generation, interacting);
@@ -232,7 +254,8 @@ impl Progressive {
         let mut frame: Option<(usize, Camera, Uniforms)> = None;
         while self.stage < self.stages.len() {
             // Few runs at a time on the GPU: the next is sized by how long the last took.
-            if !self.land_runs() {
+            self.waiting = !self.land_runs();
+            if self.waiting {
                 return true;
             }
             let stage = self.stages[self.stage];
@@ -386,8 +409,12 @@ impl Progressive {
         gpu.queue.submit([encoder.finish()]);
         let done = Arc::new(OnceLock::new());
         let flag = Arc::clone(&done);
+        let wake = self.wake.clone();
         gpu.queue.on_submitted_work_done(move || {
             let _ = flag.set(Instant::now());
+            if let Some(ctx) = wake {
+                ctx.request_repaint();
+            }
         });
         if platform::WAITS_FOR_GPU {
             let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
