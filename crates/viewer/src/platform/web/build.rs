@@ -23,8 +23,8 @@ use crate::job::{JobInputs, JobResult};
 /// (`Session::link_fragment`).
 pub const CERTIFIED_PIXELS: bool = false;
 
-/// A page cannot wait for the GPU: the picture's squares go one run at a time, the next
-/// only once the queue says the last is done (queued as fast as they were encoded, a
+/// A page cannot wait for the GPU: the picture's squares go in runs, at most two queued,
+/// the next once the queue says one is done (queued as fast as they were encoded, a
 /// stage's squares could keep a software GPU busy for minutes).
 pub const WAITS_FOR_GPU: bool = false;
 
