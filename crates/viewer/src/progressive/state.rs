@@ -423,7 +423,7 @@ impl Progressive {
         let h = region[3].min(height - region[1]);
         self.in_flight.push_back(Run {
             squares,
-            rays: f64::from(w * h * stage.rays),
+            rays: f64::from(w) * f64::from(h) * f64::from(stage.rays),
             planned_ms: left_ms,
             submitted,
             done,
