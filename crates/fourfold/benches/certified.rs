@@ -9,8 +9,9 @@
 //! 2. for every example scene with its own settings, and the ten scenes of
 //!    tests/data/unseen, the verdicts of a certified frame at SIZE² and the default budget:
 //!    the share of undecided pixels among those that may show M (hit or undecided); and the
-//!    plain frame's recall: the share of the proved hits that a single plain frame (the
-//!    scene's rays, 16 by default) draws as background. FOURFOLD_BENCH_QUICK=1 skips it.
+//!    plain frame's time (after a warm-up frame) and recall: the share of the proved hits
+//!    that a single plain frame (the scene's rays, 16 by default) draws as background.
+//!    FOURFOLD_BENCH_QUICK=1 skips it.
 
 use std::time::Instant;
 
@@ -122,17 +123,18 @@ fn main() {
          frame's misses\n"
     );
     println!(
-        "| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] | proved hits a plain frame misses |"
+        "| scene | hit | empty | undecided | undecided / covered | certified ms [GPU pass] | plain ms [GPU pass] | proved hits a plain frame misses |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     let examples = EXAMPLES
         .iter()
         .map(|(name, _)| (name.to_string(), example(name)));
+    let pass = |g: Option<f64>| g.map_or(String::new(), |g| format!(" [{g:.0}]"));
     for (name, mut scene) in examples.chain(unseen::unseen_scenes()) {
         scene.render.certified = true;
         let cert = time_frames(&gpu, &scene, size, 1);
         scene.render.certified = false;
-        let plain = time_frames(&gpu, &scene, size, 0);
+        let plain = time_frames(&gpu, &scene, size, 1);
         let c = VerdictCounts::of(&cert.verdicts);
         let background = scene.render.background.0;
         let missed = cert
@@ -142,13 +144,15 @@ fn main() {
             .filter(|(v, p)| **v == Verdict::Hit && p[..3] == background)
             .count();
         println!(
-            "| {name} | {} | {} | {} | {:.2}% | {:.0}{} | {missed} ({:.2}%) |",
+            "| {name} | {} | {} | {} | {:.2}% | {:.0}{} | {:.0}{} | {missed} ({:.2}%) |",
             c.hit,
             c.empty,
             c.undecided,
             c.undecided_share(),
             cert.ms,
-            cert.gpu_ms.map_or(String::new(), |g| format!(" [{g:.0}]")),
+            pass(cert.gpu_ms),
+            plain.ms,
+            pass(plain.gpu_ms),
             100.0 * missed as f64 / c.hit.max(1) as f64
         );
     }

@@ -80,6 +80,7 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
     let inf = ff_inf();
     tr.hits.t = array<f32, 16>(inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf);
     tr.hits.far = inf;
+    tr.closest = vec3<f32>(0.0, 0.0, inf);
     // Where the candidates come from: the brute-force baseline, this pixel's tile list, or
     // a walk of the hierarchy.
     // (llvmpipe stops all loops of an invocation after 65535 iterations in all: see below.)
@@ -94,33 +95,44 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
             trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec4<f32>(ff_inf()), none);
         } else if (MODE == 1u) {
             // The list is nearest first: past the first box that cannot hold a hit nearer
-            // than the K kept, none can.
+            // than the K kept, none can. A pixel whose rays found nothing goes over it
+            // again, searching each box between the rays (seek_in_plane; all of them, so
+            // that the hits kept do not depend on the boxes' order).
             let tile = px / max(u.tiling.x, 1u);
             let t = tile.x + tile.y * u.tiling.y;
             // (Tested at the end: see "The pixel's work".)
             let end = tiles[t + 1u];
-            var c = tiles[t];
-            if (c < end) {
-                loop {
-                    let near = visit_box(&tr, tiles[u.tiling.w + c]);
-                    c = c + 1u;
-                    if (!near || c >= end) {
-                        break;
+            for (var round = 0u; round < 2u; round = round + 1u) {
+                let seeking = round == 1u;
+                var c = tiles[t];
+                if (c < end && tr.hits.count == 0u) {
+                    loop {
+                        let near = visit_box(&tr, tiles[u.tiling.w + c], seeking);
+                        c = c + 1u;
+                        if (!near || c >= end) {
+                            break;
+                        }
                     }
                 }
             }
         } else {
             // Depth first: a node that passes is entered (its subtree follows it), one that
-            // fails, or a box marched whole, is skipped past.
-            var i = 0u;
-            loop {
-                if (i >= u.counts.x) {
+            // fails, or a box marched whole, is skipped past. (Twice, as the lists.)
+            for (var round = 0u; round < 2u; round = round + 1u) {
+                let seeking = round == 1u;
+                var i = 0u;
+                loop {
+                    if (i >= u.counts.x) {
+                        break;
+                    }
+                    let node = nodes[i];
+                    let v = visit(&tr, i, seeking);
+                    let boxed = (node.info & MARCHED) != 0u;
+                    i = select(node.skip, i + 1u, v.x && v.y && !boxed);
+                }
+                if (tr.hits.count > 0u) {
                     break;
                 }
-                let node = nodes[i];
-                let v = visit(&tr, i);
-                let boxed = (node.info & MARCHED) != 0u;
-                i = select(node.skip, i + 1u, v.x && v.y && !boxed);
             }
         }
     }
@@ -159,6 +171,7 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
         let idx = count - 1u - j;
         let hit = hit_at(tr.hits, idx);
         var dir = select(ray_dir2(hit.y, n, tr.pixel_seed, tr.offset), vec2<f32>(1.0, 0.0), slice_on());
+        dir = select(dir, plane_ray_dir(hit.y), (hit.y & PLANE_ROOT) != 0u);
         dir = select(dir, tr.aim, hit.y == AIMED);
         let d = dir.x * u.n1 + dir.y * u.n2;
         let c = shade(tr.o + bitcast<f32>(hit.x) * d, d);

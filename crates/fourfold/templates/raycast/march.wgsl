@@ -25,16 +25,27 @@ struct Tracer {
     // plane (its sign change is then proved, or not, by certify), and whether there is one.
     bracket: vec4<f32>,
     bracketed: bool,
+    // The sample of the pixel's rays that M may be nearest (by |F| over |grad F| in the
+    // plane), as its (s, t) there and that ratio (+inf: none): where seek_in_plane starts.
+    closest: vec3<f32>,
 }
 
-// F and dF/dt at o + t d (for brute force, MODE 0, F alone: it steps over nothing).
-fn sample(tr: ptr<function, Tracer>, d: vec4<f32>, t: f32) -> vec2<f32> {
+// F and dF/dt at o + t d, and |F| over |grad F| in the observer plane, how far M may be (for
+// brute force, MODE 0, F alone: it steps over nothing).
+fn sample(tr: ptr<function, Tracer>, d: vec4<f32>, t: f32) -> vec3<f32> {
     let p = (*tr).o + t * d;
     if (MODE == 0u) {
-        return vec2<f32>(ff_f(p), 0.0);
+        return vec3<f32>(ff_f(p), 0.0, ff_inf());
     }
     let fg = ff_f_grad(p);
-    return vec2<f32>(fg.f, dot(fg.g, d));
+    let away = abs(fg.f) / length(vec2<f32>(dot(fg.g, u.n1), dot(fg.g, u.n2)));
+    return vec3<f32>(fg.f, dot(fg.g, d), away);
+}
+
+// Keeps the sample at (s, t) in the observer plane if M may be nearer it than the closest
+// so far (`away`: see sample; NaN is not).
+fn keep_closest(tr: ptr<function, Tracer>, st: vec2<f32>, away: f32) {
+    (*tr).closest = select((*tr).closest, vec3<f32>(st, away), away < (*tr).closest.z);
 }
 
 // Marches the ray o + t d over [t0, t1] in `steps` equal steps, bisecting each sign change
@@ -52,8 +63,10 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
     let per_t = 0.999 / dt;
     let reach = per_t / slope;
     let iters = u.control.y;
+    let along = vec2<f32>(dot(d, u.n1), dot(d, u.n2));
     var ta = t0;
     var fa = sample(tr, d, ta);
+    keep_closest(tr, ta * along, fa.z);
     var s = 1u;
     loop {
         // March to the next sign change, the span's end, or a point beyond the K kept.
@@ -88,6 +101,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
             }
             tb = t0 + f32(s) * dt;
             fb = sample(tr, d, tb);
+            keep_closest(tr, tb * along, fb.z);
             // Signs compared, not multiplied: the product of two tiny values of one sign
             // is below f32's normals, which a GPU may flush to 0.
             if (((fa.x <= 0.0 && fb.x >= 0.0) || (fa.x >= 0.0 && fb.x <= 0.0)) && !(fa.x == 0.0 && fb.x == 0.0)) {
@@ -202,11 +216,6 @@ fn bend_in_plane(f: PlaneCurvature, dir: vec2<f32>) -> vec2<f32> {
     return select(vec2<f32>(-ff_inf(), ff_inf()), b, b.x == b.x && b.y == b.y);
 }
 
-// Tries the rays that can meet the box [lo, hi] (its sphere seen at angles `ang` from o,
-// see `angles`) and marches each over its span in the box, with the box's bounds (brute
-// force, MODE 0, has none: +inf): `slope` bounds |dF/dx|, |dF/dy|, |dF/dz|, |dF/dw| in the
-// box, so |grad F . d| <= slope . |d| along a ray d; `form` bounds F's second derivatives
-// along the rays of the observer plane (see bend_in_plane).
 // Marches ray k, along dir in (n1, n2), over its span in the box [lo, hi] (and the slab).
 fn march_through(tr: ptr<function, Tracer>, k: u32, dir: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
     let d = dir.x * u.n1 + dir.y * u.n2;
@@ -220,6 +229,11 @@ fn march_through(tr: ptr<function, Tracer>, k: u32, dir: vec2<f32>, lo: vec4<f32
     }
 }
 
+// Tries the rays that can meet the box [lo, hi] (its sphere seen at angles `ang` from o,
+// see `angles`) and marches each over its span in the box, with the box's bounds (brute
+// force, MODE 0, has none: +inf): `slope` bounds |dF/dx|, |dF/dy|, |dF/dz|, |dF/dw| in the
+// box, so |grad F . d| <= slope . |d| along a ray d; `form` bounds F's second derivatives
+// along the rays of the observer plane (see bend_in_plane).
 fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
     if (slice_on()) {
         // One ray, along n1 from behind the domain (see fs_main).
@@ -288,11 +302,11 @@ fn box_steps(info: u32) -> u32 {
     return select(coarse, u.control.x, (info & LEAF) != 0u);
 }
 
-// Tests node i of the hierarchy against the pixel's observer plane and marches it if it is
-// a box to march (marked by fourfold; its subtree, if any, is not kept) that
-// passes. Returns whether it passes, and (.y) whether anything in it can be nearer than the
+// Tests node i of the hierarchy against the pixel's observer plane and marches it (or, when
+// `seeking`, searches it between the rays: seek_in_plane) if it is a box to march (marked
+// by fourfold; its subtree, if any, is not kept) that passes. Returns whether it passes, and (.y) whether anything in it can be nearer than the
 // K hits kept (nothing in the sphere is nearer than |q| - r).
-fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
+fn visit(tr: ptr<function, Tracer>, i: u32, seeking: bool) -> vec2<bool> {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
     let half = level_half(node.info);
@@ -303,15 +317,19 @@ fn visit(tr: ptr<function, Tracer>, i: u32) -> vec2<bool> {
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & MARCHED) != 0u;
     if (meets && near && boxed) {
-        trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), bounds[i].slope, plane_curvature(bounds[i].curvature));
+        if (seeking) {
+            seek_in_plane(tr, c - half, c + half);
+        } else {
+            trace_box(tr, c - half, c + half, angles(q, r), box_steps(node.info), bounds[i].slope, plane_curvature(bounds[i].curvature));
+        }
     }
     return vec2<bool>(meets, near);
 }
 
 // Tests box record i of the tile lists as `visit` tests a node, with what is the same for
-// every pixel read from the record, and marches it if it passes. Returns whether anything
-// in it can be nearer than the K hits kept.
-fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
+// every pixel read from the record, and marches (or seeks in) it if it passes. Returns
+// whether anything in it can be nearer than the K hits kept.
+fn visit_box(tr: ptr<function, Tracer>, i: u32, seeking: bool) -> bool {
     let view = boxes[i].view;
     let level = boxes[i].level;
     let half = level_half(level);
@@ -320,7 +338,11 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32) -> bool {
     let near = view.z < (*tr).hits.far;
     if (meets && near) {
         let c = boxes[i].center;
-        trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope, boxes[i].form);
+        if (seeking) {
+            seek_in_plane(tr, c - half, c + half);
+        } else {
+            trace_box(tr, c - half, c + half, boxes[i].angles, box_steps(level), boxes[i].slope, boxes[i].form);
+        }
     }
     return near;
 }

@@ -6,7 +6,8 @@ use crate::formula::CompiledFormula;
 use super::tapes::{INTERVAL, POINT, tape_function};
 
 /// The ray-casting template (`templates/raycast/`): the bindings and the formula's markers,
-/// the rays, the shading, the march, certified pixels, and the entry points.
+/// the rays, the shading, the march, the search between rays, certified pixels, and the
+/// entry points.
 pub const TEMPLATE: &str = concat!(
     include_str!("../../../templates/raycast/bindings.wgsl"),
     "\n",
@@ -15,6 +16,8 @@ pub const TEMPLATE: &str = concat!(
     include_str!("../../../templates/raycast/shading.wgsl"),
     "\n",
     include_str!("../../../templates/raycast/march.wgsl"),
+    "\n",
+    include_str!("../../../templates/raycast/seek.wgsl"),
     "\n",
     include_str!("../../../templates/raycast/certify.wgsl"),
     "\n",

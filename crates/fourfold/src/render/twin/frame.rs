@@ -139,10 +139,17 @@ fn render_pixel(
         aim: [1.0, 0.0],
         plane,
         bracket: None,
+        closest: ([0.0; 2], f32::INFINITY),
     };
     let boxes = boxes_of(h[0], u, o);
     for b in &boxes {
         pixel.trace_box(o, b);
+    }
+    // As the shader: a pixel whose rays found nothing searches its boxes between them.
+    if pixel.hits.is_empty() && !u.brute_force() && !pixel.slice() {
+        for b in &boxes {
+            pixel.seek_in_plane(o, b);
+        }
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {

@@ -6,6 +6,7 @@
 mod certify;
 mod frame;
 mod pixel;
+mod seek;
 mod shading;
 
 pub use certify::{CERT_STACK, Certifier, Outcome};

@@ -6,7 +6,7 @@ use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
 use crate::render::view::{
     FLAG_BORDER, FLAG_CERTIFIED, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
-    FLAG_SLICE, Uniforms, slope_along,
+    FLAG_SLICE, PLANE_ROOT, Uniforms, plane_ray_dir, slope_along,
 };
 use crate::tree::Curvature;
 
@@ -31,6 +31,9 @@ pub(super) struct Pixel<'a> {
     /// change a ray found as its two ends' (s, t) there (as the shader's `bracket`).
     pub(super) plane: V4,
     pub(super) bracket: Option<([f64; 2], [f64; 2])>,
+    /// The sample of the pixel's rays that M may be nearest: its (s, t) in the observer plane
+    /// and |F| over |∇F| there (the shader's `closest`: where the search starts).
+    pub(super) closest: ([f32; 2], f32),
 }
 
 /// A box the pixel marches, as `trace_box` takes it.
@@ -87,9 +90,16 @@ impl Pixel<'_> {
         add(scale(self.u.n1, d[0]), scale(self.u.n2, d[1]))
     }
 
-    /// Ray k's direction in (n1, n2), ray AIMED's included.
+    /// Ray k's direction in (n1, n2), ray AIMED's and those of roots found between the rays
+    /// included.
     pub(super) fn plane_dir(&self, k: u32) -> [f32; 2] {
-        if k == AIMED { self.aim } else { self.dir2(k) }
+        if k == AIMED {
+            self.aim
+        } else if k & PLANE_ROOT != 0 {
+            plane_ray_dir(k)
+        } else {
+            self.dir2(k)
+        }
     }
 
     /// The plane's point where F changes sign between `a` (F > 0) and `b` (F < 0), by 24
@@ -131,6 +141,18 @@ impl Pixel<'_> {
         self.hits.insert(at, (t, ray));
     }
 
+    /// Keeps the sample at `p`, t along the ray whose direction in the plane is `along`, if
+    /// M may be nearer it than the closest so far: by |F| over |∇F| in the plane (the
+    /// shader's `keep_closest`; the march's F is evaluated again with its gradient).
+    fn keep_closest(&mut self, p: V4, t: f32, along: [f32; 2]) {
+        let (f, g) = self.f_grad(p);
+        let (gs, gt) = (dot(g, self.u.n1), dot(g, self.u.n2));
+        let away = f.abs() / (gs * gs + gt * gt).sqrt();
+        if away < self.closest.1 {
+            self.closest = ([t * along[0], t * along[1]], away);
+        }
+    }
+
     /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
     /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
     /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
@@ -153,8 +175,10 @@ impl Pixel<'_> {
         let reach = per_t / slope;
         // (dF/dt serves only the curvature bound.)
         let bent = bend.0.is_finite() && bend.1.is_finite();
+        let along = [dot(d, self.u.n1), dot(d, self.u.n2)];
         let mut ta = t0;
         let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d, bent);
+        self.keep_closest(add(o, scale(d, ta)), ta, along);
         let mut s = 1;
         loop {
             let m = fa.abs() * reach;
@@ -168,6 +192,7 @@ impl Pixel<'_> {
             }
             let tb = t0 + s as f32 * dt;
             let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
+            self.keep_closest(add(o, scale(d, tb)), tb, along);
             // Signs compared, as the shader does (a product of tiny values underflows to 0).
             if ((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0) {
                 if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {

@@ -12,7 +12,7 @@ mod uniforms;
 
 pub use camera::{Camera, Rotation4, Section};
 pub use frame::frame;
-pub use march::{march_steps, slope_along};
+pub use march::{PLANE_ROOT, march_steps, plane_ray, plane_ray_dir, slope_along};
 pub use rotate::rotate_view;
 pub use tiles::TileLists;
 pub use uniforms::{

@@ -1,0 +1,249 @@
+// Where the pixel's observer plane grazes M, F takes its other sign on a small island of
+// the plane that the pencil's rays pass beside, or cross between two of their samples: the
+// pixel would show background where M is (issue 34 measured up to a quarter of a thin
+// tube's pixels). So a pixel whose rays found nothing searches each of its boxes again: a
+// few Newton steps on F within the plane, from the rays' sample where M may be nearest (or
+// a point of the plane in the box near its centre), look for a sign change inside the box;
+// its root, found by bisection, is a hit along the ray through it.
+
+// A hit's ray with this bit was found by seek_in_plane: its low 24 bits hold the ray's
+// angle in the observer plane as a fraction of a turn (fourfold's `plane_ray`).
+const PLANE_ROOT: u32 = 0x80000000u;
+// Evaluations of F and its gradient (a step's, a valley floor's) from each start, and how
+// much each Newton step is lengthened (so that a step that nears a root crosses it, which
+// gives the sign change; 1 would only approach it).
+const SEEK_EVALS: u32 = 8u;
+const SEEK_REACH: f32 = 1.5;
+
+fn plane_ray(dir: vec2<f32>) -> u32 {
+    let turn = fract(atan2(dir.y, dir.x) / TAU + 1.0);
+    return PLANE_ROOT | min(u32(turn * 16777216.0), 16777215u);
+}
+
+fn plane_ray_dir(ray: u32) -> vec2<f32> {
+    let phi = TAU * f32(ray & 16777215u) / 16777216.0;
+    return vec2<f32>(cos(phi), sin(phi));
+}
+
+// The point at (s, t) from the pixel's origin along n1 and n2.
+fn in_plane(tr: ptr<function, Tracer>, st: vec2<f32>) -> vec4<f32> {
+    return (*tr).o + st.x * u.n1 + st.y * u.n2;
+}
+
+fn in_box(p: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> bool {
+    return all(p >= lo) && all(p <= hi);
+}
+
+// (s, t) moved onto the slab lo <= o + s n1 + t n2 <= hi of one axis (its components o, n1
+// and n2 given), along the slab's normal in the plane.
+fn onto_slab(st: vec2<f32>, o: f32, n1: f32, n2: f32, lo: f32, hi: f32) -> vec2<f32> {
+    let a = vec2<f32>(n1, n2);
+    let aa = dot(a, a);
+    let v = o + dot(a, st);
+    let to = clamp(v, lo, hi);
+    return select(st, st + ((to - v) / aa) * a, aa > 1e-12);
+}
+
+// A point of the plane inside the box [lo, hi] (or near it, if the plane misses it), from
+// (s, t): alternate projections on its four slabs, each shrunk by a thousandth so that the
+// point lies within.
+fn point_in_box(tr: ptr<function, Tracer>, st: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
+    let o = (*tr).o;
+    let m = 0.001 * (hi - lo);
+    let l = lo + m;
+    let h = hi - m;
+    var p = st;
+    for (var r = 0u; r < 8u; r = r + 1u) {
+        p = onto_slab(p, o.x, u.n1.x, u.n2.x, l.x, h.x);
+        p = onto_slab(p, o.y, u.n1.y, u.n2.y, l.y, h.y);
+        p = onto_slab(p, o.z, u.n1.z, u.n2.z, l.z, h.z);
+        p = onto_slab(p, o.w, u.n1.w, u.n2.w, l.w, h.w);
+    }
+    return p;
+}
+
+// The share of the step from (s, t) (inside the box) that stays in it, and the outward
+// normal in the plane of the side where it would leave (0 where it stays).
+fn within_box(tr: ptr<function, Tracer>, st: vec2<f32>, step: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec3<f32> {
+    let p = in_plane(tr, st);
+    let d = step.x * u.n1 + step.y * u.n2;
+    // (A step along a side of the box never reaches it.)
+    let along = abs(d) < vec4<f32>(1e-30);
+    let room = select(select(lo - p, hi - p, d > vec4<f32>(0.0)) / select(d, vec4<f32>(1.0), along), vec4<f32>(ff_inf()), along);
+    var k = 0u;
+    var r = room.x;
+    if (room.y < r) {
+        k = 1u;
+        r = room.y;
+    }
+    if (room.z < r) {
+        k = 2u;
+        r = room.z;
+    }
+    if (room.w < r) {
+        k = 3u;
+        r = room.w;
+    }
+    let a = vec2<f32>(u.n1[k], u.n2[k]) * sign(d[k]);
+    let len = length(a);
+    let wall = select(vec2<f32>(0.0), a / len, len > 1e-6 && r < 1.0);
+    return vec3<f32>(clamp(r, 0.0, 1.0), wall);
+}
+
+// Whether (s, t) keeps to the slab, when there is one (as clip_to_slab: t along n2).
+fn in_slab(st: vec2<f32>) -> bool {
+    return !slab_on() || (st.y >= u.root.z - u.root.w && st.y <= u.root.z + u.root.w);
+}
+
+// Whether F keeps its sign from fa to fb (signs compared as march_ray compares them).
+fn same_side(fa: f32, fb: f32) -> bool {
+    return !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0));
+}
+
+// Newton's steps from `start` (in the box [lo, hi]) towards a root of F in the plane: a
+// sign change between .a and .b (F(.a) = .fa) if .found.
+struct Seek {
+    a: vec2<f32>,
+    b: vec2<f32>,
+    fa: f32,
+    found: bool,
+}
+
+fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> Seek {
+    let reach = 0.5 * length(hi - lo);
+    var a = start;
+    var fa = ff_f_grad(in_plane(tr, a));
+    // M is farther than the box reaches, by |F| / |grad F| in the plane (or F is undefined
+    // there): no search (most boxes the pixels around M meet, which would each pay for it).
+    if (!(abs(fa.f) <= reach * length(vec2<f32>(dot(fa.g, u.n1), dot(fa.g, u.n2))))) {
+        return Seek(a, a, fa.f, false);
+    }
+    var b = a;
+    var found = false;
+    // The outward normal of the box's side the search stands on (0: none): a step that
+    // would leave through it goes along it instead.
+    var wall = vec2<f32>(0.0);
+    // How far the next step goes, in Newton's steps.
+    var gain = SEEK_REACH;
+    var i = 0u;
+    // (Tested at the end: see "The pixel's work".)
+    loop {
+        // F's gradient in the plane, and along the side if the step would leave through it.
+        let g = vec2<f32>(dot(fa.g, u.n1), dot(fa.g, u.n2));
+        let gw = select(g, g - dot(g, wall) * wall, dot(g, wall) * fa.f < 0.0);
+        var step = (-gain * fa.f / dot(gw, gw)) * gw;
+        let len = length(step);
+        // (A flat or undefined F gives a step that is not finite: the search ends.)
+        if (!(len < ff_inf())) {
+            break;
+        }
+        step = select(step, step * (reach / len), len > reach);
+        // A step that would leave the box stops at its side.
+        let stay = within_box(tr, a, step, lo, hi);
+        // (Short of the side by a thousandth: a point on it may round to outside.)
+        b = a + select(stay.x, stay.x * 0.999, stay.x < 1.0) * step;
+        if (stay.x < 1e-3) {
+            // Stuck: at a second side (a corner), or already along the first.
+            if (any(wall != vec2<f32>(0.0)) || all(stay.yz == vec2<f32>(0.0))) {
+                break;
+            }
+            wall = stay.yz;
+        } else {
+            var fgb = ff_f_grad(in_plane(tr, b));
+            if (!same_side(fa.f, fgb.f)) {
+                found = true;
+                break;
+            }
+            // A step across the floor of a valley of F (F falls towards 0 from a, rises
+            // again at b) zigzags: so the point where the tangents to F at a and b meet (a
+            // kink's place, or near a smooth floor) is tried too, and kept if it is nearer 0.
+            let taken = b - a;
+            let sa = dot(g, taken);
+            let sb = dot(vec2<f32>(dot(fgb.g, u.n1), dot(fgb.g, u.n2)), taken);
+            if (sa * fa.f < 0.0 && sb * fa.f > 0.0) {
+                let m = a + clamp((fgb.f - fa.f - sb) / (sa - sb), 0.05, 0.95) * taken;
+                let fgm = ff_f_grad(in_plane(tr, m));
+                i = i + 1u;
+                if (!same_side(fa.f, fgm.f)) {
+                    b = m;
+                    found = true;
+                    break;
+                }
+                if (abs(fgm.f) < abs(fgb.f)) {
+                    b = m;
+                    fgb = fgm;
+                }
+            }
+            if (abs(fgb.f) < abs(fa.f)) {
+                wall = select(wall, stay.yz, stay.x < 1.0);
+                a = b;
+                fa = fgb;
+                gain = SEEK_REACH;
+            } else {
+                // Nothing nearer 0: a shorter step, to where the parabola through F(a), its
+                // slope and F(b) is nearest 0.
+                let bend = fgb.f - fa.f - sa;
+                gain = gain * select(0.5, clamp(-sa / (2.0 * bend), 0.05, 0.95), bend * fa.f > 0.0) * length(taken) / len;
+            }
+        }
+        i = i + 1u;
+        if (i >= SEEK_EVALS) {
+            break;
+        }
+    }
+    return Seek(a, b, fa.f, found);
+}
+
+fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
+    if (slice_on()) {
+        // (A slice's one ray has no plane around it.)
+        return;
+    }
+    // From the rays' closest sample if it lies in the box, then from a point near the box's
+    // centre.
+    let rel = 0.5 * (lo + hi) - (*tr).o;
+    let centre = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
+    let near = (*tr).closest;
+    var s: Seek;
+    if (near.z < ff_inf() && in_box(in_plane(tr, near.xy), lo, hi)) {
+        s = seek_from(tr, near.xy, lo, hi);
+    }
+    // (Where the plane passes by the box, the centre's point is not in it.)
+    if (!s.found && in_box(in_plane(tr, centre), lo, hi)) {
+        s = seek_from(tr, centre, lo, hi);
+    }
+    if (!s.found) {
+        return;
+    }
+    var a = s.a;
+    var b = s.b;
+    if (CERTIFY == 1u && !(*tr).bracketed && in_slab(a) && in_slab(b)) {
+        // (The pixel's origin is its plane's: a slice seeks nothing. Outside a slab, a sign
+        // change is not the pixel's to prove.)
+        (*tr).bracket = vec4<f32>(a, b);
+        (*tr).bracketed = true;
+    }
+    // Bisect [a, b] as march_ray bisects a ray's step.
+    let neg_a = s.fa < 0.0;
+    var m = 0.5 * (a + b);
+    var it = 0u;
+    if (u.control.y > 0u) {
+        loop {
+            m = 0.5 * (a + b);
+            let fm = ff_f(in_plane(tr, m));
+            let go = !(abs(fm) < u.root.x);
+            let keep_a = (fm < 0.0) == neg_a;
+            a = select(a, m, go && keep_a);
+            b = select(b, m, go && !keep_a);
+            it = it + 1u;
+            if (!go || it >= u.control.y) {
+                break;
+            }
+        }
+    }
+    let t = length(m);
+    if (t > 0.0 && t < (*tr).hits.far && in_box(in_plane(tr, m), lo, hi) && in_slab(m)) {
+        (*tr).k = plane_ray(m / t);
+        insert_hit(tr, t);
+    }
+}
