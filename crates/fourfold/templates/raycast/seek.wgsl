@@ -53,7 +53,7 @@ fn point_in_box(tr: ptr<function, Tracer>, st: vec2<f32>, lo: vec4<f32>, hi: vec
     let l = lo + m;
     let h = hi - m;
     var p = st;
-    for (var r = 0u; r < 8u; r = r + 1u) {
+    for (var r = 0u; r < 4u; r = r + 1u) {
         p = onto_slab(p, o.x, u.n1.x, u.n2.x, l.x, h.x);
         p = onto_slab(p, o.y, u.n1.y, u.n2.y, l.y, h.y);
         p = onto_slab(p, o.z, u.n1.z, u.n2.z, l.z, h.z);

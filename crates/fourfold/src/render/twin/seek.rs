@@ -53,7 +53,7 @@ impl Pixel<'_> {
     fn point_in_box(&self, o: V4, st: [f32; 2], lo: V4, hi: V4) -> [f32; 2] {
         let (n1, n2) = (self.u.n1, self.u.n2);
         let mut p = st;
-        for _ in 0..8 {
+        for _ in 0..4 {
             for k in 0..4 {
                 let m = 0.001 * (hi[k] - lo[k]);
                 let a = [n1[k], n2[k]];
