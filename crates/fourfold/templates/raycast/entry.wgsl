@@ -97,12 +97,14 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
             // The list is nearest first: past the first box that cannot hold a hit nearer
             // than the K kept, none can. A pixel whose rays found nothing goes over it
             // again, searching each box between the rays (seek_in_plane; all of them, so
-            // that the hits kept do not depend on the boxes' order).
+            // that the hits kept do not depend on the boxes' order; a slice's one ray has
+            // no plane to search).
             let tile = px / max(u.tiling.x, 1u);
             let t = tile.x + tile.y * u.tiling.y;
             // (Tested at the end: see "The pixel's work".)
             let end = tiles[t + 1u];
-            for (var round = 0u; round < 2u; round = round + 1u) {
+            let rounds = select(2u, 1u, slice_on());
+            for (var round = 0u; round < rounds; round = round + 1u) {
                 let seeking = round == 1u;
                 var c = tiles[t];
                 if (c < end && tr.hits.count == 0u) {
@@ -118,7 +120,8 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
         } else {
             // Depth first: a node that passes is entered (its subtree follows it), one that
             // fails, or a box marched whole, is skipped past. (Twice, as the lists.)
-            for (var round = 0u; round < 2u; round = round + 1u) {
+            let rounds = select(2u, 1u, slice_on());
+            for (var round = 0u; round < rounds; round = round + 1u) {
                 let seeking = round == 1u;
                 var i = 0u;
                 loop {

@@ -304,8 +304,9 @@ fn box_steps(info: u32) -> u32 {
 
 // Tests node i of the hierarchy against the pixel's observer plane and marches it (or, when
 // `seeking`, searches it between the rays: seek_in_plane) if it is a box to march (marked
-// by fourfold; its subtree, if any, is not kept) that passes. Returns whether it passes, and (.y) whether anything in it can be nearer than the
-// K hits kept (nothing in the sphere is nearer than |q| - r).
+// by fourfold; its subtree, if any, is not kept) that passes. Returns whether it passes,
+// and (.y) whether anything in it can be nearer than the K hits kept (nothing in the sphere
+// is nearer than |q| - r).
 fn visit(tr: ptr<function, Tracer>, i: u32, seeking: bool) -> vec2<bool> {
     let node = nodes[i];
     let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);

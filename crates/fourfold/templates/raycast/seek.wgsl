@@ -195,10 +195,6 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 }
 
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
-    if (slice_on()) {
-        // (A slice's one ray has no plane around it.)
-        return;
-    }
     // From the rays' closest sample if it lies in the box, then from a point near the box's
     // centre.
     let rel = 0.5 * (lo + hi) - (*tr).o;
