@@ -48,6 +48,43 @@ fn keep_closest(tr: ptr<function, Tracer>, st: vec2<f32>, away: f32) {
     (*tr).closest = select((*tr).closest, vec3<f32>(st, away), away < (*tr).closest.z);
 }
 
+// Whether F keeps its sign from fa to fb. Signs compared, not multiplied: the product of
+// two tiny values of one sign is below f32's normals, which a GPU may flush to 0.
+fn same_side(fa: f32, fb: f32) -> bool {
+    return !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0));
+}
+
+// The root of F on p + t d between lo and hi, where F changes sign (F(lo) < 0 iff neg_lo),
+// by bisection (Algorithm 3.1): stop at a tiny |F| or after the set iterations; the last
+// midpoint is the root (the middle of the bracket with no iterations). Once f32 cannot
+// split the bracket, the midpoint is one of its ends, and every further iteration keeps
+// it: stop there (the same root, fewer samples of F). F(lo) keeps its side of 0 (lo moves
+// only to a midpoint on that side), so its sign is not carried through the loop.
+fn bisect(p: vec4<f32>, d: vec4<f32>, lo0: f32, hi0: f32, neg_lo: bool) -> f32 {
+    let iters = u.control.y;
+    var lo = lo0;
+    var hi = hi0;
+    var tm = 0.5 * (lo + hi);
+    var it = 0u;
+    // (One exit, tested at the end: llvmpipe updates its lane masks at each `break`.)
+    if (iters > 0u) {
+        loop {
+            tm = 0.5 * (lo + hi);
+            let split = tm != lo && tm != hi;
+            let fm = ff_f(p + tm * d);
+            let go = split && !(abs(fm) < u.root.x);
+            let keep_lo = (fm < 0.0) == neg_lo;
+            lo = select(lo, tm, go && keep_lo);
+            hi = select(hi, tm, go && !keep_lo);
+            it = it + 1u;
+            if (!go || it >= iters) {
+                break;
+            }
+        }
+    }
+    return tm;
+}
+
 // Marches the ray o + t d over [t0, t1] in `steps` equal steps, bisecting each sign change
 // (Algorithm 3.1) and keeping the root among the K nearest; stops beyond the K kept.
 // Except for brute force (MODE 0) the march steps over the samples that cannot differ in
@@ -62,7 +99,6 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
     // margin for rounding).
     let per_t = 0.999 / dt;
     let reach = per_t / slope;
-    let iters = u.control.y;
     let along = vec2<f32>(dot(d, u.n1), dot(d, u.n2));
     var ta = t0;
     var fa = sample(tr, d, ta);
@@ -102,9 +138,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
             tb = t0 + f32(s) * dt;
             fb = sample(tr, d, tb);
             keep_closest(tr, tb * along, fb.z);
-            // Signs compared, not multiplied: the product of two tiny values of one sign
-            // is below f32's normals, which a GPU may flush to 0.
-            if (((fa.x <= 0.0 && fb.x >= 0.0) || (fa.x >= 0.0 && fb.x <= 0.0)) && !(fa.x == 0.0 && fb.x == 0.0)) {
+            if (!same_side(fa.x, fb.x)) {
                 found = true;
                 break;
             }
@@ -121,34 +155,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
             (*tr).bracket = vec4<f32>(dot(pa, u.n1), dot(pa, u.n2), dot(pb, u.n1), dot(pb, u.n2));
             (*tr).bracketed = true;
         }
-        // Bisect [ta, tb] (Algorithm 3.1): stop at a tiny |F| or after the set iterations;
-        // the last midpoint is the root (the middle of the step with no iterations). Once
-        // f32 cannot split the bracket, the midpoint is one of its ends, and every further
-        // iteration keeps it: stop there (the same root, fewer samples of F).
-        var lo = ta;
-        var hi = tb;
-        // F(lo) keeps fa's side of 0 (lo moves only to a midpoint on that side), so its
-        // sign is not carried through the loop.
-        let neg_lo = fa.x < 0.0;
-        var tm = 0.5 * (lo + hi);
-        var it = 0u;
-        // (One exit, tested at the end: llvmpipe updates its lane masks at each `break`.)
-        if (iters > 0u) {
-            loop {
-                tm = 0.5 * (lo + hi);
-                let split = tm != lo && tm != hi;
-                let fm = ff_f((*tr).o + tm * d);
-                let go = split && !(abs(fm) < u.root.x);
-                let keep_lo = (fm < 0.0) == neg_lo;
-                lo = select(lo, tm, go && keep_lo);
-                hi = select(hi, tm, go && !keep_lo);
-                it = it + 1u;
-                if (!go || it >= iters) {
-                    break;
-                }
-            }
-        }
-        insert_hit(tr, tm);
+        insert_hit(tr, bisect((*tr).o, d, ta, tb, fa.x < 0.0));
         // The march goes on from the step's end.
         ta = tb;
         fa = fb;

@@ -95,11 +95,6 @@ fn in_slab(st: vec2<f32>) -> bool {
     return !slab_on() || (st.y >= u.root.z - u.root.w && st.y <= u.root.z + u.root.w);
 }
 
-// Whether F keeps its sign from fa to fb (signs compared as march_ray compares them).
-fn same_side(fa: f32, fb: f32) -> bool {
-    return !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0));
-}
-
 // Newton's steps from `start` (in the box [lo, hi]) towards a root of F in the plane: a
 // sign change between .a and .b (F(.a) = .fa) if .found.
 struct Seek {
@@ -197,46 +192,31 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     // From the rays' closest sample if it lies in the box, then from a point near the box's
     // centre.
-    let rel = 0.5 * (lo + hi) - (*tr).o;
-    let centre = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
     let near = (*tr).closest;
     var s: Seek;
     if (near.z < ff_inf() && in_box(in_plane(tr, near.xy), lo, hi)) {
         s = seek_from(tr, near.xy, lo, hi);
     }
-    // (Where the plane passes by the box, the centre's point is not in it.)
-    if (!s.found && in_box(in_plane(tr, centre), lo, hi)) {
-        s = seek_from(tr, centre, lo, hi);
+    if (!s.found) {
+        let rel = 0.5 * (lo + hi) - (*tr).o;
+        let centre = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
+        // (Where the plane passes by the box, the centre's point is not in it.)
+        if (in_box(in_plane(tr, centre), lo, hi)) {
+            s = seek_from(tr, centre, lo, hi);
+        }
     }
     if (!s.found) {
         return;
     }
-    var a = s.a;
-    var b = s.b;
-    if (CERTIFY == 1u && !(*tr).bracketed && in_slab(a) && in_slab(b)) {
+    if (CERTIFY == 1u && !(*tr).bracketed && in_slab(s.a) && in_slab(s.b)) {
         // (The pixel's origin is its plane's: a slice seeks nothing. Outside a slab, a sign
         // change is not the pixel's to prove.)
-        (*tr).bracket = vec4<f32>(a, b);
+        (*tr).bracket = vec4<f32>(s.a, s.b);
         (*tr).bracketed = true;
     }
-    // Bisect [a, b] as march_ray bisects a ray's step.
-    let neg_a = s.fa < 0.0;
-    var m = 0.5 * (a + b);
-    var it = 0u;
-    if (u.control.y > 0u) {
-        loop {
-            m = 0.5 * (a + b);
-            let fm = ff_f(in_plane(tr, m));
-            let go = !(abs(fm) < u.root.x);
-            let keep_a = (fm < 0.0) == neg_a;
-            a = select(a, m, go && keep_a);
-            b = select(b, m, go && !keep_a);
-            it = it + 1u;
-            if (!go || it >= u.control.y) {
-                break;
-            }
-        }
-    }
+    // The root on the segment from a to b, as march_ray finds a ray's.
+    let ab = s.b - s.a;
+    let m = s.a + bisect(in_plane(tr, s.a), ab.x * u.n1 + ab.y * u.n2, 0.0, 1.0, s.fa < 0.0) * ab;
     let t = length(m);
     if (t > 0.0 && t < (*tr).hits.far && in_box(in_plane(tr, m), lo, hi) && in_slab(m)) {
         (*tr).k = plane_ray(m / t);

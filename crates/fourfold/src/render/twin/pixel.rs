@@ -153,6 +153,36 @@ impl Pixel<'_> {
         }
     }
 
+    /// The root of F on p + t d in [lo, hi], where F changes sign (F(lo) < 0 iff `neg_lo`),
+    /// by at most `bisection_iters` bisections, as the shader's `bisect`: stopping at a
+    /// tiny |F|, or once f32 cannot split the bracket (every further midpoint is this one).
+    /// F(lo) stays on its side of 0, so its sign is not carried.
+    pub(super) fn bisect(
+        &mut self,
+        p: V4,
+        d: V4,
+        (mut lo, mut hi): (f32, f32),
+        neg_lo: bool,
+    ) -> f32 {
+        let mut tm = 0.5 * (lo + hi);
+        for _ in 0..self.u.control.bisection_iters {
+            tm = 0.5 * (lo + hi);
+            if tm == lo || tm == hi {
+                break;
+            }
+            let fm = self.f(add(p, scale(d, tm)));
+            if fm.abs() < self.u.root.approximation {
+                break;
+            }
+            if (fm < 0.0) == neg_lo {
+                lo = tm;
+            } else {
+                hi = tm;
+            }
+        }
+        tm
+    }
+
     /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
     /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
     /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
@@ -193,8 +223,7 @@ impl Pixel<'_> {
             let tb = t0 + s as f32 * dt;
             let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
             self.keep_closest(add(o, scale(d, tb)), tb, along);
-            // Signs compared, as the shader does (a product of tiny values underflows to 0).
-            if ((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0) {
+            if !same_side(fa, fb) {
                 if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
                     let at = |t: f32| {
                         let p = sub(add(o, scale(d, t)), self.plane);
@@ -202,28 +231,8 @@ impl Pixel<'_> {
                     };
                     self.bracket = Some((at(ta), at(tb)));
                 }
-                let (mut lo, mut hi) = (ta, tb);
-                // F(lo) stays on fa's side of 0 (as the shader: its sign is not carried).
-                let neg_lo = fa < 0.0;
-                let mut tm = 0.5 * (lo + hi);
-                for _ in 0..self.u.control.bisection_iters {
-                    tm = 0.5 * (lo + hi);
-                    // As the shader: f32 cannot split the bracket, every further midpoint
-                    // is this one.
-                    if tm == lo || tm == hi {
-                        break;
-                    }
-                    let fm = self.f(add(o, scale(d, tm)));
-                    if fm.abs() < self.u.root.approximation {
-                        break;
-                    }
-                    if (fm < 0.0) == neg_lo {
-                        lo = tm;
-                    } else {
-                        hi = tm;
-                    }
-                }
-                self.insert(tm, ray);
+                let root = self.bisect(o, d, (ta, tb), fa < 0.0);
+                self.insert(root, ray);
             }
             ta = tb;
             fa = fb;
@@ -329,6 +338,12 @@ impl Pixel<'_> {
                 + u.shading.specular * specular
         })
     }
+}
+
+/// Whether F keeps its sign from `fa` to `fb`: signs compared as the shader's `same_side`
+/// compares them (a product of tiny values underflows to 0).
+pub(super) fn same_side(fa: f32, fb: f32) -> bool {
+    !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
 }
 
 /// How far from a sample with value `f` and slope `g` (dF/dt) F surely keeps its sign when

@@ -5,7 +5,7 @@
 
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLAB, plane_ray};
 
-use super::pixel::{Marched, Pixel};
+use super::pixel::{Marched, Pixel, same_side};
 use super::shading::{V4, add, dot, scale, sub};
 
 /// Evaluations of F and ∇F (a step's, a valley floor's) from each start, and how much each
@@ -13,11 +13,6 @@ use super::shading::{V4, add, dot, scale, sub};
 /// and SEEK_REACH).
 const SEEK_EVALS: u32 = 8;
 const SEEK_REACH: f32 = 1.5;
-
-/// Whether F keeps its sign from `fa` to `fb` (compared as the march compares them).
-fn same_side(fa: f32, fb: f32) -> bool {
-    !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
-}
 
 fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
     a[0] * b[0] + a[1] * b[1]
@@ -213,17 +208,19 @@ impl Pixel<'_> {
         let inside = |p: V4| (0..4).all(|k| p[k] >= lo[k] && p[k] <= hi[k]);
         // From the rays' closest sample if it lies in the box, then from a point near the
         // box's centre.
-        let rel = sub(scale(add(lo, hi), 0.5), o);
-        let centre = self.point_in_box(o, [dot(rel, self.u.n1), dot(rel, self.u.n2)], lo, hi);
         let (near, near_f) = self.closest;
         let mut seek = None;
         if near_f < f32::INFINITY && inside(self.in_plane(o, near)) {
             seek = self.seek_from(o, near, lo, hi);
         }
-        if seek.is_none() && inside(self.in_plane(o, centre)) {
-            seek = self.seek_from(o, centre, lo, hi);
+        if seek.is_none() {
+            let rel = sub(scale(add(lo, hi), 0.5), o);
+            let centre = self.point_in_box(o, [dot(rel, self.u.n1), dot(rel, self.u.n2)], lo, hi);
+            if inside(self.in_plane(o, centre)) {
+                seek = self.seek_from(o, centre, lo, hi);
+            }
         }
-        let Some((mut a, fa, mut b)) = seek else {
+        let Some((a, fa, b)) = seek else {
             return;
         };
         if self.u.control.flags & FLAG_CERTIFIED != 0
@@ -233,21 +230,12 @@ impl Pixel<'_> {
         {
             self.bracket = Some((a.map(f64::from), b.map(f64::from)));
         }
-        let neg_a = fa < 0.0;
-        let mut m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        for _ in 0..self.u.control.bisection_iters {
-            m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-            let fm = self.f(self.in_plane(o, m));
-            if fm.abs() < self.u.root.approximation {
-                break;
-            }
-            if (fm < 0.0) == neg_a {
-                a = m;
-            } else {
-                b = m;
-            }
-        }
-        let t = (m[0] * m[0] + m[1] * m[1]).sqrt();
+        // The root on the segment from a to b, as a ray's.
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let d = add(scale(self.u.n1, ab[0]), scale(self.u.n2, ab[1]));
+        let tau = self.bisect(self.in_plane(o, a), d, (0.0, 1.0), fa < 0.0);
+        let m = [a[0] + tau * ab[0], a[1] + tau * ab[1]];
+        let t = dot2(m, m).sqrt();
         if t > 0.0 && inside(self.in_plane(o, m)) && self.in_slab(m) {
             self.insert(t, plane_ray([m[0] / t, m[1] / t]));
         }
