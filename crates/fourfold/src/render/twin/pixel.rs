@@ -52,6 +52,18 @@ impl Pixel<'_> {
         self.eval.eval(&self.formula.tape_f, p, self.params) as f32
     }
 
+    /// F and ∇F at `p`, in f32.
+    pub(super) fn f_grad(&mut self, p: V4) -> (f32, V4) {
+        let mut out = [0.0; 5];
+        self.eval.eval_into(
+            &self.formula.tape_all,
+            p.map(f64::from),
+            self.params,
+            &mut out,
+        );
+        (out[0] as f32, std::array::from_fn(|k| out[k + 1] as f32))
+    }
+
     /// F and dF/dt at `p` along `d` (dF/dt only if `bent`: else 0, unused).
     pub(super) fn f_slope(&mut self, p: V4, d: V4, bent: bool) -> [f32; 2] {
         if !bent {
@@ -280,14 +292,7 @@ impl Pixel<'_> {
 
     pub(super) fn shade(&mut self, p: V4, d: V4) -> [f32; 3] {
         let u = self.u;
-        let mut all = [0.0; 5];
-        self.eval.eval_into(
-            &self.formula.tape_all,
-            p.map(f64::from),
-            self.params,
-            &mut all,
-        );
-        let mut g: V4 = [all[1] as f32, all[2] as f32, all[3] as f32, all[4] as f32];
+        let (_, mut g) = self.f_grad(p);
         if self.slice() {
             // The slice is a surface in the hyperplane: its normal is ∇F within it.
             g = sub(g, scale(u.n2, dot(g, u.n2)));

@@ -19,18 +19,6 @@ fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
 }
 
 impl Pixel<'_> {
-    /// F and ∇F at `p`, in f32.
-    pub(super) fn f_grad(&mut self, p: V4) -> (f32, V4) {
-        let mut out = [0.0; 5];
-        self.eval.eval_into(
-            &self.formula.tape_all,
-            p.map(f64::from),
-            self.params,
-            &mut out,
-        );
-        (out[0] as f32, std::array::from_fn(|k| out[k + 1] as f32))
-    }
-
     fn in_plane(&self, o: V4, st: [f32; 2]) -> V4 {
         add(o, add(scale(self.u.n1, st[0]), scale(self.u.n2, st[1])))
     }
