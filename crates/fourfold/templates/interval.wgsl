@@ -9,6 +9,10 @@
 // float arithmetic. Bounds are kept within ±IV_BIG, and ±IV_BIG itself stands for ±inf
 // (a WGSL implementation may assume no infinity or NaN ever occurs, so none is made);
 // an empty interval (F undefined on the whole box: sqrt or ln of negatives) is lo > hi.
+//
+// The operations have no branches: each computes its bounds and then selects the empty or
+// unbounded answer. The certified shader inlines hundreds of them, and SwiftShader (the
+// page's software WebGPU) compiled their early returns for minutes and gigabytes.
 
 const IV_BIG: f32 = 4611686018427387904.0; // 2^62: a product of two finite bounds stays finite
 const IV_LARGE: f32 = 2305843009213693952.0; // 2^61: the largest finite bound kept
@@ -65,15 +69,28 @@ fn iv_is_empty(a: vec2<f32>) -> bool {
 
 // Whether a bound is at ±inf (the interval is unbounded on that side).
 fn iv_unbounded(a: vec2<f32>) -> bool {
-    return a.x <= -IV_BIG || a.y >= IV_BIG;
+    return (a.x <= -IV_BIG) | (a.y >= IV_BIG);
 }
 
 // The bounds brought back within ±IV_LARGE (widening only), with ±IV_BIG for ±inf; an
 // unbounded result sets iv_jump (F's continuity is then not known).
 fn iv_keep(lo: f32, hi: f32) -> vec2<f32> {
     let r = vec2<f32>(clamp(lo, -IV_BIG, IV_LARGE), clamp(hi, -IV_LARGE, IV_BIG));
-    iv_jump = iv_jump || iv_unbounded(r);
+    iv_jump = iv_jump | iv_unbounded(r);
     return r;
+}
+
+// iv_keep, or the empty interval (flagging nothing) where `none` says an operand was empty.
+fn iv_keep_or_empty(lo: f32, hi: f32, none: bool) -> vec2<f32> {
+    let r = vec2<f32>(clamp(lo, -IV_BIG, IV_LARGE), clamp(hi, -IV_LARGE, IV_BIG));
+    iv_jump = iv_jump | (iv_unbounded(r) & !none);
+    return select(r, IV_EMPTY, none);
+}
+
+// An operand stood in by a harmless one (1) where the result will be empty anyway, so
+// that the operation's arithmetic there makes no infinity and flags no jump.
+fn iv_or_one(a: vec2<f32>, none: bool) -> vec2<f32> {
+    return select(a, vec2<f32>(1.0), none);
 }
 
 // A value known only to f32's rounding to nearest (a parameter): within half an ulp.
@@ -82,16 +99,13 @@ fn iv_around(x: f32) -> vec2<f32> {
 }
 
 fn iv_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
-    var lo = select(iv_down(a.x + b.x), -IV_BIG, a.x <= -IV_BIG || b.x <= -IV_BIG);
-    var hi = select(iv_up(a.y + b.y), IV_BIG, a.y >= IV_BIG || b.y >= IV_BIG);
+    var lo = select(iv_down(a.x + b.x), -IV_BIG, (a.x <= -IV_BIG) | (b.x <= -IV_BIG));
+    var hi = select(iv_up(a.y + b.y), IV_BIG, (a.y >= IV_BIG) | (b.y >= IV_BIG));
     // (A sum of terms >= 0 is >= 0: stepping a zero sum down would put sqrt(x^2 + y^2) at
     // the edge of its domain.)
-    lo = select(lo, max(lo, 0.0), a.x >= 0.0 && b.x >= 0.0);
-    hi = select(hi, min(hi, 0.0), a.y <= 0.0 && b.y <= 0.0);
-    return iv_keep(lo, hi);
+    lo = select(lo, max(lo, 0.0), (a.x >= 0.0) & (b.x >= 0.0));
+    hi = select(hi, min(hi, 0.0), (a.y <= 0.0) & (b.y <= 0.0));
+    return iv_keep_or_empty(lo, hi, iv_is_empty(a) | iv_is_empty(b));
 }
 
 fn iv_neg(a: vec2<f32>) -> vec2<f32> {
@@ -102,114 +116,85 @@ fn iv_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return iv_add(a, iv_neg(b));
 }
 
+// (Bounds are within ±2^62, so every product is finite.)
 fn iv_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
-    if (iv_unbounded(a) || iv_unbounded(b)) {
-        return iv_keep(-IV_BIG, IV_BIG);
-    }
     let p = vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
-    let lo = min(min(p.x, p.y), min(p.z, p.w));
-    let hi = max(max(p.x, p.y), max(p.z, p.w));
-    return iv_keep(iv_down(lo), iv_up(hi));
+    let whole = iv_unbounded(a) | iv_unbounded(b);
+    let lo = select(iv_down(min(min(p.x, p.y), min(p.z, p.w))), -IV_BIG, whole);
+    let hi = select(iv_up(max(max(p.x, p.y), max(p.z, p.w))), IV_BIG, whole);
+    return iv_keep_or_empty(lo, hi, iv_is_empty(a) | iv_is_empty(b));
 }
 
 // The set of values both a and b hold (empty if none).
 fn iv_meet(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
     let r = vec2<f32>(max(a.x, b.x), min(a.y, b.y));
-    return select(r, IV_EMPTY, r.x > r.y);
+    return select(r, IV_EMPTY, (r.x > r.y) | iv_is_empty(a) | iv_is_empty(b));
 }
 
 fn iv_abs(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || a.x >= 0.0) {
-        return a;
-    }
-    if (a.y <= 0.0) {
-        return iv_neg(a);
-    }
-    return vec2<f32>(0.0, max(-a.x, a.y));
+    let r = select(vec2<f32>(0.0, max(-a.x, a.y)), iv_neg(a), a.y <= 0.0);
+    return select(r, a, iv_is_empty(a) | (a.x >= 0.0));
 }
 
 fn iv_sqr(a: vec2<f32>) -> vec2<f32> {
     let m = iv_abs(a);
-    if (iv_is_empty(m)) {
-        return IV_EMPTY;
-    }
     // |a| beyond 2^31 squares beyond 2^62: +inf.
     let hi = select(iv_up(m.y * m.y), IV_BIG, m.y > 2147483648.0);
-    return iv_keep(max(iv_down(m.x * m.x), 0.0), hi);
+    return iv_keep_or_empty(max(iv_down(m.x * m.x), 0.0), hi, iv_is_empty(m));
 }
 
 // 1/|b| may reach 2^62 at most: a divisor within ±2^-62 of 0 gives the whole line.
 const IV_DIV_FLOOR: f32 = 2.16840434497100886801e-19; // 2^-62
 
 fn iv_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
-    if (b.x <= IV_DIV_FLOOR && b.y >= -IV_DIV_FLOOR) {
-        iv_jump = true;
-        return iv_keep(-IV_BIG, IV_BIG);
-    }
-    if (iv_unbounded(a) || iv_unbounded(b)) {
-        return iv_keep(-IV_BIG, IV_BIG);
-    }
+    let none = iv_is_empty(a) | iv_is_empty(b);
+    let pole = (b.x <= IV_DIV_FLOOR) & (b.y >= -IV_DIV_FLOOR);
+    let whole = pole | iv_unbounded(a) | iv_unbounded(b);
     // x / y is within 2.5 ulps for |y| in [2^-126, 2^126] (WGSL §15.7.4).
-    let q = vec4<f32>(a.x / b.x, a.x / b.y, a.y / b.x, a.y / b.y);
-    let lo = min(min(q.x, q.y), min(q.z, q.w));
-    let hi = max(max(q.x, q.y), max(q.z, q.w));
-    return iv_keep(iv_down_n(lo, 3u), iv_up_n(hi, 3u));
+    let d = iv_or_one(b, none | pole);
+    let q = vec4<f32>(a.x / d.x, a.x / d.y, a.y / d.x, a.y / d.y);
+    let lo = select(iv_down_n(min(min(q.x, q.y), min(q.z, q.w)), 3u), -IV_BIG, whole);
+    let hi = select(iv_up_n(max(max(q.x, q.y), max(q.z, q.w)), 3u), IV_BIG, whole);
+    return iv_keep_or_empty(lo, hi, none);
 }
 
 fn iv_min(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
-    return min(a, b);
+    return select(min(a, b), IV_EMPTY, iv_is_empty(a) | iv_is_empty(b));
 }
 
 fn iv_max(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b)) {
-        return IV_EMPTY;
-    }
-    return max(a, b);
+    return select(max(a, b), IV_EMPTY, iv_is_empty(a) | iv_is_empty(b));
 }
 
 // sqrt over the part of a that is >= 0. WGSL's sqrt is inherited from 1 / inverseSqrt
 // (2 ulps, then 2.5): 6 ulps; below 2^-100 the bound is taken as 0 or 2^-50.
 fn iv_sqrt(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || a.y < 0.0) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || a.x < 0.0;
+    let none = iv_is_empty(a) | (a.y < 0.0);
+    iv_jump = iv_jump | ((a.x < 0.0) & !none);
+    let b = iv_or_one(a, none);
     let small = 7.88860905221011805412e-31; // 2^-100
-    let lo = select(max(iv_down_n(sqrt(a.x), 6u), 0.0), 0.0, a.x < small);
-    let hi = select(select(iv_up_n(sqrt(a.y), 6u), IV_BIG, a.y >= IV_BIG), 8.88178419700125232339e-16, a.y < small);
-    return iv_keep(lo, hi);
+    let lo = select(max(iv_down_n(sqrt(max(b.x, 0.0)), 6u), 0.0), 0.0, b.x < small);
+    let hi = select(select(iv_up_n(sqrt(b.y), 6u), IV_BIG, b.y >= IV_BIG), 8.88178419700125232339e-16, b.y < small);
+    return iv_keep_or_empty(lo, hi, none);
 }
 
 // exp, monotone: within 3 + 2|x| ulps (WGSL §15.7.4); e^x for x > 42 is beyond 2^60
 // (+inf here), for x < -87 below 2^-125 (0 is a lower bound).
 fn iv_exp(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
-    let lo_ok = a.x > -87.0;
-    let lo = select(0.0, max(iv_down_n(exp(max(a.x, -87.0)), 3u + u32(2.0 * abs(max(a.x, -87.0))) + 1u), 0.0), lo_ok);
-    let hi_x = clamp(a.y, -80.0, 42.0);
-    let hi = select(iv_up_n(exp(hi_x), 3u + u32(2.0 * abs(hi_x)) + 1u), IV_BIG, a.y > 42.0);
-    return iv_keep(lo, hi);
+    let none = iv_is_empty(a);
+    let b = iv_or_one(a, none);
+    let lo_x = max(b.x, -87.0);
+    let lo = select(0.0, max(iv_down_n(exp(lo_x), 3u + u32(2.0 * abs(lo_x)) + 1u), 0.0), b.x > -87.0);
+    let hi_x = clamp(b.y, -80.0, 42.0);
+    let hi = select(iv_up_n(exp(hi_x), 3u + u32(2.0 * abs(hi_x)) + 1u), IV_BIG, b.y > 42.0);
+    return iv_keep_or_empty(lo, hi, none);
 }
 
 // The natural log of one bound x > 0: log is within 3 ulps outside [0.5, 2] and has an
 // absolute error below 2^-21 inside (WGSL §15.7.4).
 fn iv_ln_bound(x: f32, up: bool) -> f32 {
     let v = log(x);
-    let near_one = x >= 0.5 && x <= 2.0;
+    let near_one = (x >= 0.5) & (x <= 2.0);
     let slack = 9.5367431640625e-7; // 2^-20
     let dn = select(iv_down_n(v, 3u), iv_down(v - slack), near_one);
     let un = select(iv_up_n(v, 3u), iv_up(v + slack), near_one);
@@ -218,14 +203,13 @@ fn iv_ln_bound(x: f32, up: bool) -> f32 {
 
 // ln over the part of a that is > 0; a bound below 2^-120 gives -inf.
 fn iv_ln(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || a.y <= 0.0) {
-        return IV_EMPTY;
-    }
+    let none = iv_is_empty(a) | (a.y <= 0.0);
     let floor = 7.52316384526264005100e-37; // 2^-120
-    iv_jump = iv_jump || a.x <= floor;
-    let lo = select(iv_ln_bound(max(a.x, floor), false), -IV_BIG, a.x <= floor);
-    let hi = iv_ln_bound(max(a.y, floor), true);
-    return iv_keep(lo, hi);
+    let b = iv_or_one(a, none);
+    iv_jump = iv_jump | (b.x <= floor);
+    let lo = select(iv_ln_bound(max(b.x, floor), false), -IV_BIG, b.x <= floor);
+    let hi = iv_ln_bound(max(b.y, floor), true);
+    return iv_keep_or_empty(lo, hi, none);
 }
 
 const IV_TAU: f32 = 6.28318530717958647692;
@@ -241,7 +225,7 @@ fn iv_turn(x: f32) -> f32 {
 
 // Whether [lo, hi] (lo in [-pi - 1e-3, pi + 1e-3], hi - lo < 2pi) holds c + 2pi k for some k.
 fn iv_holds(lo: f32, hi: f32, c: f32) -> bool {
-    return (lo <= c && c <= hi) || (lo <= c + IV_TAU && c + IV_TAU <= hi) || (lo <= c - IV_TAU && c - IV_TAU <= hi);
+    return ((lo <= c) & (c <= hi)) | ((lo <= c + IV_TAU) & (c + IV_TAU <= hi)) | ((lo <= c - IV_TAU) & (c - IV_TAU <= hi));
 }
 
 // sin at one point x, |x| < 2^12, as an interval. WGSL's own sin promises only 2^-11
@@ -273,27 +257,19 @@ fn iv_sin_at(x: f32) -> vec2<f32> {
 // found on the interval turned into [-pi, pi] (the turn's own error, at most |x| 2^-20 +
 // 4e-6 for |x| < 2^12, is far within the margin of 2e-3).
 fn iv_sin(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
     let far = max(abs(a.x), abs(a.y));
-    if (a.y - a.x >= IV_TAU - 0.01 || far >= 4096.0) {
-        return vec2<f32>(-1.0, 1.0);
-    }
-    let ra = iv_turn(a.x);
-    let width = iv_up_n(a.y - a.x, 2u);
-    let sa = iv_sin_at(a.x);
-    let sb = iv_sin_at(a.y);
-    var lo = min(sa.x, sb.x);
-    var hi = max(sa.y, sb.y);
+    let whole = (a.y - a.x >= IV_TAU - 0.01) | (far >= 4096.0);
+    // (Where the answer is [-1, 1] or empty, the ends are taken at 0: no arithmetic far out.)
+    let b = select(a, vec2<f32>(0.0), whole | iv_is_empty(a));
+    let ra = iv_turn(b.x);
+    let width = iv_up_n(b.y - b.x, 2u);
+    let sa = iv_sin_at(b.x);
+    let sb = iv_sin_at(b.y);
     let m = 2e-3;
-    if (iv_holds(ra - m, ra + width + m, 0.5 * IV_PI)) {
-        hi = 1.0;
-    }
-    if (iv_holds(ra - m, ra + width + m, -0.5 * IV_PI)) {
-        lo = -1.0;
-    }
-    return vec2<f32>(max(iv_down(lo), -1.0), min(iv_up(hi), 1.0));
+    let hi = select(max(sa.y, sb.y), 1.0, iv_holds(ra - m, ra + width + m, 0.5 * IV_PI));
+    let lo = select(min(sa.x, sb.x), -1.0, iv_holds(ra - m, ra + width + m, -0.5 * IV_PI));
+    let r = select(vec2<f32>(max(iv_down(lo), -1.0), min(iv_up(hi), 1.0)), vec2<f32>(-1.0, 1.0), whole);
+    return select(r, IV_EMPTY, iv_is_empty(a));
 }
 
 // cos x = sin(x + pi/2), with pi/2 as an interval.
@@ -307,54 +283,45 @@ fn iv_tan(a: vec2<f32>) -> vec2<f32> {
 
 // sign and step are monotone: their values at the bounds, exact.
 fn iv_sign(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || (a.x <= 0.0 && a.y >= 0.0);
-    return sign(a);
+    let none = iv_is_empty(a);
+    iv_jump = iv_jump | ((a.x <= 0.0) & (a.y >= 0.0) & !none);
+    return select(sign(a), IV_EMPTY, none);
 }
 
 fn iv_step(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || (a.x <= 0.0 && a.y >= 0.0);
+    let none = iv_is_empty(a);
+    iv_jump = iv_jump | ((a.x <= 0.0) & (a.y >= 0.0) & !none);
     let s = select(select(vec2<f32>(0.0), vec2<f32>(1.0), a > vec2<f32>(0.0)), vec2<f32>(0.5), a == vec2<f32>(0.0));
-    return s;
+    return select(s, IV_EMPTY, none);
 }
 
 // The functions below are compositions of those above, so they are as rigorous, if wider
 // than the CPU's. sinh x = (e^x - e^-x) / 2, cosh x = (e^x + e^-x) / 2 (x and -x move the
 // two terms the same way for sinh; cosh takes |x|), tanh x = 1 - 2 / (e^2x + 1).
 fn iv_sinh(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
-    let lo = iv_mul(iv_sub(iv_exp(vec2<f32>(a.x)), iv_exp(vec2<f32>(-a.x))), vec2<f32>(0.5));
-    let hi = iv_mul(iv_sub(iv_exp(vec2<f32>(a.y)), iv_exp(vec2<f32>(-a.y))), vec2<f32>(0.5));
-    return vec2<f32>(lo.x, hi.y);
+    let none = iv_is_empty(a);
+    let b = iv_or_one(a, none);
+    let lo = iv_mul(iv_sub(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))), vec2<f32>(0.5));
+    let hi = iv_mul(iv_sub(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))), vec2<f32>(0.5));
+    return select(vec2<f32>(lo.x, hi.y), IV_EMPTY, none);
 }
 
 fn iv_cosh(a: vec2<f32>) -> vec2<f32> {
     let m = iv_abs(a);
-    if (iv_is_empty(m)) {
-        return IV_EMPTY;
-    }
-    let lo = iv_mul(iv_add(iv_exp(vec2<f32>(m.x)), iv_exp(vec2<f32>(-m.x))), vec2<f32>(0.5));
-    let hi = iv_mul(iv_add(iv_exp(vec2<f32>(m.y)), iv_exp(vec2<f32>(-m.y))), vec2<f32>(0.5));
-    return vec2<f32>(max(lo.x, 1.0), hi.y);
+    let none = iv_is_empty(m);
+    let b = iv_or_one(m, none);
+    let lo = iv_mul(iv_add(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))), vec2<f32>(0.5));
+    let hi = iv_mul(iv_add(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))), vec2<f32>(0.5));
+    return select(vec2<f32>(max(lo.x, 1.0), hi.y), IV_EMPTY, none);
 }
 
 fn iv_tanh(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
     let jump = iv_jump;
     let e = iv_exp(iv_mul(a, vec2<f32>(2.0)));
     let r = iv_sub(vec2<f32>(1.0), iv_div(vec2<f32>(2.0), iv_add(e, vec2<f32>(1.0))));
     // An unbounded e^2x only means tanh is near 1: it stays continuous.
     iv_jump = jump;
-    return vec2<f32>(max(r.x, -1.0), min(r.y, 1.0));
+    return select(vec2<f32>(max(r.x, -1.0), min(r.y, 1.0)), IV_EMPTY, iv_is_empty(a));
 }
 
 // cbrt x = sign(x) e^(ln|x| / 3), monotone: applied to each bound.
@@ -365,39 +332,28 @@ fn iv_cbrt_bound(x: f32, up: bool) -> f32 {
 }
 
 fn iv_cbrt(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
+    let none = iv_is_empty(a);
     let jump = iv_jump;
-    let r = vec2<f32>(iv_cbrt_bound(a.x, false), iv_cbrt_bound(a.y, true));
-    iv_jump = jump || iv_unbounded(r);
-    return r;
+    let b = iv_or_one(a, none);
+    let r = vec2<f32>(iv_cbrt_bound(b.x, false), iv_cbrt_bound(b.y, true));
+    iv_jump = jump | (iv_unbounded(r) & !none);
+    return select(r, IV_EMPTY, none);
 }
 
 // a^b = e^(b ln a) over the part of a that is > 0 (a = 0 adds 0 or 1 where they belong).
 fn iv_pow(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || iv_is_empty(b) || a.y < 0.0) {
-        return IV_EMPTY;
-    }
-    if (a.x <= 0.0) {
-        iv_jump = true;
-    }
-    var r = IV_EMPTY;
-    if (a.y > 0.0) {
-        r = iv_exp(iv_mul(b, iv_ln(a)));
-    }
-    if (a.x <= 0.0) {
-        if (b.y > 0.0) {
-            r = vec2<f32>(min(r.x, 0.0), max(r.y, 0.0));
-        }
-        if (b.x <= 0.0 && b.y >= 0.0) {
-            r = vec2<f32>(min(r.x, 1.0), max(r.y, 1.0));
-        }
-        if (b.x < 0.0) {
-            r = vec2<f32>(r.x, IV_BIG);
-        }
-    }
-    return r;
+    let none = iv_is_empty(a) | iv_is_empty(b) | (a.y < 0.0);
+    let positive = (a.y > 0.0) & !none;
+    let jump = iv_jump;
+    var r = iv_exp(iv_mul(iv_or_one(b, !positive), iv_ln(iv_or_one(a, !positive))));
+    iv_jump = select(jump, iv_jump, positive);
+    r = select(IV_EMPTY, r, positive);
+    let zero = (a.x <= 0.0) & !none;
+    iv_jump = iv_jump | zero;
+    r = select(r, vec2<f32>(min(r.x, 0.0), max(r.y, 0.0)), zero & (b.y > 0.0));
+    r = select(r, vec2<f32>(min(r.x, 1.0), max(r.y, 1.0)), zero & (b.x <= 0.0) & (b.y >= 0.0));
+    r = select(r, vec2<f32>(r.x, IV_BIG), zero & (b.x < 0.0));
+    return select(r, IV_EMPTY, none);
 }
 
 // atan, asin, acos and atan2: their WGSL accuracies are large or inherited from other
@@ -406,32 +362,23 @@ const IV_HALF_PI_UP: f32 = 1.57079637050628662109;
 const IV_PI_UP: f32 = 3.14159274101257324219;
 
 fn iv_atan(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a)) {
-        return IV_EMPTY;
-    }
-    return vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP);
+    return select(vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP), IV_EMPTY, iv_is_empty(a));
 }
 
 fn iv_asin(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || a.x > 1.0 || a.y < -1.0) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || a.x < -1.0 || a.y > 1.0;
-    return vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP);
+    let none = iv_is_empty(a) | (a.x > 1.0) | (a.y < -1.0);
+    iv_jump = iv_jump | (((a.x < -1.0) | (a.y > 1.0)) & !none);
+    return select(vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP), IV_EMPTY, none);
 }
 
 fn iv_acos(a: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(a) || a.x > 1.0 || a.y < -1.0) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || a.x < -1.0 || a.y > 1.0;
-    return vec2<f32>(0.0, IV_PI_UP);
+    let none = iv_is_empty(a) | (a.x > 1.0) | (a.y < -1.0);
+    iv_jump = iv_jump | (((a.x < -1.0) | (a.y > 1.0)) & !none);
+    return select(vec2<f32>(0.0, IV_PI_UP), IV_EMPTY, none);
 }
 
 fn iv_atan2(y: vec2<f32>, x: vec2<f32>) -> vec2<f32> {
-    if (iv_is_empty(y) || iv_is_empty(x)) {
-        return IV_EMPTY;
-    }
-    iv_jump = iv_jump || !(x.x > 0.0 || y.x > 0.0 || y.y < 0.0);
-    return vec2<f32>(-IV_PI_UP, IV_PI_UP);
+    let none = iv_is_empty(y) | iv_is_empty(x);
+    iv_jump = iv_jump | (!((x.x > 0.0) | (y.x > 0.0) | (y.y < 0.0)) & !none);
+    return select(vec2<f32>(-IV_PI_UP, IV_PI_UP), IV_EMPTY, none);
 }
