@@ -136,9 +136,9 @@ fn current_link() -> Option<String> {
 /// The page's state for scripts and tests, as JSON: the picture's generation and when its
 /// first frame was drawn, the last edit's latency and its stages, the editor's text, the
 /// formula on screen and the example it is (if one), the error shown, whether a build runs
-/// or the picture is still being drawn, whether it is drawn certified, how far the picture
-/// is (its stage, squares, share of stages done and rays per millisecond), the UI's frame
-/// time, where the editor, the controls' panel and the picture are (CSS pixels), the slice's
+/// or the picture is still being drawn, whether it is drawn certified and its verdicts'
+/// counts once they are in, how far the picture is (its stage, squares, share of stages
+/// done and rays per millisecond), the UI's frame time, where the editor, the controls' panel and the picture are (CSS pixels), the slice's
 /// place and its critical values with where their ticks are, the gallery (open, its
 /// button, pictures drawn, where each example's name is), and a panic if one happened.
 #[wasm_bindgen]
@@ -194,6 +194,11 @@ pub fn status() -> String {
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
             "certified": app.session.scene.render.certified,
+            "verdicts": app.progressive.verdicts.map(|c| serde_json::json!({
+                "hit": c.hit,
+                "empty": c.empty,
+                "undecided": c.undecided,
+            })),
             "ui_frame_ms": app.pacing.ui_frame_ms,
             "progress": {
                 "stage": app.progressive.position().0,

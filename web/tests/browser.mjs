@@ -7,8 +7,8 @@
 // opens the same picture in another page; typing a formula changes the picture; a mistyped
 // one keeps the last picture and shows the error; the longest formulas parse; a share link
 // draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link draws plain (certified pixels are the desktop's) and keeps its own setting
-// for certified pixels in the page's link; a heavy link is
+// error; a link's settled picture is certified (its counts cover the picture, every proved
+// hit drawn), certified=false draws the plain pencil; a heavy link is
 // lowered to the page's bounds, says what it lowered and keeps the page answering; embed
 // mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
 // one; Export animation downloads a GIF of the frames asked for; a lost GPU device
@@ -349,17 +349,39 @@ try {
   check(s.formula === 'x^2 + y^2 - z^2 - w^2 - 0.1' && changed(home, linked) > 0.02,
     `a share link draws its formula (${(100 * changed(home, linked)).toFixed(1)}% of pixels differ from the default)`);
 
-  // Certified pixels are the desktop's for now: the page draws the plain pencil, and its
-  // links keep the scene's own setting (a link made here still certifies on the desktop).
+  // Certified pixels in the page, by default as on the desktop: a link's settled picture is
+  // proved, its counts in the status once the certified pass is read back (they cover the
+  // picture, at most 0.5% of the pixels that may show M undecided, and every proved hit is
+  // drawn: the picture's covered share is the hits' share); certified=false draws the plain
+  // pencil without counts. Either way the link keeps the setting.
   for (const [asked, tail] of [[true, ''], [false, '&render.certified=false']]) {
     const opened = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
       '&render.rays=4' + tail);
-    const s = await settled(opened.page);
+    const t0 = Date.now();
+    let s = await settled(opened.page);
+    if (asked) {
+      await opened.page.waitForFunction(() => JSON.parse(window.fourfold.status()).verdicts,
+        null, { timeout: TIMEOUT, polling: 100 });
+      s = await status(opened.page);
+    }
     const shown = coverage(await picture(opened.page));
-    check(shown.share > 0.01 && !s.certified && /certified=false/.test(s.link) === !asked
-      && opened.errors.length === 0,
-      `a link ${asked ? 'certified (the default)' : 'with certified=false'} draws plain in the page, `
-      + `its link keeping the setting: ${s.link.split('#')[1]}`);
+    const linked = /certified=false/.test(s.link) === !asked;
+    if (asked) {
+      const v = s.verdicts;
+      const [x0, y0, x1, y1] = s.picture;
+      const total = v.hit + v.empty + v.undecided;
+      const undecided = v.undecided / Math.max(v.hit + v.undecided, 1);
+      check(s.certified && total === Math.round(x1 - x0) * Math.round(y1 - y0) && v.hit > 0
+        && undecided <= 0.005 && Math.abs(shown.share - v.hit / total) < 0.005 && linked
+        && opened.errors.length === 0,
+        `the page's settled picture is certified by default: ${v.hit} hit, ${v.empty} empty, `
+        + `${v.undecided} undecided (${(100 * undecided).toFixed(2)}%) after ${Date.now() - t0} ms; `
+        + `${(100 * shown.share).toFixed(2)}% of the picture covered against ${(100 * v.hit / total).toFixed(2)}% proved hit`);
+    } else {
+      check(shown.share > 0.01 && !s.certified && s.verdicts === null && linked
+        && opened.errors.length === 0,
+        `a link with certified=false draws the plain pencil without counts, its link keeping the setting: ${s.link.split('#')[1]}`);
+    }
     await opened.page.close();
   }
 

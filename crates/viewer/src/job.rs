@@ -30,8 +30,6 @@ pub struct JobInputs {
     pub program: Program,
     pub scene: Scene,
     pub gpu: Option<Gpu>,
-    /// Make the boxes certified pixels search (where the viewer draws them).
-    pub certifying: bool,
     /// Make the ray caster too (the shader is new, or brute force changes).
     pub make_pipeline: bool,
     /// The brute-force setting the pipeline is warmed up for.
@@ -39,8 +37,8 @@ pub struct JobInputs {
 }
 
 /// A built tree as the viewer keeps it: the ray caster's hierarchy, the one certified
-/// pixels search (where this viewer draws them), and the tree's stats.
-pub type Built = (Arc<Hierarchy>, Option<Arc<Hierarchy>>, TreeStats);
+/// pixels search, and the tree's stats.
+pub type Built = (Arc<Hierarchy>, Arc<Hierarchy>, TreeStats);
 
 /// What a finished build hands back.
 pub struct JobResult {
@@ -62,11 +60,8 @@ impl JobInputs {
         let (tree, params, tree_ms) = match prepared {
             Ok(p) => {
                 // Made with every tree (about a tenth of its build, off the window's frames
-                // natively) so that the switch shows certified pixels at once; not where
-                // none are drawn.
-                let certifying = self
-                    .certifying
-                    .then(|| Arc::new(Hierarchy::for_certifying(&p.tree)));
+                // natively) so that the switch shows certified pixels at once.
+                let certifying = Arc::new(Hierarchy::for_certifying(&p.tree));
                 let build_ms = p.build_ms;
                 let Prepared {
                     params,
@@ -97,7 +92,7 @@ impl JobInputs {
                             // still frame.
                             let mut settled = first.clone();
                             settled.render.certified = self.scene.render.certified;
-                            if self.certifying && settled.render.certified {
+                            if settled.render.certified {
                                 warm_up(gpu, &mut caster, hierarchy, &settled)?;
                             }
                             Ok(caster)

@@ -66,10 +66,6 @@ pub const SLICE_BUDGET: std::ops::RangeInclusive<Duration> =
 pub struct Session {
     /// The scene as the user has set it; `scene.formula` is the last text that compiled.
     pub scene: Scene,
-    /// The scene's own `certified` where this platform draws the plain pencil instead
-    /// (`platform::CERTIFIED_PIXELS`): kept for its links, so that a link made in the page
-    /// still certifies on the desktop.
-    certified_asked: bool,
     /// The text in the editor (may not compile).
     pub text: String,
     /// The caret message of the text, if it does not compile (or why its picture failed).
@@ -106,13 +102,10 @@ pub struct Session {
 }
 
 impl Session {
-    pub fn new(mut scene: Scene) -> Self {
-        let certified_asked = scene.render.certified;
-        scene.render.certified &= platform::CERTIFIED_PIXELS;
+    pub fn new(scene: Scene) -> Self {
         let text = scene.formula.clone();
         Self {
             scene,
-            certified_asked,
             text,
             error: None,
             error_at: None,
@@ -232,9 +225,7 @@ impl Session {
     }
 
     /// Replaces the whole scene (a preset or a file) and builds it.
-    pub fn load_scene(&mut self, mut scene: Scene, gpu: Option<&Gpu>) {
-        self.certified_asked = scene.render.certified;
-        scene.render.certified &= platform::CERTIFIED_PIXELS;
+    pub fn load_scene(&mut self, scene: Scene, gpu: Option<&Gpu>) {
         let text = scene.formula.clone();
         self.scene = scene;
         self.program = None;
@@ -264,7 +255,6 @@ impl Session {
             program,
             scene: self.scene.clone(),
             gpu: gpu.cloned(),
-            certifying: platform::CERTIFIED_PIXELS,
             make_pipeline: new_shader
                 || self.caster.is_none()
                 || self.pending_brute_force.is_some(),
@@ -343,7 +333,7 @@ impl Session {
         self.tree_params = result.params;
         self.marched = Some(hierarchy.march_summary());
         self.hierarchy = Some(hierarchy);
-        self.certifying = certifying;
+        self.certifying = Some(certifying);
         self.stats = Some(stats);
         self.times = EditTimes {
             compile_ms: job.compile_ms,
@@ -373,9 +363,6 @@ impl Session {
         let mut scene = self.scene.clone();
         if self.program.is_some() {
             scene.params.retain(|name, _| names.contains(name));
-        }
-        if !platform::CERTIFIED_PIXELS {
-            scene.render.certified = self.certified_asked;
         }
         scene.to_link()
     }

@@ -394,7 +394,6 @@ fn a_build_makes_the_certified_pipeline_before_any_frame() {
             program: Program::new(&scene.formula).unwrap(),
             scene,
             gpu: Some(gpu.clone()),
-            certifying: true,
             make_pipeline: true,
             brute_force: false,
         };

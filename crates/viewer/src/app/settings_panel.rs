@@ -12,7 +12,6 @@ use fourfold::scene::{AxisRange, Color, ColorBy, Sampling, Undecided};
 
 use super::FourfoldApp;
 use crate::notice::Notice;
-use crate::platform;
 
 impl FourfoldApp {
     /// Domain and tree settings; true when the tree must be rebuilt.
@@ -103,19 +102,12 @@ impl FourfoldApp {
                  the tree's boxes: the same picture, faster on some scenes and shallow trees",
             )
             .changed();
-        ui.add_enabled(
-            platform::CERTIFIED_PIXELS,
-            egui::Checkbox::new(&mut r.certified, "certified pixels"),
-        )
-        .on_disabled_hover_text(
-            "Certified pixels are drawn by the desktop viewer and `fourfold render` (both \
-             by default), not yet in the browser: the page draws the plain pencil.",
-        )
-        .on_hover_text(
-            "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
+        ui.checkbox(&mut r.certified, "certified pixels")
+            .on_hover_text(
+                "Prove each pixel: hit (F changes sign on its observer plane), empty (F has no \
                  zero there), or undecided once the budget of cells is spent, drawn magenta \
                  where no ray found a hit. The counts are under the picture.",
-        );
+            );
         if r.certified {
             ui.horizontal(|ui| {
                 ui.label("cells per pixel");

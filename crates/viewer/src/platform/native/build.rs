@@ -16,9 +16,6 @@ use fourfold::tree::{BuildError, Hierarchy};
 
 use crate::job::{JobInputs, JobResult};
 
-/// The desktop draws certified pixels (the web page cannot yet: see its platform module).
-pub const CERTIFIED_PIXELS: bool = true;
-
 /// The window's thread may wait for the GPU to finish a run of the picture's squares, and
 /// so time it as it draws.
 pub const WAITS_FOR_GPU: bool = true;

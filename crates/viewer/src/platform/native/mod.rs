@@ -9,10 +9,7 @@ mod thumbnails;
 mod ui;
 mod window;
 
-pub use build::{
-    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU,
-    pause,
-};
+pub use build::{Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU, pause};
 pub use thumbnails::Thumbnails;
 pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections};
 pub use window::run;

@@ -13,16 +13,6 @@ use fourfold::tree::Hierarchy;
 
 use crate::job::{JobInputs, JobResult};
 
-/// Whether this viewer draws certified pixels: not in the browser yet. Queued as fast as
-/// they were encoded, a certified stage's squares kept Chromium's SwiftShader (the page's
-/// tests) busy for minutes and once lost the device; paced one run at a time
-/// (`WAITS_FOR_GPU`), the first run of certified squares still did not finish there within
-/// minutes, even of a 320×240 picture of a quadric whose plain stages took a second (the
-/// certified pipeline compiles there in 5.7 s; why its draw does not end is not known).
-/// The page draws the plain pencil, and keeps the scene's own setting for its links
-/// (`Session::link_fragment`).
-pub const CERTIFIED_PIXELS: bool = false;
-
 /// A page cannot wait for the GPU: the picture's squares go in runs, at most two queued,
 /// the next once the queue says one is done (queued as fast as they were encoded, a
 /// stage's squares could keep a software GPU busy for minutes).

@@ -8,10 +8,7 @@ mod files;
 mod thumbnails;
 mod ui;
 
-pub use build::{
-    Background, BuildWork, CERTIFIED_PIXELS, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU,
-    pause,
-};
+pub use build::{Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU, pause};
 pub use thumbnails::Thumbnails;
 pub use ui::{
     EMBEDS, State, end_frame, file_actions, open_link, page_address, sections, split_embed,
