@@ -6,20 +6,22 @@ use std::sync::Arc;
 use fourfold::CompiledFormula;
 use fourfold::mesh::{MeshFormat, MeshSettings, mesh_slice};
 use fourfold::render::Picture;
+use fourfold::render::verdict::VerdictCounts;
 use fourfold::scene::Scene;
 
 use crate::notice::Notice;
 use crate::session::Session;
 
 /// The notice for `picture`, exported as `what` ("saved fourfold.png"): its size and time,
-/// and a warning where the GPU driver cut pixels short.
+/// its certified pixels' counts, and a warning where the GPU driver cut pixels short.
 pub fn exported(picture: &Picture, what: &str) -> Notice {
     let (w, h) = (picture.width, picture.height);
     let cut = picture.cut_pixels.len();
-    let made = format!(
+    let mut made = format!(
         "{what} ({w}x{h}, frame {:.0} ms on {})",
         picture.times.frame_ms, picture.adapter
     );
+    made.push_str(&certified_note(picture.verdict_counts()));
     if cut > 0 {
         Notice::error(format!(
             "{made}; the GPU cut {cut} pixels short: lower the rays or steps"
@@ -27,6 +29,14 @@ pub fn exported(picture: &Picture, what: &str) -> Notice {
     } else {
         Notice::done(made)
     }
+}
+
+/// How an export's notice ends where its pictures were certified: the verdicts' counts
+/// (summed over an animation's frames); nothing otherwise.
+pub fn certified_note(counts: Option<VerdictCounts>) -> String {
+    counts
+        .map(|c| format!("; certified pixels: {c}"))
+        .unwrap_or_default()
 }
 
 /// What "Export mesh" meshes: the session's formula and scene, when a slice is shown.

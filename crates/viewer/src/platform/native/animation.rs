@@ -171,7 +171,8 @@ impl Job {
             },
         );
         let wrote = writer.finish()?;
-        let done = done?.frames;
+        let drawn = done?;
+        let done = drawn.frames;
         let mut said = if done < animation.frames {
             format!(
                 "stopped after {done} of {} frames: wrote {wrote}",
@@ -180,6 +181,7 @@ impl Job {
         } else {
             format!("wrote {wrote}")
         };
+        said.push_str(&crate::export::certified_note(drawn.verdicts));
         if let Some(report) = critical {
             for line in straddle_lines(&animation.slice_places, &report) {
                 said.push_str(&format!("\n{line}"));

@@ -12,6 +12,7 @@ use eframe::egui;
 
 use fourfold::CompiledFormula;
 use fourfold::render::gif::GifFrames;
+use fourfold::render::verdict::VerdictCounts;
 use fourfold::render::{AnimationFrames, Device, PendingPicture};
 
 use crate::animation::{Asked, choices, chosen_animation, start_or_progress};
@@ -82,6 +83,8 @@ pub struct AnimationDownload {
     /// The GIF being written (dropping it writes its end).
     gif: Option<GifFrames<Bytes>>,
     bytes: Bytes,
+    /// The certified frames' verdicts, summed (where the scene certifies).
+    verdicts: Option<VerdictCounts>,
     /// Frames drawn so far, of all.
     pub drawn: u32,
     pub frames: u32,
@@ -113,6 +116,7 @@ impl AnimationDownload {
             pending: None,
             gif: Some(gif),
             bytes,
+            verdicts: window.session.scene.render.certified.then(VerdictCounts::default),
             drawn: 0,
             frames: animation.frames,
             cancelled: false,
@@ -128,6 +132,9 @@ impl AnimationDownload {
                 Err(e) => return Some(Notice::error(e.to_string())),
             };
             self.pending = None;
+            if let (Some(total), Some(counts)) = (&mut self.verdicts, picture.verdict_counts()) {
+                *total += counts;
+            }
             let added = self.gif.as_mut().map(|gif| gif.add(picture.rgba));
             if let Some(Err(e)) = added {
                 return Some(Notice::error(format!("cannot encode {NAME}: {e}")));
@@ -161,9 +168,10 @@ impl AnimationDownload {
         };
         match download(NAME, "image/gif", &bytes) {
             Ok(()) => Notice::done(format!(
-                "{stopped}{NAME} downloaded ({} frames, {} KB)",
+                "{stopped}{NAME} downloaded ({} frames, {} KB){}",
                 self.drawn,
-                bytes.len() / 1000
+                bytes.len() / 1000,
+                crate::export::certified_note(self.verdicts)
             )),
             Err(e) => Notice::error(e),
         }
