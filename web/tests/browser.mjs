@@ -11,7 +11,7 @@
 // hit drawn), certified=false draws the plain pencil; a heavy link is
 // lowered to the page's bounds, says what it lowered and keeps the page answering; embed
 // mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
-// one; Export animation downloads a GIF of the frames asked for; a lost GPU device
+// one; Export animation downloads a GIF and an animated PNG of the frames asked for; a lost GPU device
 // restarts the page on its scene; a slice's critical
 // values are ticks under its slider that move the slice when clicked, and Export mesh
 // downloads the slice as an STL; an undefined constant
@@ -124,11 +124,26 @@ function gif_frames(bytes) {
   return { frames, width, height };
 }
 
+/** An animated PNG's size, the frame count it states (acTL) and the frames it holds (fcTL). */
+function apng_frames(bytes) {
+  if (bytes.toString('latin1', 1, 4) !== 'PNG') return { stated: 0, frames: 0, width: 0, height: 0 };
+  const [width, height] = [bytes.readUInt32BE(16), bytes.readUInt32BE(20)];
+  let [at, stated, frames] = [8, 0, 0];
+  while (at + 8 <= bytes.length) {
+    const [length, type] = [bytes.readUInt32BE(at), bytes.toString('latin1', at + 4, at + 8)];
+    if (type === 'acTL') stated = bytes.readUInt32BE(at + 8);
+    if (type === 'fcTL') frames += 1;
+    if (type === 'IEND') break;
+    at += 12 + length;
+  }
+  return { stated, frames, width, height };
+}
+
 /** A new page at `hash`, with its console errors collected (`init`: a script run in it
- * before the page's own, at every load). */
-async function open(hash = '', init = null) {
+ * before the page's own, at every load, given `arg`). */
+async function open(hash = '', init = null, arg = undefined) {
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
-  if (init) await page.addInitScript(init);
+  if (init) await page.addInitScript(init, arg);
   const errors = [];
   page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
   page.on('pageerror', (e) => errors.push(String(e)));
@@ -463,39 +478,52 @@ try {
     + `and a click on ${pick} opens it (${(100 * picked_drawn.share).toFixed(1)}% covered)`);
   await gallery.page.close();
 
-  // Animation export: a GIF of the frames asked for (the settings the page keeps, set
-  // before it loads: 3 frames of 48×32), drawn over the page's frames and downloaded.
-  const animated = await open('', () => localStorage.setItem('fourfold.ui',
-    '(export_size: (48, 32), animation: (motion: Turn, plane: "xw", frames: 3, fps: 10.0))'));
-  const as0 = await settled(animated.page);
-  await animated.page.mouse.click(...middle(as0.animation_header));
-  // (The section opens over a few frames: its button is clicked once it stays put.)
-  let ab = null;
-  for (const deadline = Date.now() + TIMEOUT; Date.now() < deadline;) {
-    const seen = (await status(animated.page)).animation_button;
-    if (seen && JSON.stringify(seen) === JSON.stringify(ab)) break;
-    ab = seen;
-    await new Promise((r) => setTimeout(r, 500));
-  }
-  // (A click that lands while egui still settles the panel is lost: it is clicked again
-  // until the export says it started.)
-  const gif_downloaded = animated.page.waitForEvent('download', { timeout: TIMEOUT }).catch((e) => e);
-  let started_notice = '';
-  for (let tries = 0; tries < 5 && !/fourfold\.gif/.test(started_notice); tries++) {
-    await animated.page.mouse.click(...middle(ab));
-    for (let waited = 0; waited < 20 && !/fourfold\.gif/.test(started_notice); waited++) {
+  // Animation export: a GIF and an animated PNG of the frames asked for (the settings the
+  // page keeps, set before it loads: 3 frames of 48×32, the file's kind), drawn over the
+  // page's frames and downloaded.
+  for (const name of ['fourfold.gif', 'fourfold.png']) {
+    const animated = await open('', (name) => localStorage.setItem('fourfold.ui',
+      `(export_size: (48, 32), animation: (path: "${name}", motion: Turn, plane: "xw", frames: 3, fps: 10.0))`), name);
+    const as0 = await settled(animated.page);
+    await animated.page.mouse.click(...middle(as0.animation_header));
+    // (The section opens over a few frames: its button is clicked once it stays put.)
+    let ab = null;
+    for (const deadline = Date.now() + TIMEOUT; Date.now() < deadline;) {
+      const seen = (await status(animated.page)).animation_button;
+      if (seen && JSON.stringify(seen) === JSON.stringify(ab)) break;
+      ab = seen;
       await new Promise((r) => setTimeout(r, 500));
-      started_notice = (await status(animated.page)).notice ?? '';
     }
+    // (A click that lands while egui still settles the panel is lost: it is clicked again
+    // until the export says it started.)
+    const downloaded = animated.page.waitForEvent('download', { timeout: TIMEOUT }).catch((e) => e);
+    let started_notice = '';
+    const started = () => started_notice.includes(`into ${name}`);
+    for (let tries = 0; tries < 5 && !started(); tries++) {
+      await animated.page.mouse.click(...middle(ab));
+      for (let waited = 0; waited < 20 && !started(); waited++) {
+        await new Promise((r) => setTimeout(r, 500));
+        started_notice = (await status(animated.page)).notice ?? '';
+      }
+    }
+    const download = await downloaded;
+    if (download instanceof Error) throw new Error(`no ${name} downloaded (the page said ${JSON.stringify(started_notice)}): ${download.message}`);
+    const bytes = fs.readFileSync(await download.path());
+    const notice = (await status(animated.page)).notice ?? '';
+    const said = /downloaded \(3 frames/.test(notice) && /certified pixels: \d+ hit/.test(notice);
+    if (name.endsWith('.gif')) {
+      const gif = gif_frames(bytes);
+      check(download.suggestedFilename() === name && gif.frames === 3 && gif.width === 48 &&
+        gif.height === 32 && said && animated.errors.length === 0,
+        `Export animation downloads an animated GIF of ${gif.frames} frames of ${gif.width}×${gif.height}: ${JSON.stringify(notice)}`);
+    } else {
+      const apng = apng_frames(bytes);
+      check(download.suggestedFilename() === name && apng.stated === 3 && apng.frames === 3 &&
+        apng.width === 48 && apng.height === 32 && said && animated.errors.length === 0,
+        `Export animation downloads an animated PNG of ${apng.frames} frames (${apng.stated} stated) of ${apng.width}×${apng.height}: ${JSON.stringify(notice)}`);
+    }
+    await animated.page.close();
   }
-  const gif_download = await gif_downloaded;
-  if (gif_download instanceof Error) throw new Error(`no GIF downloaded (the page said ${JSON.stringify(started_notice)}): ${gif_download.message}`);
-  const gif = gif_frames(fs.readFileSync(await gif_download.path()));
-  const gif_notice = (await status(animated.page)).notice ?? '';
-  check(gif_download.suggestedFilename() === 'fourfold.gif' && gif.frames === 3 && gif.width === 48 &&
-    gif.height === 32 && /downloaded \(3 frames/.test(gif_notice) && animated.errors.length === 0,
-    `Export animation downloads an animated GIF of ${gif.frames} frames of ${gif.width}×${gif.height}: ${JSON.stringify(gif_notice)}`);
-  await animated.page.close();
 
   // A lost GPU device (the test destroys it, as a driver reset would) restarts the page on
   // the scene it had, saying so.

@@ -5,7 +5,8 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-use crate::render::gif::{GifFrames, frame_delay_ms};
+use crate::render::apng::{ApngFrames, set_frame_count};
+use crate::render::gif::GifFrames;
 
 /// Where the frames go, by the output's name: `.gif`, `.png` or `.apng` (an animated PNG),
 /// or a folder (a name without an extension, or ending in '/') of `frame-0001.png`, ….
@@ -46,7 +47,6 @@ impl Output {
         fps: f64,
         frames: u32,
     ) -> Result<FrameWriter, String> {
-        let delay_ms = frame_delay_ms(fps);
         match self {
             Output::Gif(path) => {
                 let frames = GifFrames::new(create(path)?, width, height, fps)
@@ -58,18 +58,11 @@ impl Output {
                 })
             }
             Output::Apng(path) => {
-                let failed =
-                    |e: png::EncodingError| format!("cannot write {}: {e}", path.display());
-                let mut encoder = png::Encoder::new(create(path)?, width, height);
-                encoder.set_color(png::ColorType::Rgba);
-                encoder.set_depth(png::BitDepth::Eight);
-                encoder.set_animated(frames.max(1), 0).map_err(failed)?;
-                encoder.set_frame_delay(delay_ms, 1000).map_err(failed)?;
+                let frames = ApngFrames::new(create(path)?, width, height, fps, frames)
+                    .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 Ok(FrameWriter::Apng {
-                    writer: encoder.write_header().map_err(failed)?,
+                    frames,
                     path: path.clone(),
-                    declared: frames.max(1),
-                    count: 0,
                 })
             }
             Output::Folder(path) => {
@@ -100,11 +93,8 @@ pub enum FrameWriter {
         count: u32,
     },
     Apng {
-        writer: png::Writer<BufWriter<File>>,
+        frames: ApngFrames<BufWriter<File>>,
         path: PathBuf,
-        /// The frames the file says it has.
-        declared: u32,
-        count: u32,
     },
     Folder {
         path: PathBuf,
@@ -128,16 +118,10 @@ impl FrameWriter {
                     .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
                 *count += 1;
             }
-            FrameWriter::Apng {
-                writer,
-                path,
-                count,
-                ..
-            } => {
-                writer
-                    .write_image_data(&rgba)
+            FrameWriter::Apng { frames, path } => {
+                frames
+                    .add(&rgba)
                     .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-                *count += 1;
             }
             FrameWriter::Folder {
                 path,
@@ -172,23 +156,22 @@ impl FrameWriter {
                 drop(frames);
                 Ok(format!("{} ({count} frames, animated GIF)", path.display()))
             }
-            FrameWriter::Apng {
-                writer,
-                path,
-                declared,
-                count,
-            } => {
+            FrameWriter::Apng { frames, path } => {
                 let failed = |e: String| format!("cannot write {}: {e}", path.display());
-                if count == declared {
-                    writer.finish().map_err(|e| failed(e.to_string()))?;
-                } else {
-                    // Stopped early: close the file, then say how many frames it has.
-                    drop(writer);
-                    if count == 0 {
-                        std::fs::remove_file(&path).ok();
-                        return Ok(format!("{} (no frame drawn, not written)", path.display()));
-                    }
-                    set_frame_count(&path, count).map_err(|e| failed(e.to_string()))?;
+                let finished = frames.finish().map_err(failed)?;
+                let count = finished.frames;
+                if count == 0 {
+                    std::fs::remove_file(&path).ok();
+                    return Ok(format!("{} (no frame drawn, not written)", path.display()));
+                }
+                if finished.mend {
+                    // Stopped early: the file says how many frames it has.
+                    std::fs::OpenOptions::new()
+                        .read(true)
+                        .write(true)
+                        .open(&path)
+                        .and_then(|mut file| set_frame_count(&mut file, count))
+                        .map_err(|e| failed(e.to_string()))?;
                 }
                 Ok(format!("{} ({count} frames, animated PNG)", path.display()))
             }
@@ -197,39 +180,5 @@ impl FrameWriter {
                 path.display()
             )),
         }
-    }
-}
-
-/// Rewrites the frame count in an animated PNG's `acTL` chunk (and its checksum): for a file
-/// whose writing stopped before the frames it declared.
-fn set_frame_count(path: &Path, frames: u32) -> std::io::Result<()> {
-    use std::io::{Read, Seek, SeekFrom, Write};
-    let mut file = std::fs::OpenOptions::new()
-        .read(true)
-        .write(true)
-        .open(path)?;
-    // The chunks after the 8-byte signature: length, type, data, CRC.
-    let mut at = 8u64;
-    loop {
-        let mut head = [0u8; 8];
-        file.seek(SeekFrom::Start(at))?;
-        file.read_exact(&mut head)?;
-        let length = u64::from(u32::from_be_bytes([head[0], head[1], head[2], head[3]]));
-        if &head[4..] == b"acTL" {
-            let mut data = [0u8; 8];
-            file.read_exact(&mut data)?;
-            data[..4].copy_from_slice(&frames.to_be_bytes());
-            let mut crc = crc32fast::Hasher::new();
-            crc.update(b"acTL");
-            crc.update(&data);
-            file.seek(SeekFrom::Start(at + 8))?;
-            file.write_all(&data)?;
-            file.write_all(&crc.finalize().to_be_bytes())?;
-            return Ok(());
-        }
-        if &head[4..] == b"IDAT" || &head[4..] == b"IEND" {
-            return Err(std::io::Error::other("no acTL chunk before the image data"));
-        }
-        at += 12 + length;
     }
 }

@@ -6,6 +6,7 @@
 //! writes them.
 
 pub mod animation;
+pub mod apng;
 pub mod frames;
 pub mod gif;
 pub mod gpu;

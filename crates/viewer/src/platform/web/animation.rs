@@ -1,6 +1,6 @@
-//! The page's animation export: the "Export animation" section and an animated GIF drawn a
-//! frame at a time on the page's device, each frame read back over the window's frames
-//! (a page cannot wait for the GPU) and encoded in memory, then downloaded; with its
+//! The page's animation export: the "Export animation" section and an animated GIF or PNG
+//! drawn a frame at a time on the page's device, each frame read back over the window's
+//! frames (a page cannot wait for the GPU) and encoded in memory, then downloaded; with its
 //! progress and Cancel, which downloads the frames drawn so far.
 
 use std::cell::RefCell;
@@ -11,6 +11,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use fourfold::CompiledFormula;
+use fourfold::render::apng::{ApngFrames, set_frame_count};
 use fourfold::render::gif::GifFrames;
 use fourfold::render::verdict::VerdictCounts;
 use fourfold::render::{AnimationFrames, Device, PendingPicture};
@@ -21,8 +22,65 @@ use crate::outcome::{Outcome, Window};
 
 use super::files::download;
 
-/// The name the animation downloads as.
-const NAME: &str = "fourfold.gif";
+/// The kinds of file the page's animation downloads as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Gif,
+    Apng,
+}
+
+impl Kind {
+    /// The kind the section's file name asks for: an animated PNG for `.png` or `.apng`
+    /// (as the desktop's path does), else a GIF.
+    fn of(path: &str) -> Self {
+        let path = path.to_ascii_lowercase();
+        if path.ends_with(".png") || path.ends_with(".apng") {
+            Kind::Apng
+        } else {
+            Kind::Gif
+        }
+    }
+
+    /// The name it downloads as, and its MIME type.
+    fn file(self) -> (&'static str, &'static str) {
+        match self {
+            Kind::Gif => ("fourfold.gif", "image/gif"),
+            Kind::Apng => ("fourfold.png", "image/png"),
+        }
+    }
+}
+
+/// The encoder writing the frames into memory.
+enum Encoder {
+    Gif(GifFrames<Bytes>),
+    Apng(ApngFrames<Bytes>),
+}
+
+impl Encoder {
+    fn add(&mut self, rgba: Vec<u8>) -> Result<(), String> {
+        match self {
+            Encoder::Gif(gif) => gif.add(rgba),
+            Encoder::Apng(apng) => apng.add(&rgba),
+        }
+    }
+
+    /// Ends the file in `bytes` (an animated PNG stopped early says how many frames it has).
+    fn finish(self, bytes: &Bytes) -> Result<(), String> {
+        match self {
+            // Dropping the encoder writes the GIF's end.
+            Encoder::Gif(gif) => drop(gif),
+            Encoder::Apng(apng) => {
+                let finished = apng.finish()?;
+                if finished.mend {
+                    let mut written = bytes.0.borrow_mut();
+                    set_frame_count(&mut std::io::Cursor::new(&mut *written), finished.frames)
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
 
 /// The "Export animation" section: what moves, how many frames; the size is the PNG
 /// export's.
@@ -34,18 +92,26 @@ pub fn section(
     window: Window<'_>,
 ) -> Outcome {
     let params = window.session.param_names();
-    let c = &mut window.settings.animation;
-    choices(ui, c, &params);
+    choices(ui, &mut window.settings.animation, &params);
     ui.horizontal(|ui| {
-        ui.label(NAME)
-            .on_hover_text("an animated GIF, downloaded; the size is the PNG export's");
+        let path = &mut window.settings.animation.path;
+        let mut kind = Kind::of(path);
+        ui.radio_value(&mut kind, Kind::Gif, "GIF").on_hover_text(
+            "an animated GIF, downloaded (256 colours); the size is the PNG export's",
+        );
+        ui.radio_value(&mut kind, Kind::Apng, "animated PNG")
+            .on_hover_text(
+                "an animated PNG, downloaded (full colour, larger); the size is the PNG export's",
+            );
+        *path = kind.file().0.to_string();
         let (asked, at) = start_or_progress(ui, running.as_ref().map(|a| (a.drawn, a.frames)));
         *button = Some(at);
         match asked {
             Asked::Start => {
                 return match AnimationDownload::start(window) {
                     Ok(export) => {
-                        let said = format!("drawing {} frames into {NAME}…", export.frames);
+                        let said =
+                            format!("drawing {} frames into {}…", export.frames, export.name());
                         *running = Some(export);
                         Outcome::said(Notice::done(said))
                     }
@@ -80,8 +146,9 @@ pub struct AnimationDownload {
     frames_of: AnimationFrames,
     formula: Arc<CompiledFormula>,
     pending: Option<PendingPicture>,
-    /// The GIF being written (dropping it writes its end).
-    gif: Option<GifFrames<Bytes>>,
+    /// The file being written, and its kind.
+    encoder: Option<Encoder>,
+    kind: Kind,
     bytes: Bytes,
     /// The certified frames' verdicts, summed (where the scene certifies).
     verdicts: Option<VerdictCounts>,
@@ -109,14 +176,31 @@ impl AnimationDownload {
             Device::Gpu(gpu),
         )?;
         let bytes = Bytes::default();
-        let gif = GifFrames::new(bytes.clone(), size[0], size[1], animation.fps)?;
+        let [width, height] = size;
+        let kind = Kind::of(&window.settings.animation.path);
+        let encoder = match kind {
+            Kind::Gif => Encoder::Gif(GifFrames::new(bytes.clone(), width, height, animation.fps)?),
+            Kind::Apng => Encoder::Apng(ApngFrames::new(
+                bytes.clone(),
+                width,
+                height,
+                animation.fps,
+                animation.frames,
+            )?),
+        };
         Ok(Self {
             frames_of,
             formula,
             pending: None,
-            gif: Some(gif),
+            encoder: Some(encoder),
+            kind,
             bytes,
-            verdicts: window.session.scene.render.certified.then(VerdictCounts::default),
+            verdicts: window
+                .session
+                .scene
+                .render
+                .certified
+                .then(VerdictCounts::default),
             drawn: 0,
             frames: animation.frames,
             cancelled: false,
@@ -135,9 +219,9 @@ impl AnimationDownload {
             if let (Some(total), Some(counts)) = (&mut self.verdicts, picture.verdict_counts()) {
                 *total += counts;
             }
-            let added = self.gif.as_mut().map(|gif| gif.add(picture.rgba));
+            let added = self.encoder.as_mut().map(|e| e.add(picture.rgba));
             if let Some(Err(e)) = added {
-                return Some(Notice::error(format!("cannot encode {NAME}: {e}")));
+                return Some(Notice::error(format!("cannot encode {}: {e}", self.name())));
             }
             self.drawn += 1;
         }
@@ -154,21 +238,29 @@ impl AnimationDownload {
         Some(self.finish())
     }
 
-    /// Ends the GIF with the frames drawn and hands it to the browser.
+    /// The name the animation downloads as.
+    fn name(&self) -> &'static str {
+        self.kind.file().0
+    }
+
+    /// Ends the file with the frames drawn and hands it to the browser.
     fn finish(&mut self) -> Notice {
+        let (name, mime) = self.kind.file();
         if self.drawn == 0 {
-            return Notice::done(format!("stopped before the first frame: no {NAME}"));
+            return Notice::done(format!("stopped before the first frame: no {name}"));
         }
-        drop(self.gif.take());
+        if let Some(Err(e)) = self.encoder.take().map(|e| e.finish(&self.bytes)) {
+            return Notice::error(format!("cannot encode {name}: {e}"));
+        }
         let bytes = self.bytes.0.borrow();
         let stopped = if self.drawn < self.frames {
             format!("stopped after {} of {} frames: ", self.drawn, self.frames)
         } else {
             String::new()
         };
-        match download(NAME, "image/gif", &bytes) {
+        match download(name, mime, &bytes) {
             Ok(()) => Notice::done(format!(
-                "{stopped}{NAME} downloaded ({} frames, {} KB){}",
+                "{stopped}{name} downloaded ({} frames, {} KB){}",
                 self.drawn,
                 bytes.len() / 1000,
                 crate::export::certified_note(self.verdicts)
