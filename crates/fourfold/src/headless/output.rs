@@ -5,7 +5,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-use crate::render::apng::{ApngFrames, set_frame_count};
+use crate::render::apng::{ApngFrames, is_apng_extension, set_frame_count};
 use crate::render::gif::GifFrames;
 
 /// Where the frames go, by the output's name: `.gif`, `.png` or `.apng` (an animated PNG),
@@ -25,9 +25,7 @@ impl Output {
         }
         match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("gif") => Ok(Output::Gif(path.to_path_buf())),
-            Some(e) if e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("apng") => {
-                Ok(Output::Apng(path.to_path_buf()))
-            }
+            Some(e) if is_apng_extension(e) => Ok(Output::Apng(path.to_path_buf())),
             None => Ok(Output::Folder(path.to_path_buf())),
             Some(e) => Err(format!(
                 "{}: unknown kind of file '.{e}': name a .gif, a .png (animated) or a folder",

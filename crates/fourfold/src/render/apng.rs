@@ -7,6 +7,12 @@ use std::io::{Read, Seek, SeekFrom, Write};
 
 use super::gif::frame_delay_ms;
 
+/// Whether a file's extension asks for an animated PNG: `png` or `apng`, in any case (a
+/// GIF is `gif`).
+pub fn is_apng_extension(extension: &str) -> bool {
+    extension.eq_ignore_ascii_case("png") || extension.eq_ignore_ascii_case("apng")
+}
+
 /// An animated PNG being written (it loops).
 pub struct ApngFrames<W: Write> {
     writer: png::Writer<W>,

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use fourfold::CompiledFormula;
-use fourfold::render::apng::{ApngFrames, set_frame_count};
+use fourfold::render::apng::{ApngFrames, is_apng_extension, set_frame_count};
 use fourfold::render::gif::GifFrames;
 use fourfold::render::verdict::VerdictCounts;
 use fourfold::render::{AnimationFrames, Device, PendingPicture};
@@ -33,8 +33,11 @@ impl Kind {
     /// The kind the section's file name asks for: an animated PNG for `.png` or `.apng`
     /// (as the desktop's path does), else a GIF.
     fn of(path: &str) -> Self {
-        let path = path.to_ascii_lowercase();
-        if path.ends_with(".png") || path.ends_with(".apng") {
+        let extension = std::path::Path::new(path).extension();
+        if extension
+            .and_then(|e| e.to_str())
+            .is_some_and(is_apng_extension)
+        {
             Kind::Apng
         } else {
             Kind::Gif
