@@ -106,7 +106,7 @@ impl FourfoldApp {
                     Some(Gpu::from_parts(
                         rs.device.clone(),
                         rs.queue.clone(),
-                        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
+                        fourfold::render::gpu::describe_adapter(&info),
                     )),
                     Some(rs.renderer.clone()),
                 )

@@ -74,6 +74,17 @@ pub fn check_image_size(width: u32, height: u32, limits: &wgpu::Limits) -> Resul
     })
 }
 
+/// The adapter as pictures and status lines name it: its name, backend and kind (a browser
+/// tells a page no name: "WebGPU" stands for it).
+pub fn describe_adapter(info: &wgpu::AdapterInfo) -> String {
+    let name = if info.name.is_empty() {
+        "WebGPU"
+    } else {
+        &info.name
+    };
+    format!("{name} ({:?}, {:?})", info.backend, info.device_type)
+}
+
 /// A device and queue, with a description of the adapter. Cloning shares them.
 #[derive(Clone)]
 pub struct Gpu {
