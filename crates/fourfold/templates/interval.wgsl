@@ -73,14 +73,8 @@ fn iv_unbounded(a: vec2<f32>) -> bool {
 }
 
 // The bounds brought back within ±IV_LARGE (widening only), with ±IV_BIG for ±inf; an
-// unbounded result sets iv_jump (F's continuity is then not known).
-fn iv_keep(lo: f32, hi: f32) -> vec2<f32> {
-    let r = vec2<f32>(clamp(lo, -IV_BIG, IV_LARGE), clamp(hi, -IV_LARGE, IV_BIG));
-    iv_jump = iv_jump | iv_unbounded(r);
-    return r;
-}
-
-// iv_keep, or the empty interval (flagging nothing) where `none` says an operand was empty.
+// unbounded result sets iv_jump (F's continuity is then not known). Where `none` says an
+// operand was empty: the empty interval, flagging nothing.
 fn iv_keep_or_empty(lo: f32, hi: f32, none: bool) -> vec2<f32> {
     let r = vec2<f32>(clamp(lo, -IV_BIG, IV_LARGE), clamp(hi, -IV_LARGE, IV_BIG));
     iv_jump = iv_jump | (iv_unbounded(r) & !none);
