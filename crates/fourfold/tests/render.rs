@@ -1331,6 +1331,60 @@ fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
     }
 }
 
+/// A sibling of a caster builds and warms up a pipeline on another thread, and the caster
+/// takes it (the viewer's settled picture: its certified pipeline follows the caster), then
+/// draws with it the picture it draws after building it itself; a caster of another shader
+/// is refused.
+#[test]
+fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
+    use fourfold::render::{Prepared, RayCaster, Target};
+    let gpu = gpu();
+    let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
+    let shader = shader::generate(&formula).unwrap();
+    let mut plain = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
+    plain.tree.max_level = 4;
+    plain.render.certified = false;
+    let mut certified = plain.clone();
+    certified.render.certified = true;
+    let prepared = Prepared::new(&formula, &plain).unwrap();
+    let h = &prepared.hierarchy;
+    let target = Target::OFFSCREEN;
+    let mut caster = RayCaster::for_scene(&gpu, &shader, h, target, &plain).unwrap();
+    let mut sibling = caster.sibling(&gpu).unwrap();
+    assert_eq!(sibling.pipelines_built(), 0);
+    let sibling = std::thread::scope(|s| {
+        s.spawn(|| {
+            sibling.warm_up(&gpu, h, &certified).unwrap();
+            sibling
+        })
+        .join()
+        .unwrap()
+    });
+    assert!(!caster.has_pipeline_for(&certified, h));
+    assert!(caster.adopt(sibling));
+    assert!(caster.has_pipeline_for(&certified, h));
+    assert_eq!(caster.pipelines_built(), 2);
+    let draw = |caster: &mut RayCaster| {
+        let (camera, uniforms) = prepared.frame(&certified, 32, 24, Default::default());
+        let lists = Some(prepared.certifying());
+        caster.bin_view(&gpu, h, lists, &camera, &uniforms);
+        caster.render_rgba(&gpu, &uniforms).unwrap()
+    };
+    let adopted = draw(&mut caster);
+    let mut own = RayCaster::for_scene(&gpu, &shader, h, target, &certified).unwrap();
+    assert_eq!(
+        adopted,
+        draw(&mut own),
+        "the adopted pipeline draws otherwise"
+    );
+    let other = shader::generate(&CompiledFormula::compile("x + y + z + w").unwrap()).unwrap();
+    let stranger = RayCaster::for_scene(&gpu, &other, h, target, &certified).unwrap();
+    assert!(
+        !caster.adopt(stranger),
+        "a caster of another shader was adopted"
+    );
+}
+
 #[test]
 fn a_section_bins_only_the_boxes_it_meets_and_draws_what_the_walk_draws() {
     // A slice's (or slab's) tile lists hold only the boxes that meet its hyperplane (band),

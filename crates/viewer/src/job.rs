@@ -4,6 +4,8 @@
 //! in slices of the window's frames in a web page (the platform's `BuildWork`).
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError};
 
 use web_time::Instant;
 
@@ -51,6 +53,36 @@ pub struct JobResult {
     pub pipeline_ms: f64,
     /// The brute-force setting the pipeline was warmed up for.
     pub brute_force: bool,
+    /// The settled picture's certified pipeline for `caster`, where one is being built
+    /// beside the window (natively; a page builds it at its first certified frame).
+    pub settling: Option<Settling>,
+}
+
+/// A certified pipeline being built and warmed up on the build's thread after the caster
+/// it belongs to was handed over, so that the edit's first preview does not wait for its
+/// compile (hundreds of milliseconds on llvmpipe; the settled picture does, if still).
+/// Dropping it abandons the build if it has not started.
+pub struct Settling {
+    pub receiver: Receiver<RayCaster>,
+    pub abandoned: Arc<AtomicBool>,
+}
+
+impl Settling {
+    /// The caster's sibling holding the pipeline once it is built (`RayCaster::adopt`), or
+    /// Err(true) while it is not, Err(false) if it never will be (its build failed).
+    pub fn poll(&self) -> Result<RayCaster, bool> {
+        match self.receiver.try_recv() {
+            Ok(sibling) => Ok(sibling),
+            Err(TryRecvError::Empty) => Err(true),
+            Err(TryRecvError::Disconnected) => Err(false),
+        }
+    }
+}
+
+impl Drop for Settling {
+    fn drop(&mut self) {
+        self.abandoned.store(true, Ordering::Relaxed);
+    }
 }
 
 impl JobInputs {
@@ -87,14 +119,6 @@ impl JobInputs {
                         .map_err(|e| e.to_string())
                         .and_then(|mut caster| {
                             warm_up(gpu, &mut caster, hierarchy, &first)?;
-                            // The settled picture's certified pipeline too, off the window's
-                            // frames: its compile (seconds on llvmpipe) would stall the first
-                            // still frame.
-                            let mut settled = first.clone();
-                            settled.render.certified = self.scene.render.certified;
-                            if settled.render.certified {
-                                warm_up(gpu, &mut caster, hierarchy, &settled)?;
-                            }
                             Ok(caster)
                         }),
                 )
@@ -111,7 +135,16 @@ impl JobInputs {
             caster,
             tree_ms,
             pipeline_ms,
+            settling: None,
         }
+    }
+
+    /// What the settled picture draws where it differs from the first frames: certified,
+    /// where the scene is (None where it is not).
+    pub fn settled_scene(&self) -> Option<Scene> {
+        let mut settled = first_frames(&self.scene, self.brute_force);
+        settled.render.certified = self.scene.render.certified;
+        settled.render.certified.then_some(settled)
     }
 }
 

@@ -18,7 +18,7 @@ use fourfold::scene::Scene;
 use fourfold::syntax::SourceError;
 use fourfold::tree::{Hierarchy, TreeStats};
 
-use crate::job::{JobInputs, ms};
+use crate::job::{JobInputs, Settling, ms};
 use crate::platform::{self, BuildWork};
 
 /// Milliseconds of each stage of the last edit, from the changed text to the swap.
@@ -54,6 +54,8 @@ struct Job {
     started: Instant,
     compile_ms: f64,
     codegen_ms: f64,
+    /// It makes a new ray caster (the shader is new, or brute force changes).
+    makes_pipeline: bool,
 }
 
 /// How long a UI frame spends on a build run in slices, at least and at most: as long as the
@@ -99,6 +101,9 @@ pub struct Session {
     /// A brute-force setting waiting for its pipeline (warmed up in the background, so that
     /// the window never waits for a driver compiling it at its first draw).
     pub pending_brute_force: Option<bool>,
+    /// The caster's certified pipeline, while it is built beside the window (natively,
+    /// after the caster itself: an edit's first preview does not wait for it).
+    settling: Option<Settling>,
 }
 
 impl Session {
@@ -124,6 +129,32 @@ impl Session {
             edit_started: None,
             slice_budget: *SLICE_BUDGET.start(),
             pending_brute_force: None,
+            settling: None,
+        }
+    }
+
+    /// Whether the settled picture's certified pipeline is still being built, or a new
+    /// caster that replaces this one (the certified pass waits: built inside a frame, its
+    /// compile would stall the window).
+    pub fn certified_pipeline_pending(&self) -> bool {
+        self.settling.is_some() || self.job.as_ref().is_some_and(|j| j.makes_pipeline)
+    }
+
+    /// Takes the certified pipeline built beside the window, once it is there.
+    fn adopt_settled_pipeline(&mut self) {
+        let Some(settling) = &self.settling else {
+            return;
+        };
+        match settling.poll() {
+            Err(true) => {}
+            Ok(sibling) => {
+                if let Some(caster) = &mut self.caster {
+                    caster.adopt(sibling);
+                }
+                self.settling = None;
+            }
+            // Its build failed: the settled picture builds it when it first draws.
+            Err(false) => self.settling = None,
         }
     }
 
@@ -250,14 +281,14 @@ impl Session {
         // When the shader is new, the pipeline is made here too, off the UI thread.
         // (Also while a brute-force switch waits for its pipeline: this job replaces the one
         // that was making it.)
+        let makes_pipeline =
+            new_shader || self.caster.is_none() || self.pending_brute_force.is_some();
         let inputs = JobInputs {
             generation,
             program,
             scene: self.scene.clone(),
             gpu: gpu.cloned(),
-            make_pipeline: new_shader
-                || self.caster.is_none()
-                || self.pending_brute_force.is_some(),
+            make_pipeline: makes_pipeline,
             brute_force: self
                 .pending_brute_force
                 .unwrap_or(self.scene.render.brute_force),
@@ -270,18 +301,25 @@ impl Session {
                 return;
             }
         };
+        if makes_pipeline {
+            // The caster it replaces needs no certified pipeline now (one not started yet
+            // is not built: its compile would only slow this build's).
+            self.settling = None;
+        }
         self.job = Some(Job {
             generation,
             work,
             started,
             compile_ms,
             codegen_ms,
+            makes_pipeline,
         });
         self.edit_started = Some(started);
     }
 
     /// Takes a finished build, if any; returns true when the picture changed.
     pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
+        self.adopt_settled_pipeline();
         let Some(job) = &mut self.job else {
             return false;
         };
@@ -309,6 +347,7 @@ impl Session {
         match result.caster {
             Some(Ok(caster)) => {
                 self.caster = Some(caster);
+                self.settling = result.settling;
                 self.counters.pipelines += 1;
             }
             Some(Err(e)) => {

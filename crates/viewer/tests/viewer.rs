@@ -377,11 +377,13 @@ fn the_settled_picture_is_certified_by_default_and_the_switch_turns_it_off() {
     );
 }
 
-/// A build makes the settled picture's certified pipeline with the plain one, off the
-/// window's frames (its compile, seconds on llvmpipe, would stall the first still frame),
-/// and only for a certified scene.
+/// A build makes the settled picture's certified pipeline off the window's frames (its
+/// compile, hundreds of milliseconds on llvmpipe, would stall the first still frame), and
+/// only for a certified scene; after the caster, so that the first preview does not wait
+/// for it: the caster comes with its first frames' pipeline alone, and a sibling with the
+/// certified one follows.
 #[test]
-fn a_build_makes_the_certified_pipeline_before_any_frame() {
+fn a_build_makes_the_certified_pipeline_beside_the_window_after_the_caster() {
     use fourfold::render::{Gpu, Program};
     use fourfold_viewer::job::JobInputs;
     use fourfold_viewer::platform::BuildWork;
@@ -392,7 +394,7 @@ fn a_build_makes_the_certified_pipeline_before_any_frame() {
         let inputs = JobInputs {
             generation: 1,
             program: Program::new(&scene.formula).unwrap(),
-            scene,
+            scene: scene.clone(),
             gpu: Some(gpu.clone()),
             make_pipeline: true,
             brute_force: false,
@@ -406,12 +408,22 @@ fn a_build_makes_the_certified_pipeline_before_any_frame() {
             assert!(Instant::now() < deadline, "no build in 120 s");
             std::thread::sleep(Duration::from_millis(5));
         };
-        let caster = result.caster.unwrap().unwrap();
-        assert_eq!(
-            caster.pipelines_built(),
-            if certified { 2 } else { 1 },
-            "certified: {certified}"
-        );
+        let mut caster = result.caster.unwrap().unwrap();
+        let hierarchy = result.tree.unwrap().0;
+        assert_eq!(caster.pipelines_built(), 1, "certified: {certified}");
+        let Some(settling) = result.settling else {
+            assert!(!certified, "no certified pipeline follows the caster");
+            continue;
+        };
+        assert!(certified, "a plain scene builds a certified pipeline");
+        let sibling = settling
+            .receiver
+            .recv_timeout(Duration::from_secs(120))
+            .expect("the certified pipeline is built");
+        assert_eq!(sibling.pipelines_built(), 1);
+        assert!(caster.adopt(sibling), "the sibling is the caster's");
+        assert_eq!(caster.pipelines_built(), 2);
+        assert!(caster.has_pipeline_for(&scene, &hierarchy));
     }
 }
 

@@ -262,11 +262,13 @@ impl FourfoldApp {
             let Some(hierarchy) = &s.hierarchy else {
                 return false;
             };
+            let certifier_pending = s.certified_pipeline_pending();
             if let Some(caster) = &mut s.caster {
                 let subject = Subject {
                     caster,
                     hierarchy,
                     certifying: s.certifying.as_ref(),
+                    certifier_pending,
                     params: &s.tree_params,
                     scene: &s.scene,
                     generation: s.picture_generation,
@@ -287,6 +289,7 @@ impl FourfoldApp {
                     caster: &mut inset.caster,
                     hierarchy,
                     certifying: s.certifying.as_ref(),
+                    certifier_pending: false,
                     params: &s.tree_params,
                     scene: &scene,
                     generation: s.picture_generation,

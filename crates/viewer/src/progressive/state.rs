@@ -48,6 +48,9 @@ pub struct Subject<'a> {
     /// The boxes certified pixels search (`Hierarchy::for_certifying`), where the scene
     /// certifies.
     pub certifying: Option<&'a Arc<Hierarchy>>,
+    /// The caster's certified pipeline is still being built beside the window: the
+    /// certified pass waits for it (`Session::certified_pipeline_pending`).
+    pub certifier_pending: bool,
     pub params: &'a [f64],
     pub scene: &'a Scene,
     pub generation: u64,
@@ -235,6 +238,7 @@ impl Progressive {
             caster,
             hierarchy,
             certifying,
+            certifier_pending,
             params,
             scene,
             generation,
@@ -269,6 +273,11 @@ impl Progressive {
             let settled =
                 scene.render.certified && certifying.is_some() && stage.div == 1 && !interacting;
             let certified = settled && stage.frame == 0;
+            if certified && certifier_pending {
+                // Back at the next frame, which the window draws at once (not waiting for
+                // the GPU): the session takes the pipeline as soon as it is built.
+                return true;
+            }
             if self.next_tile >= cols * height.div_ceil(self.tile) {
                 self.complete_stage(gpu, stage, certified);
                 continue;

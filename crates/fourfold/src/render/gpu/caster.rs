@@ -4,6 +4,8 @@
 //! rebuilds a shader whose loops a uniform buffer steers at every write: docs/architecture.md,
 //! "The GPU"). It draws into a texture of the caller's, or offscreen for read-back.
 
+use std::sync::Arc;
+
 use bytemuck::Zeroable;
 
 use crate::render::shader::Shader;
@@ -19,6 +21,16 @@ use super::pipelines::{
     storage_entry,
 };
 use super::readback::{FrameCopy, PendingRgba, Timer};
+
+/// What the casters of one shader share (`RayCaster::sibling`).
+struct Shared {
+    target: Target,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    layout: wgpu::BindGroupLayout,
+    cache: Option<Arc<ShaderCache>>,
+    cache_use: CacheUse,
+}
 
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
 pub struct RayCaster {
@@ -52,7 +64,7 @@ pub struct RayCaster {
     background: std::sync::OnceLock<wgpu::RenderPipeline>,
     /// Where the pipelines are kept between runs (`Gpu::pipeline_cache`), and what became
     /// of the file when the first was built.
-    cache: Option<ShaderCache>,
+    cache: Option<Arc<ShaderCache>>,
     cache_use: CacheUse,
 }
 
@@ -157,6 +169,68 @@ impl RayCaster {
         let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT] =
             std::array::from_fn(|_| std::sync::OnceLock::new());
         let _ = pipelines[variant.index()].set(pipeline);
+        let shared = Shared {
+            target,
+            module,
+            pipeline_layout,
+            layout,
+            cache: cache.map(Arc::new),
+            cache_use,
+        };
+        Self::assemble(gpu, shared, pipelines, hierarchy)
+    }
+
+    /// A caster of the same shader, target, layouts and pipeline cache, with buffers of its
+    /// own for an empty tree and no pipeline: its pipelines can be built and warmed up on
+    /// another thread while this one draws, then handed over with [`RayCaster::adopt`]. (A
+    /// driver that compiles a pipeline at its first draw, as llvmpipe, would otherwise do
+    /// it inside the frame that first needs it, or before a picture that does not.)
+    pub fn sibling(&self, gpu: &Gpu) -> Result<Self, GpuError> {
+        let shared = Shared {
+            target: self.target,
+            module: self.module.clone(),
+            pipeline_layout: self.pipeline_layout.clone(),
+            layout: self.layout.clone(),
+            cache: self.cache.clone(),
+            cache_use: self.cache_use.clone(),
+        };
+        let pipelines = std::array::from_fn(|_| std::sync::OnceLock::new());
+        Self::assemble(gpu, shared, pipelines, &Hierarchy::default())
+    }
+
+    /// Takes the pipelines that `sibling` (made by [`RayCaster::sibling`] from this caster)
+    /// built and this caster lacks; false, taking none, if it is another caster's.
+    pub fn adopt(&mut self, sibling: RayCaster) -> bool {
+        if sibling.module != self.module || sibling.pipeline_layout != self.pipeline_layout {
+            return false;
+        }
+        for (mine, theirs) in self.pipelines.iter_mut().zip(sibling.pipelines) {
+            if let Some(pipeline) = theirs.into_inner()
+                && mine.get().is_none()
+            {
+                let _ = mine.set(pipeline);
+            }
+        }
+        true
+    }
+
+    /// A caster of `shared`'s shader with `pipelines` built, its buffers made for
+    /// `hierarchy`.
+    fn assemble(
+        gpu: &Gpu,
+        shared: Shared,
+        pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
+        hierarchy: &Hierarchy,
+    ) -> Result<Self, GpuError> {
+        let device = &gpu.device;
+        let Shared {
+            target,
+            module,
+            pipeline_layout,
+            layout,
+            cache,
+            cache_use,
+        } = shared;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,

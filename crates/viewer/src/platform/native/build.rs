@@ -14,7 +14,7 @@ use fourfold::render::{Gpu, Prepared, RayCaster};
 use fourfold::scene::Scene;
 use fourfold::tree::{BuildError, Hierarchy};
 
-use crate::job::{JobInputs, JobResult};
+use crate::job::{JobInputs, JobResult, Settling};
 
 /// The window's thread may wait for the GPU to finish a run of the picture's squares, and
 /// so time it as it draws.
@@ -62,6 +62,32 @@ fn warm_up(
         .map_err(|e| e.to_string())
 }
 
+/// Where the build made a caster for a certified scene: a sibling of it for the settled
+/// picture's certified pipeline, handed to the window in `result` (`JobResult::settling`),
+/// and the work that builds and warms it up, to be run once `result` is sent.
+fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOnce() + use<>> {
+    let scene = inputs.settled_scene()?;
+    let gpu = inputs.gpu.clone()?;
+    let (Some(Ok(caster)), Ok((hierarchy, ..))) = (&result.caster, &result.tree) else {
+        return None;
+    };
+    let mut sibling = caster.sibling(&gpu).ok()?;
+    let hierarchy = hierarchy.clone();
+    let (sender, receiver) = channel();
+    let abandoned = Arc::new(AtomicBool::new(false));
+    result.settling = Some(Settling {
+        receiver,
+        abandoned: abandoned.clone(),
+    });
+    Some(move || {
+        if !abandoned.load(Ordering::Relaxed)
+            && warm_up(&gpu, &mut sibling, &hierarchy, &scene).is_ok()
+        {
+            let _ = sender.send(sibling);
+        }
+    })
+}
+
 /// A build on a thread of its own, cancelled by a newer one.
 pub struct BuildWork {
     cancel: Arc<AtomicBool>,
@@ -88,8 +114,14 @@ impl BuildWork {
                     &thread_cancel,
                     Some(&report),
                 );
-                if !matches!(prepared, Err(BuildError::Cancelled)) {
-                    let _ = sender.send(inputs.finish(prepared, warm_up));
+                if matches!(prepared, Err(BuildError::Cancelled)) {
+                    return;
+                }
+                let mut result = inputs.finish(prepared, warm_up);
+                let settling = settle_beside(&inputs, &mut result);
+                let _ = sender.send(result);
+                if let Some(work) = settling {
+                    work();
                 }
             })
             .map_err(|e| format!("could not start the tree build: {e}"))?;
