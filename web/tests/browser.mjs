@@ -71,7 +71,8 @@ const check = (ok, what) => {
 };
 
 /** In the page: WebGPU's errors for a shader module and its pipelines (two variants of the
- * pipeline constants, as the ray caster makes them). */
+ * pipeline constants, as the ray caster makes them: a plain one, and a certified one with
+ * its own entry point). */
 async function compile_in_webgpu(code) {
   const adapter = await navigator.gpu.requestAdapter();
   const device = await adapter.requestDevice();
@@ -87,7 +88,12 @@ async function compile_in_webgpu(code) {
       await device.createRenderPipelineAsync({
         layout: 'auto',
         vertex: { module, entryPoint: 'vs_main' },
-        fragment: { module, entryPoint: 'fs_main', targets: [{ format: 'rgba8unorm' }], constants },
+        fragment: {
+          module,
+          entryPoint: constants.CERTIFY ? 'fs_certified' : 'fs_main',
+          targets: [{ format: 'rgba8unorm' }],
+          constants,
+        },
       });
     } catch (e) {
       problems.push(String(e.message ?? e));

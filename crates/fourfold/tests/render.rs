@@ -125,12 +125,10 @@ fn the_ray_caster_reads_its_settings_once() {
     for (_, fun) in module.functions.iter() {
         assert_eq!(reads(fun), 0, "{:?} reads binding 0", fun.name);
     }
-    let main = module
-        .entry_points
-        .iter()
-        .find(|e| e.name == "fs_main")
-        .unwrap();
-    assert_eq!(reads(&main.function), 1, "fs_main copies binding 0 once");
+    for name in ["fs_main", "fs_certified"] {
+        let main = module.entry_points.iter().find(|e| e.name == name).unwrap();
+        assert_eq!(reads(&main.function), 1, "{name} copies binding 0 once");
+    }
 }
 
 #[test]

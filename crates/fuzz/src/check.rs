@@ -190,16 +190,22 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
             .map(|(n, v)| (n.to_string(), v))
             .collect();
         let stage = naga::ShaderStage::Fragment;
+        // (A certified pipeline draws with its own entry point.)
+        let entry = if values[4] == 1.0 {
+            "fs_certified"
+        } else {
+            "fs_main"
+        };
         let (module, info) = naga::back::pipeline_constants::process_overrides(
             module,
             &info,
-            Some((stage, "fs_main")),
+            Some((stage, entry)),
             &constants,
         )
         .map_err(|e| format!("pipeline constants {values:?}: {e}"))?;
         let options = naga::back::spv::PipelineOptions {
             shader_stage: stage,
-            entry_point: "fs_main".into(),
+            entry_point: entry.into(),
         };
         naga::back::spv::write_vec(&module, &info, &Default::default(), Some(&options))
             .map_err(|e| format!("SPIR-V {values:?}: {e}"))?;

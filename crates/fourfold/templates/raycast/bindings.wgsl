@@ -14,9 +14,10 @@
 //   binding 6: storage  array<BoxRecord>      the boxes they index, as binding 3 (or one)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers; it reads
 // binding 0 too, and hands some settings to the fragment stage as flat values, see Flat);
-// fs_main returns the pixel's colour (target format rgba8unorm); fs_background the
-// background, for screen tiles with nothing to march (fourfold draws the tiles with boxes
-// with fs_main and the others with fs_background, each run of tiles within a scissor
+// fs_main returns the pixel's colour (target format rgba8unorm), fs_certified the same with
+// the pixel's certified verdict in alpha (with CERTIFY = 1); fs_background the background,
+// for screen tiles with nothing to march (fourfold draws the tiles with boxes with fs_main
+// or fs_certified and the others with fs_background, each run of tiles within a scissor
 // rectangle: see src/render/view/tiles/).
 // Pipeline constant MODE: where a pixel's boxes come from: 1 (default) its tile's list in
 // bindings 2 and 3, 2 a walk of the whole hierarchy, 0 none (the brute-force baseline: the
@@ -141,7 +142,8 @@ override SAMPLING: u32 = 2u;
 // SECTION: 0 the whole observer plane, 1 a slab of it, 2 a slice (at 3, the default, as
 // flags 32 and 64 say).
 override SECTION: u32 = 3u;
-// CERTIFY: 1 classifies every pixel rigorously (certify, docs/method.md §5.9), 0 does not.
+// CERTIFY: 1 with fs_certified, which classifies every pixel rigorously (certify,
+// docs/method.md §5.9), and keeps the rays' sign changes for it; 0 with fs_main.
 override CERTIFY: u32 = 0u;
 
 const MAX_HITS: u32 = 16u;

@@ -42,11 +42,34 @@ fn fs_background() -> @location(0) vec4<f32> {
     return vec4<f32>(settings.background.rgb, 1.0);
 }
 
+// A plain pixel: its rays and their colour.
 @fragment
 fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
-    let pos = fl.pos;
-    // The settings: from binding 0, but for those vs_main hands over.
     u = settings;
+    var tr: Tracer;
+    let px = trace_pixel(fl, &tr);
+    return pixel_color(tr, px, CERT_EMPTY);
+}
+
+// A certified pixel (CERTIFY, docs/method.md §5.9): its rays, its verdict, their colour. An
+// entry point of its own, so that a plain pipeline's compile never meets the certified
+// search: a driver inlines every call before it drops the branches a pipeline constant
+// rules out (llvmpipe compiled a plain pipeline in 290 ms with the search behind a
+// constant-false branch, 122 ms without it).
+@fragment
+fn fs_certified(fl: Flat) -> @location(0) vec4<f32> {
+    u = settings;
+    var tr: Tracer;
+    let px = trace_pixel(fl, &tr);
+    // (The verdict first: a hit the rays missed is aimed at and added to the tracer.)
+    let verdict = certify(&tr, px);
+    return pixel_color(tr, px, verdict);
+}
+
+// Sets up the pixel's tracer and casts its rays (the settings in `u`, copied from binding 0
+// by the entry point, but for those vs_main hands over); returns the pixel.
+fn trace_pixel(fl: Flat, out: ptr<function, Tracer>) -> vec2<u32> {
+    let pos = fl.pos;
     u.v1 = fl.v1;
     u.v2 = fl.v2;
     u.n1 = fl.n1;
@@ -139,11 +162,13 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
             }
         }
     }
-    // Alpha 255 - 2 verdict - cut: the certified verdict (0 without CERTIFY) and the cut flag.
-    var verdict = CERT_EMPTY;
-    if (CERTIFY == 1u) {
-        verdict = certify(&tr, px);
-    }
+    *out = tr;
+    return px;
+}
+
+// The pixel's colour from its hits, with its certified verdict (CERT_EMPTY where not
+// certified) in alpha: 255 - 2 verdict - cut, cut flagging loops the driver cut short.
+fn pixel_color(tr: Tracer, px: vec2<u32>, verdict: u32) -> vec4<f32> {
     // Did the driver cut this invocation's loops short? A loop that must run 3 times runs
     // once when the iteration cap is spent; the pixel is then marked with alpha 254/255 so
     // that the caller can tell the user (the picture may miss parts of M).

@@ -168,7 +168,11 @@ pub(super) fn build_pipeline(
             module,
             layout,
             target: color_target(target),
-            fragment: "fs_main",
+            fragment: if variant.certified {
+                "fs_certified"
+            } else {
+                "fs_main"
+            },
             cache,
         },
         &[
