@@ -68,13 +68,13 @@ pub struct Settling {
 }
 
 impl Settling {
-    /// The caster's sibling holding the pipeline once it is built (`RayCaster::adopt`), or
-    /// Err(true) while it is not, Err(false) if it never will be (its build failed).
-    pub fn poll(&self) -> Result<RayCaster, bool> {
+    /// The caster's sibling holding the pipeline once it is built (`RayCaster::adopt`); Err
+    /// if it never will be (its build failed), None while it is being built.
+    pub fn poll(&self) -> Option<Result<RayCaster, ()>> {
         match self.receiver.try_recv() {
-            Ok(sibling) => Ok(sibling),
-            Err(TryRecvError::Empty) => Err(true),
-            Err(TryRecvError::Disconnected) => Err(false),
+            Ok(sibling) => Some(Ok(sibling)),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Err(())),
         }
     }
 }

@@ -146,15 +146,15 @@ impl Session {
             return;
         };
         match settling.poll() {
-            Err(true) => {}
-            Ok(sibling) => {
+            None => {}
+            Some(Ok(sibling)) => {
                 if let Some(caster) = &mut self.caster {
                     caster.adopt(sibling);
                 }
                 self.settling = None;
             }
             // Its build failed: the settled picture builds it when it first draws.
-            Err(false) => self.settling = None,
+            Some(Err(())) => self.settling = None,
         }
     }
 
