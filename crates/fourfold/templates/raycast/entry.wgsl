@@ -54,8 +54,7 @@ fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
 // A certified pixel (CERTIFY, docs/method.md §5.9): its rays, its verdict, their colour. An
 // entry point of its own, so that a plain pipeline's compile never meets the certified
 // search: a driver inlines every call before it drops the branches a pipeline constant
-// rules out (llvmpipe compiled a plain pipeline in 290 ms with the search behind a
-// constant-false branch, 122 ms without it).
+// rules out (docs/benchmarks.md, "An edit through the viewer's session").
 @fragment
 fn fs_certified(fl: Flat) -> @location(0) vec4<f32> {
     u = settings;
