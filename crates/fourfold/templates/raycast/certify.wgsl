@@ -325,43 +325,52 @@ fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>, inner_lo: vec4<f32>, inner_hi
 // force the domain.
 fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u32>, cap: u32) {
     let o = (*tr).plane;
-    if (MODE == 1u && u.cert_tiling.z != 0u) {
+    // The boxes are the certifying list's entries c..end, the hierarchy's nodes from c
+    // (skipping subtrees), or for brute force the domain once: one loop, and one call of
+    // certify_box for all three (a compiler inlines it, and F, at each call).
+    let listed = MODE == 1u && u.cert_tiling.z != 0u;
+    var c = 0u;
+    var end = 1u;
+    if (listed) {
         let tile = px / max(u.cert_tiling.x, 1u);
         let t = tile.x + tile.y * u.cert_tiling.y;
-        let end = cert_tiles[t + 1u];
-        var c = cert_tiles[t];
-        loop {
-            if (c >= end || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
-                break;
-            }
+        c = cert_tiles[t];
+        end = cert_tiles[t + 1u];
+    } else if (MODE != 0u) {
+        end = u.counts.x;
+    }
+    loop {
+        if (c >= end || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
+            break;
+        }
+        var lo = u.domain_lo;
+        var hi = u.domain_hi;
+        var search = MODE == 0u;
+        var next = c + 1u;
+        if (listed) {
             let i = cert_tiles[u.cert_tiling.w + c];
             let half = level_half(cert_boxes[i].level);
             // (The tile's boxes that cannot meet this pixel's plane, as visit_box tests.)
             let view = cert_boxes[i].view;
-            if (meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half))) {
-                certify_box(cert, o, cert_boxes[i].center - half, cert_boxes[i].center + half, cap);
-            }
-            c = c + 1u;
-        }
-    } else if (MODE != 0u) {
-        var i = 0u;
-        loop {
-            if (i >= u.counts.x || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
-                break;
-            }
-            let node = nodes[i];
-            let c = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
+            search = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
+            lo = cert_boxes[i].center - half;
+            hi = cert_boxes[i].center + half;
+        } else if (MODE != 0u) {
+            let node = nodes[c];
+            let center = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
             let half = level_half(node.info);
-            let rel = c - o;
+            let rel = center - o;
             let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, sphere_radius(half));
             let boxed = (node.info & MARCHED) != 0u;
-            if (meets && boxed) {
-                certify_box(cert, o, c - half, c + half, cap);
-            }
-            i = select(node.skip, i + 1u, meets && !boxed);
+            search = meets && boxed;
+            lo = center - half;
+            hi = center + half;
+            next = select(node.skip, c + 1u, meets && !boxed);
         }
-    } else {
-        certify_box(cert, o, u.domain_lo, u.domain_hi, cap);
+        if (search) {
+            certify_box(cert, o, lo, hi, cap);
+        }
+        c = next;
     }
 }
 
