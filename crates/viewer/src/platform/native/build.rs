@@ -80,6 +80,15 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
         abandoned: abandoned.clone(),
     });
     Some(move || {
+        // A moment's wait first: while the user types, the next keystroke's build abandons
+        // this one before its compile (which cannot be stopped) takes the cores from it.
+        let start = std::time::Instant::now();
+        while start.elapsed() < SETTLING_DELAY {
+            if abandoned.load(Ordering::Relaxed) {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
         if !abandoned.load(Ordering::Relaxed)
             && warm_up(&gpu, &mut sibling, &hierarchy, &scene).is_ok()
         {
@@ -87,6 +96,10 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
         }
     })
 }
+
+/// How long the certified pipeline's build waits after its caster is handed over: about a
+/// keystroke's interval; the preview and half-resolution stages take longer than that.
+const SETTLING_DELAY: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// A build on a thread of its own, cancelled by a newer one.
 pub struct BuildWork {
