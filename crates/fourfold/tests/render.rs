@@ -1270,26 +1270,39 @@ fn tile_nodes(lists: &fourfold::render::TileLists, tx: u32, ty: u32) -> Vec<u32>
         .collect()
 }
 
+/// The glome at tree level 4, plain: its formula, shader, scene and prepared tree (the
+/// pipeline tests' subject).
+fn small_glome() -> (
+    CompiledFormula,
+    shader::Shader,
+    Scene,
+    fourfold::render::Prepared,
+) {
+    let text = "x^2 + y^2 + z^2 + w^2 = 1";
+    let formula = CompiledFormula::compile(text).unwrap();
+    let shader = shader::generate(&formula).unwrap();
+    let mut scene = Scene::from_formula(text);
+    scene.tree.max_level = 4;
+    scene.render.certified = false;
+    let prepared = fourfold::render::Prepared::new(&formula, &scene).unwrap();
+    (formula, shader, scene, prepared)
+}
+
 /// A painter builds the one pipeline its pictures draw with, before the first picture: a
 /// slice's and not the projection's, a projection's and not a slice's, a certified one's;
 /// drawing builds no other (issue 39: a slice's pipeline used to be built inside its first
 /// frame, after the unused projection's).
 #[test]
 fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
-    use fourfold::render::{Painter, Prepared};
+    use fourfold::render::Painter;
     let gpu = gpu();
-    let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
-    let shader = shader::generate(&formula).unwrap();
-    let mut projection = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
-    projection.tree.max_level = 4;
-    projection.render.certified = false;
+    let (formula, shader, projection, prepared) = small_glome();
     let mut slice = projection.clone();
     slice.view.slice = Some(0.3);
     let mut slab = projection.clone();
     slab.view.slab = Some([0.1, 0.4]);
     let mut certified = projection.clone();
     certified.render.certified = true;
-    let prepared = Prepared::new(&formula, &projection).unwrap();
     let h = &prepared.hierarchy;
     for (name, scene) in [
         ("projection", &projection),
@@ -1335,16 +1348,11 @@ fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
 /// is refused.
 #[test]
 fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
-    use fourfold::render::{Prepared, RayCaster, Target};
+    use fourfold::render::{RayCaster, Target};
     let gpu = gpu();
-    let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
-    let shader = shader::generate(&formula).unwrap();
-    let mut plain = Scene::from_formula("x^2 + y^2 + z^2 + w^2 = 1");
-    plain.tree.max_level = 4;
-    plain.render.certified = false;
+    let (_, shader, plain, prepared) = small_glome();
     let mut certified = plain.clone();
     certified.render.certified = true;
-    let prepared = Prepared::new(&formula, &plain).unwrap();
     let h = &prepared.hierarchy;
     let target = Target::OFFSCREEN;
     let mut caster = RayCaster::for_scene(&gpu, &shader, h, target, &plain).unwrap();

@@ -4,8 +4,7 @@
 //! in slices of the window's frames in a web page (the platform's `BuildWork`).
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError};
+use std::sync::mpsc::{Receiver, Sender, TryRecvError};
 
 use web_time::Instant;
 
@@ -64,7 +63,8 @@ pub struct JobResult {
 /// Dropping it abandons the build if it has not started.
 pub struct Settling {
     pub receiver: Receiver<RayCaster>,
-    pub abandoned: Arc<AtomicBool>,
+    /// Never sent on: its receiver on the build's thread sees it dropped with the Settling.
+    pub wanted: Sender<()>,
 }
 
 impl Settling {
@@ -76,12 +76,6 @@ impl Settling {
             Err(TryRecvError::Empty) => None,
             Err(TryRecvError::Disconnected) => Some(Err(())),
         }
-    }
-}
-
-impl Drop for Settling {
-    fn drop(&mut self) {
-        self.abandoned.store(true, Ordering::Relaxed);
     }
 }
 

@@ -22,7 +22,10 @@ use super::pipelines::{
 };
 use super::readback::{FrameCopy, PendingRgba, Timer};
 
-/// What the casters of one shader share (`RayCaster::sibling`).
+/// What the casters of one shader share (`RayCaster::sibling`): the target they draw into,
+/// the shader module and layouts, and where the pipelines are kept between runs
+/// (`Gpu::pipeline_cache`) with what became of the file when the first was built.
+#[derive(Clone)]
 struct Shared {
     target: Target,
     module: wgpu::ShaderModule,
@@ -34,13 +37,10 @@ struct Shared {
 
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
 pub struct RayCaster {
-    target: Target,
-    module: wgpu::ShaderModule,
-    pipeline_layout: wgpu::PipelineLayout,
+    shared: Shared,
     /// Per [`Variant`] (`Variant::index`); the tile pipeline for the default settings is
     /// built at once, the others when first used.
     pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
-    layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
     /// Per node, `Hierarchy::slope` and `Hierarchy::curvature` (read by the walk and,
@@ -62,10 +62,6 @@ pub struct RayCaster {
     rects: Vec<[u32; 4]>,
     /// Draws the background (built when first used).
     background: std::sync::OnceLock<wgpu::RenderPipeline>,
-    /// Where the pipelines are kept between runs (`Gpu::pipeline_cache`), and what became
-    /// of the file when the first was built.
-    cache: Option<Arc<ShaderCache>>,
-    cache_use: CacheUse,
 }
 
 impl RayCaster {
@@ -115,7 +111,7 @@ impl RayCaster {
     /// What became of the pipeline cache kept between runs when the first pipeline was
     /// built (loaded, new, ignored with a reason, or off).
     pub fn pipeline_cache(&self) -> &CacheUse {
-        &self.cache_use
+        &self.shared.cache_use
     }
 
     /// How many ray-caster pipelines are built.
@@ -186,22 +182,15 @@ impl RayCaster {
     /// driver that compiles a pipeline at its first draw, as llvmpipe, would otherwise do
     /// it inside the frame that first needs it, or before a picture that does not.)
     pub fn sibling(&self, gpu: &Gpu) -> Result<Self, GpuError> {
-        let shared = Shared {
-            target: self.target,
-            module: self.module.clone(),
-            pipeline_layout: self.pipeline_layout.clone(),
-            layout: self.layout.clone(),
-            cache: self.cache.clone(),
-            cache_use: self.cache_use.clone(),
-        };
         let pipelines = std::array::from_fn(|_| std::sync::OnceLock::new());
-        Self::assemble(gpu, shared, pipelines, &Hierarchy::default())
+        Self::assemble(gpu, self.shared.clone(), pipelines, &Hierarchy::default())
     }
 
     /// Takes the pipelines that `sibling` (made by [`RayCaster::sibling`] from this caster)
     /// built and this caster lacks; false, taking none, if it is another caster's.
     pub fn adopt(&mut self, sibling: RayCaster) -> bool {
-        if sibling.module != self.module || sibling.pipeline_layout != self.pipeline_layout {
+        let (mine, theirs) = (&self.shared, &sibling.shared);
+        if theirs.module != mine.module || theirs.pipeline_layout != mine.pipeline_layout {
             return false;
         }
         for (mine, theirs) in self.pipelines.iter_mut().zip(sibling.pipelines) {
@@ -223,14 +212,6 @@ impl RayCaster {
         hierarchy: &Hierarchy,
     ) -> Result<Self, GpuError> {
         let device = &gpu.device;
-        let Shared {
-            target,
-            module,
-            pipeline_layout,
-            layout,
-            cache,
-            cache_use,
-        } = shared;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("fourfold uniforms"),
             size: std::mem::size_of::<Uniforms>() as u64,
@@ -244,7 +225,7 @@ impl RayCaster {
         let cert_boxes = view_buffer(gpu, 0);
         let bind_group = bind_group(
             device,
-            &layout,
+            &shared.layout,
             [
                 &uniforms,
                 &nodes,
@@ -256,11 +237,8 @@ impl RayCaster {
             ],
         );
         Ok(Self {
-            target,
-            module,
-            pipeline_layout,
+            shared,
             pipelines,
-            layout,
             uniforms,
             nodes,
             bounds,
@@ -273,8 +251,6 @@ impl RayCaster {
             bind_group,
             rects: Default::default(),
             background: Default::default(),
-            cache,
-            cache_use,
         })
     }
 
@@ -327,7 +303,7 @@ impl RayCaster {
     fn rebind(&mut self, gpu: &Gpu) {
         self.bind_group = bind_group(
             &gpu.device,
-            &self.layout,
+            &self.shared.layout,
             [
                 &self.uniforms,
                 &self.nodes,
@@ -374,7 +350,7 @@ impl RayCaster {
         uniforms.tiling = self.tiling;
         uniforms.cert_tiling = self.cert_tiling;
         // A pass that overwrites has nothing to keep where it finds no hit.
-        let overwrite = !self.target.accumulate || pass.weight >= 1.0;
+        let overwrite = !self.shared.target.accumulate || pass.weight >= 1.0;
         if overwrite {
             uniforms.control.flags &= !FLAG_KEEP_MISSES;
         }
@@ -391,7 +367,7 @@ impl RayCaster {
         // background goes elsewhere where the pass overwrites (a pass blended into the
         // running mean of passes of the same view finds it there already, and blending it
         // with itself keeps it).
-        let whole = pass.region.is_none() && !self.target.accumulate;
+        let whole = pass.region.is_none() && !self.shared.target.accumulate;
         let load = if !whole {
             wgpu::LoadOp::Load
         } else if mode == Mode::Tiles {
@@ -424,7 +400,7 @@ impl RayCaster {
         rpass.set_pipeline(ray_caster);
         rpass.set_bind_group(0, &self.bind_group, &[]);
         let (width, height) = (uniforms.size.width, uniforms.size.height);
-        if self.target.accumulate {
+        if self.shared.target.accumulate {
             let c = pass.weight.clamp(0.0, 1.0);
             rpass.set_blend_constant(wgpu::Color {
                 r: c,
@@ -469,9 +445,9 @@ impl RayCaster {
         self.background.get_or_init(|| {
             let pipeline = Fullscreen {
                 label: "fourfold background",
-                module: &self.module,
-                layout: &self.pipeline_layout,
-                target: color_target(self.target),
+                module: &self.shared.module,
+                layout: &self.shared.pipeline_layout,
+                target: color_target(self.shared.target),
                 fragment: "fs_background",
                 cache: self.kept(),
             };
@@ -485,9 +461,9 @@ impl RayCaster {
         self.pipelines[variant.index()].get_or_init(|| {
             self.saved(build_pipeline(
                 &gpu.device,
-                &self.module,
-                &self.pipeline_layout,
-                self.target,
+                &self.shared.module,
+                &self.shared.pipeline_layout,
+                self.shared.target,
                 variant,
                 self.kept(),
             ))
@@ -496,13 +472,13 @@ impl RayCaster {
 
     /// The pipeline cache kept between runs, if any.
     fn kept(&self) -> Option<&wgpu::PipelineCache> {
-        self.cache.as_ref().map(|c| &c.cache)
+        self.shared.cache.as_ref().map(|c| &c.cache)
     }
 
     /// `pipeline`, once the cache that now holds it is written (a failure to write was
     /// reported when the first pipeline was built).
     fn saved(&self, pipeline: wgpu::RenderPipeline) -> wgpu::RenderPipeline {
-        if let Some(cache) = &self.cache {
+        if let Some(cache) = &self.shared.cache {
             let _ = cache.save();
         }
         pipeline
@@ -526,7 +502,7 @@ impl RayCaster {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: self.target.format,
+            format: self.shared.target.format,
             usage,
             view_formats: &[],
         })

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, TryRecvError, channel};
 
 use web_time::Duration;
 
@@ -74,24 +74,17 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
     let mut sibling = caster.sibling(&gpu).ok()?;
     let hierarchy = hierarchy.clone();
     let (sender, receiver) = channel();
-    let abandoned = Arc::new(AtomicBool::new(false));
-    result.settling = Some(Settling {
-        receiver,
-        abandoned: abandoned.clone(),
-    });
+    let (wanted, still_wanted) = channel();
+    result.settling = Some(Settling { receiver, wanted });
     Some(move || {
         // A moment's wait first: while the user types, the next keystroke's build abandons
-        // this one before its compile (which cannot be stopped) takes the cores from it.
-        let start = std::time::Instant::now();
-        while start.elapsed() < SETTLING_DELAY {
-            if abandoned.load(Ordering::Relaxed) {
-                return;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(10));
-        }
-        if !abandoned.load(Ordering::Relaxed)
-            && warm_up(&gpu, &mut sibling, &hierarchy, &scene).is_ok()
-        {
+        // this one (drops its Settling) before its compile, which cannot be stopped, takes
+        // the cores from it.
+        let abandoned = matches!(
+            still_wanted.recv_timeout(SETTLING_DELAY),
+            Err(RecvTimeoutError::Disconnected)
+        );
+        if !abandoned && warm_up(&gpu, &mut sibling, &hierarchy, &scene).is_ok() {
             let _ = sender.send(sibling);
         }
     })
@@ -99,7 +92,7 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
 
 /// How long the certified pipeline's build waits after its caster is handed over: about a
 /// keystroke's interval; the preview and half-resolution stages take longer than that.
-const SETTLING_DELAY: std::time::Duration = std::time::Duration::from_millis(250);
+const SETTLING_DELAY: Duration = Duration::from_millis(250);
 
 /// A build on a thread of its own, cancelled by a newer one.
 pub struct BuildWork {
