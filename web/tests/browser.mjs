@@ -71,8 +71,8 @@ const check = (ok, what) => {
 };
 
 /** In the page: WebGPU's errors for a shader module and its pipelines (two variants of the
- * pipeline constants, as the ray caster makes them: a plain one, and a certified one with
- * its own entry point). */
+ * pipeline constants, as the ray caster makes them: a plain one, and a certified one, each
+ * with the entry point of its MODE, plain or certified). */
 async function compile_in_webgpu(code) {
   const adapter = await navigator.gpu.requestAdapter();
   const device = await adapter.requestDevice();
@@ -90,7 +90,7 @@ async function compile_in_webgpu(code) {
         vertex: { module, entryPoint: 'vs_main' },
         fragment: {
           module,
-          entryPoint: constants.CERTIFY ? 'fs_certified' : 'fs_main',
+          entryPoint: ['fs_brute_force', 'fs_tiles', 'fs_walk'][constants.MODE] + (constants.CERTIFY ? '_certified' : ''),
           targets: [{ format: 'rgba8unorm' }],
           constants,
         },

@@ -190,12 +190,10 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
             .map(|(n, v)| (n.to_string(), v))
             .collect();
         let stage = naga::ShaderStage::Fragment;
-        // (A certified pipeline draws with its own entry point.)
-        let entry = if values[4] == 1.0 {
-            "fs_certified"
-        } else {
-            "fs_main"
-        };
+        // (Each mode, plain or certified, draws with its own entry point.)
+        let entry = fourfold::render::gpu::Mode::from_constant(values[0] as u32)
+            .expect("a mode the caster makes")
+            .entry_point(values[4] == 1.0);
         let (module, info) = naga::back::pipeline_constants::process_overrides(
             module,
             &info,

@@ -14,11 +14,11 @@
 //   binding 6: storage  array<BoxRecord>      the boxes they index, as binding 3 (or one)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers; it reads
 // binding 0 too, and hands some settings to the fragment stage as flat values, see Flat);
-// fs_main returns the pixel's colour (target format rgba8unorm), fs_certified the same with
-// the pixel's certified verdict in alpha (with CERTIFY = 1); fs_background the background,
-// for screen tiles with nothing to march (fourfold draws the tiles with boxes with fs_main
-// or fs_certified and the others with fs_background, each run of tiles within a scissor
-// rectangle: see src/render/view/tiles/).
+// fs_tiles, fs_walk and fs_brute_force (as MODE) return the pixel's colour (target format
+// rgba8unorm), their _certified twins the same with the pixel's certified verdict in alpha
+// (with CERTIFY = 1); fs_background the background, for screen tiles with nothing to march
+// (fourfold draws the tiles with boxes with a pixel's entry point and the others with
+// fs_background, each run of tiles within a scissor rectangle: see src/render/view/tiles/).
 // Pipeline constant MODE: where a pixel's boxes come from: 1 (default) its tile's list in
 // bindings 2 and 3, 2 a walk of the whole hierarchy, 0 none (the brute-force baseline: the
 // domain as one box). Pipeline constant SLOTS: the hits kept, 4, 8 or 16 (default), at
@@ -120,7 +120,7 @@ struct BoxRecord {
 
 @group(0) @binding(0) var<storage, read> settings: Uniforms;
 // The settings as the pixel's code reads them: a copy of binding 0, made once at the top of
-// fs_main (the most read of them come from vs_main: see Flat), because llvmpipe loads a
+// start_pixel (the most read of them come from vs_main: see Flat), because llvmpipe loads a
 // storage-buffer word lane by lane wherever it is read (fourfold's docs/architecture.md).
 var<private> u: Uniforms;
 @group(0) @binding(1) var<storage, read> nodes: array<SphereNode>;
@@ -142,8 +142,8 @@ override SAMPLING: u32 = 2u;
 // SECTION: 0 the whole observer plane, 1 a slab of it, 2 a slice (at 3, the default, as
 // flags 32 and 64 say).
 override SECTION: u32 = 3u;
-// CERTIFY: 1 with fs_certified, which classifies every pixel rigorously (certify,
-// docs/method.md §5.9), and keeps the rays' sign changes for it; 0 with fs_main.
+// CERTIFY: 1 with the _certified entry points, which classify every pixel rigorously
+// (certify, docs/method.md §5.9), and keep the rays' sign changes for it; 0 without.
 override CERTIFY: u32 = 0u;
 
 const MAX_HITS: u32 = 16u;

@@ -1,7 +1,7 @@
 // The settings the pixel's code reads most, handed from vs_main to the fragment shaders as
 // flat (per triangle) values: llvmpipe reads a flat input for a group of pixels in one
-// load, where it reads a storage buffer's word lane by lane (see `u`). fs_main puts them
-// in its copy of the settings.
+// load, where it reads a storage buffer's word lane by lane (see `u`). start_pixel puts
+// them in its copy of the settings.
 struct Flat {
     @builtin(position) pos: vec4<f32>,
     @location(0) @interpolate(flat) v1: vec4<f32>,
@@ -35,39 +35,75 @@ fn vs_main(@builtin(vertex_index) i: u32) -> Flat {
     return o;
 }
 
-// What fs_main returns where a pixel finds no root (a SIMD rasterizer would run fs_main's
-// loops once for a group of such pixels, with every lane masked).
+// What a pixel's entry point returns where it finds no root (a SIMD rasterizer would run
+// its loops once for a group of such pixels, with every lane masked).
 @fragment
 fn fs_background() -> @location(0) vec4<f32> {
     return vec4<f32>(settings.background.rgb, 1.0);
 }
 
-// A plain pixel: its rays and their colour.
+// The pixels' entry points, one per source of boxes (MODE) and per kind of pixel, plain or
+// certified (CERTIFY, docs/method.md §5.9: its verdict too), so that a pipeline's compile
+// meets no other mode's code and a plain one no certified search: a driver inlines every
+// call before it drops the branches a pipeline constant rules out (docs/benchmarks.md,
+// "An edit through the viewer's session").
 @fragment
-fn fs_main(fl: Flat) -> @location(0) vec4<f32> {
-    u = settings;
-    var tr: Tracer;
-    let px = trace_pixel(fl, &tr);
-    return pixel_color(tr, px, CERT_EMPTY);
+fn fs_tiles(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_tiles(&tr, vec2<u32>(fl.pos.xy));
+    return plain_color(tr, fl);
 }
 
-// A certified pixel (CERTIFY, docs/method.md §5.9): its rays, its verdict, their colour. An
-// entry point of its own, so that a plain pipeline's compile never meets the certified
-// search: a driver inlines every call before it drops the branches a pipeline constant
-// rules out (docs/benchmarks.md, "An edit through the viewer's session").
 @fragment
-fn fs_certified(fl: Flat) -> @location(0) vec4<f32> {
-    u = settings;
-    var tr: Tracer;
-    let px = trace_pixel(fl, &tr);
-    // (The verdict first: a hit the rays missed is aimed at and added to the tracer.)
-    let verdict = certify(&tr, px);
-    return pixel_color(tr, px, verdict);
+fn fs_tiles_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_tiles(&tr, vec2<u32>(fl.pos.xy));
+    return certified_color(&tr, fl);
 }
 
-// Sets up the pixel's tracer and casts its rays (the settings in `u`, copied from binding 0
-// by the entry point, but for those vs_main hands over); returns the pixel.
-fn trace_pixel(fl: Flat, out: ptr<function, Tracer>) -> vec2<u32> {
+@fragment
+fn fs_walk(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_walk(&tr);
+    return plain_color(tr, fl);
+}
+
+@fragment
+fn fs_walk_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_walk(&tr);
+    return certified_color(&tr, fl);
+}
+
+@fragment
+fn fs_brute_force(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_brute_force(&tr);
+    return plain_color(tr, fl);
+}
+
+@fragment
+fn fs_brute_force_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_brute_force(&tr);
+    return certified_color(&tr, fl);
+}
+
+fn plain_color(tr: Tracer, fl: Flat) -> vec4<f32> {
+    return pixel_color(tr, vec2<u32>(fl.pos.xy), CERT_EMPTY);
+}
+
+// (The verdict first: a hit the rays missed is aimed at and added to the tracer.)
+fn certified_color(tr: ptr<function, Tracer>, fl: Flat) -> vec4<f32> {
+    let px = vec2<u32>(fl.pos.xy);
+    let verdict = certify(tr, px);
+    return pixel_color(*tr, px, verdict);
+}
+
+// The pixel's tracer, before its rays: the settings in `u`, copied from binding 0, but for
+// those vs_main hands over.
+fn start_pixel(fl: Flat) -> Tracer {
+    u = settings;
     let pos = fl.pos;
     u.v1 = fl.v1;
     u.v2 = fl.v2;
@@ -103,66 +139,78 @@ fn trace_pixel(fl: Flat, out: ptr<function, Tracer>) -> vec2<u32> {
     tr.hits.t = array<f32, 16>(inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf);
     tr.hits.far = inf;
     tr.closest = vec3<f32>(0.0, 0.0, inf);
-    // Where the candidates come from: the brute-force baseline, this pixel's tile list, or
-    // a walk of the hierarchy.
-    // (llvmpipe stops all loops of an invocation after 65535 iterations in all: see below.)
-    if (u.size.z > 0u) {
-        if (MODE == 0u) {
-            let c = 0.5 * (u.domain_lo + u.domain_hi);
-            let half = 0.5 * (u.domain_hi - u.domain_lo);
-            let rel = c - tr.o;
-            var none: PlaneCurvature;
-            none.ab = vec4<f32>(-ff_inf(), ff_inf(), -ff_inf(), ff_inf());
-            none.c = vec2<f32>(-ff_inf(), ff_inf());
-            trace_box(&tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec4<f32>(ff_inf()), none);
-        } else if (MODE == 1u) {
-            // The list is nearest first: past the first box that cannot hold a hit nearer
-            // than the K kept, none can. A pixel whose rays found nothing goes over it
-            // again, searching each box between the rays (seek_in_plane; all of them, so
-            // that the hits kept do not depend on the boxes' order; a slice's one ray has
-            // no plane to search).
-            let tile = px / max(u.tiling.x, 1u);
-            let t = tile.x + tile.y * u.tiling.y;
-            // (Tested at the end: see "The pixel's work".)
-            let end = tiles[t + 1u];
-            let rounds = select(2u, 1u, slice_on());
-            for (var round = 0u; round < rounds; round = round + 1u) {
-                let seeking = round == 1u;
-                var c = tiles[t];
-                if (c < end && tr.hits.count == 0u) {
-                    loop {
-                        let near = visit_box(&tr, tiles[u.tiling.w + c], seeking);
-                        c = c + 1u;
-                        if (!near || c >= end) {
-                            break;
-                        }
-                    }
-                }
-            }
-        } else {
-            // Depth first: a node that passes is entered (its subtree follows it), one that
-            // fails, or a box marched whole, is skipped past. (Twice, as the lists.)
-            let rounds = select(2u, 1u, slice_on());
-            for (var round = 0u; round < rounds; round = round + 1u) {
-                let seeking = round == 1u;
-                var i = 0u;
-                loop {
-                    if (i >= u.counts.x) {
-                        break;
-                    }
-                    let node = nodes[i];
-                    let v = visit(&tr, i, seeking);
-                    let boxed = (node.info & MARCHED) != 0u;
-                    i = select(node.skip, i + 1u, v.x && v.y && !boxed);
-                }
-                if (tr.hits.count > 0u) {
+    return tr;
+}
+
+// Where a pixel's candidate boxes come from: the brute-force baseline (MODE 0), its tile's
+// list (1) or a walk of the hierarchy (2); none without rays (u.size.z).
+// (llvmpipe stops all loops of an invocation after 65535 iterations in all: see below.)
+
+// The domain as one box.
+fn cast_brute_force(tr: ptr<function, Tracer>) {
+    if (u.size.z == 0u) {
+        return;
+    }
+    let c = 0.5 * (u.domain_lo + u.domain_hi);
+    let half = 0.5 * (u.domain_hi - u.domain_lo);
+    let rel = c - (*tr).o;
+    var none: PlaneCurvature;
+    none.ab = vec4<f32>(-ff_inf(), ff_inf(), -ff_inf(), ff_inf());
+    none.c = vec2<f32>(-ff_inf(), ff_inf());
+    trace_box(tr, u.domain_lo, u.domain_hi, angles(vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), length(half)), u.counts.w, vec4<f32>(ff_inf()), none);
+}
+
+// The list is nearest first: past the first box that cannot hold a hit nearer than the K
+// kept, none can. A pixel whose rays found nothing goes over it again, searching each box
+// between the rays (seek_in_plane; all of them, so that the hits kept do not depend on the
+// boxes' order; a slice's one ray has no plane to search).
+fn cast_tiles(tr: ptr<function, Tracer>, px: vec2<u32>) {
+    if (u.size.z == 0u) {
+        return;
+    }
+    let tile = px / max(u.tiling.x, 1u);
+    let t = tile.x + tile.y * u.tiling.y;
+    // (Tested at the end: see "The pixel's work".)
+    let end = tiles[t + 1u];
+    let rounds = select(2u, 1u, slice_on());
+    for (var round = 0u; round < rounds; round = round + 1u) {
+        let seeking = round == 1u;
+        var c = tiles[t];
+        if (c < end && (*tr).hits.count == 0u) {
+            loop {
+                let near = visit_box(tr, tiles[u.tiling.w + c], seeking);
+                c = c + 1u;
+                if (!near || c >= end) {
                     break;
                 }
             }
         }
     }
-    *out = tr;
-    return px;
+}
+
+// Depth first: a node that passes is entered (its subtree follows it), one that fails, or
+// a box marched whole, is skipped past. (Twice, as the lists.)
+fn cast_walk(tr: ptr<function, Tracer>) {
+    if (u.size.z == 0u) {
+        return;
+    }
+    let rounds = select(2u, 1u, slice_on());
+    for (var round = 0u; round < rounds; round = round + 1u) {
+        let seeking = round == 1u;
+        var i = 0u;
+        loop {
+            if (i >= u.counts.x) {
+                break;
+            }
+            let node = nodes[i];
+            let v = visit(tr, i, seeking);
+            let boxed = (node.info & MARCHED) != 0u;
+            i = select(node.skip, i + 1u, v.x && v.y && !boxed);
+        }
+        if ((*tr).hits.count > 0u) {
+            break;
+        }
+    }
 }
 
 // The pixel's colour from its hits, with its certified verdict (CERT_EMPTY where not

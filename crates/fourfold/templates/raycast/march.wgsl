@@ -243,7 +243,7 @@ fn march_through(tr: ptr<function, Tracer>, k: u32, dir: vec2<f32>, lo: vec4<f32
 // along the rays of the observer plane (see bend_in_plane).
 fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<f32>, steps: u32, slope: vec4<f32>, form: PlaneCurvature) {
     if (slice_on()) {
-        // One ray, along n1 from behind the domain (see fs_main).
+        // One ray, along n1 from behind the domain (see start_pixel).
         let span = clip_to_box((*tr).o, u.n1, lo, hi);
         if (span.x < span.y && span.x < (*tr).hits.far) {
             (*tr).k = 0u;

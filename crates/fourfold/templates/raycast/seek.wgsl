@@ -191,18 +191,25 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     // From the rays' closest sample if it lies in the box, then from a point near the box's
-    // centre.
+    // centre. (A loop over the two: each call of seek_from is a copy of F's code, three.)
     let near = (*tr).closest;
+    let rel = 0.5 * (lo + hi) - (*tr).o;
     var s: Seek;
-    if (near.z < ff_inf() && in_box(in_plane(tr, near.xy), lo, hi)) {
-        s = seek_from(tr, near.xy, lo, hi);
-    }
-    if (!s.found) {
-        let rel = 0.5 * (lo + hi) - (*tr).o;
-        let centre = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
+    for (var k = 0u; k < 2u; k = k + 1u) {
+        var start = near.xy;
+        if (k == 0u) {
+            if (!(near.z < ff_inf())) {
+                continue;
+            }
+        } else {
+            start = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
+        }
         // (Where the plane passes by the box, the centre's point is not in it.)
-        if (in_box(in_plane(tr, centre), lo, hi)) {
-            s = seek_from(tr, centre, lo, hi);
+        if (in_box(in_plane(tr, start), lo, hi)) {
+            s = seek_from(tr, start, lo, hi);
+            if (s.found) {
+                break;
+            }
         }
     }
     if (!s.found) {

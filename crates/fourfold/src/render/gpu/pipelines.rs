@@ -53,6 +53,29 @@ pub enum Mode {
     Walk = 2,
 }
 
+impl Mode {
+    /// The mode whose MODE constant is `value` (0, 1 or 2), if any.
+    pub fn from_constant(value: u32) -> Option<Self> {
+        [Mode::BruteForce, Mode::Tiles, Mode::Walk]
+            .into_iter()
+            .find(|&m| m as u32 == value)
+    }
+
+    /// The shader's entry point for a pixel in this mode, plain or certified: one each, so
+    /// that a pipeline's compile meets no other mode's code (a driver inlines every call
+    /// before it drops the branches a pipeline constant rules out).
+    pub fn entry_point(self, certified: bool) -> &'static str {
+        match (self, certified) {
+            (Mode::BruteForce, false) => "fs_brute_force",
+            (Mode::BruteForce, true) => "fs_brute_force_certified",
+            (Mode::Tiles, false) => "fs_tiles",
+            (Mode::Tiles, true) => "fs_tiles_certified",
+            (Mode::Walk, false) => "fs_walk",
+            (Mode::Walk, true) => "fs_walk_certified",
+        }
+    }
+}
+
 /// target = c·new + (1−c)·old, c the blend constant.
 pub(super) const ACCUMULATE: wgpu::BlendState = wgpu::BlendState {
     color: wgpu::BlendComponent {
@@ -168,11 +191,7 @@ pub(super) fn build_pipeline(
             module,
             layout,
             target: color_target(target),
-            fragment: if variant.certified {
-                "fs_certified"
-            } else {
-                "fs_main"
-            },
+            fragment: variant.mode.entry_point(variant.certified),
             cache,
         },
         &[

@@ -69,7 +69,7 @@ pub(super) fn clip_to_slab(u: &Uniforms, (t0, t1): (f32, f32), b: f32) -> (f32, 
     (t0.max(ta.min(tb)), t1.min(ta.max(tb)))
 }
 
-/// The pixel's offset of its stratified rays in a frame, as the shader's `fs_main`: the
+/// The pixel's offset of its stratified rays in a frame, as the shader's `start_pixel`: the
 /// frame's turn (the radical inverse of the frame) added to the pixel's own offset, so that
 /// successive frames' pencils interleave.
 pub(super) fn stratified_offset(seed: u32, frame: u32, px: u32, py: u32) -> f32 {
