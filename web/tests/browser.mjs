@@ -65,8 +65,12 @@ const browser = await chromium.launch({
 });
 
 let failures = 0;
+// Each check's line says how far into the run it came (minutes:seconds): where CI's time goes.
+const began = Date.now();
 const check = (ok, what) => {
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  const s = Math.round((Date.now() - began) / 1000);
+  const clock = `${Math.floor(s / 60)}:${String(s % 60).padStart(2, '0')}`;
+  console.log(`${ok ? 'ok  ' : 'FAIL'} [${clock}] ${what}`);
   if (!ok) failures += 1;
 };
 

@@ -8,9 +8,12 @@
 //! 1. in process: fidget's render (its JIT compiled beforehand) against fourfold's frame
 //!    (binning, pass, read-back) and the GPU's pass alone (timestamps), best of RUNS after a
 //!    warm-up; and whether the two pictures cover the same pixels;
-//! 2. whole processes, as a user runs them: `fourfold render SCENE --slice C` against this
-//!    bench re-run as a program that JIT-compiles, renders with fidget and writes a PNG; the
-//!    first fourfold run with an empty pipeline cache (cold), then the median of RUNS (warm).
+//! 2. whole processes, as a user runs them: `fourfold render SCENE --slice C` (certified,
+//!    the default) against this bench re-run as a program that JIT-compiles, renders with
+//!    fidget and writes a PNG; the first fourfold run with an empty pipeline cache (cold),
+//!    then the median of RUNS (warm); and the median of RUNS of the same with
+//!    `--uncertified` (fidget proves nothing either) and with `--uncertified --cpu` (the CPU
+//!    twin: no GPU to open, no shader to compile).
 //!
 //! fidget sees F(p) over the picture's box, p the point of the slice that the pixel and the
 //! depth stand for, intersected with the scene's domain (fourfold marches only within it).
@@ -235,6 +238,8 @@ struct Row {
     cold: f64,
     warm: f64,
     warm_stages: String,
+    plain: f64,
+    cpu: f64,
 }
 
 fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
@@ -252,7 +257,7 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
     std::fs::write(&scene_file, surface.scene).expect("the scene file");
     let cache = work.join(format!("cache-{index}"));
     let _ = std::fs::remove_dir_all(&cache);
-    let fourfold = || {
+    let fourfold = |extra: &[&str]| {
         let mut c = Command::new(fourfold_binary());
         c.arg("render")
             .arg(&scene_file)
@@ -263,15 +268,26 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
                 &surface.slice.to_string(),
             ])
             .args(["--size", &format!("{size}x{size}")])
+            .args(extra)
             .arg("-o")
             .arg(work.join("fourfold.png"))
             .env("FOURFOLD_CACHE_DIR", &cache);
         c
     };
-    let (cold, _) = process_ms(&mut fourfold());
-    let warm_runs: Vec<(f64, String)> = (0..runs).map(|_| process_ms(&mut fourfold())).collect();
+    let (cold, _) = process_ms(&mut fourfold(&[]));
+    let warm_runs: Vec<(f64, String)> =
+        (0..runs).map(|_| process_ms(&mut fourfold(&[]))).collect();
     let warm_stages = warm_runs.last().map(|r| r.1.clone()).unwrap_or_default();
     let warm = median(warm_runs.into_iter().map(|r| r.0).collect());
+    let median_of = |extra: &[&str]| {
+        median(
+            (0..runs)
+                .map(|_| process_ms(&mut fourfold(extra)).0)
+                .collect(),
+        )
+    };
+    let plain = median_of(&["--uncertified"]);
+    let cpu = median_of(&["--uncertified", "--cpu"]);
     let this = std::env::current_exe().expect("the bench's own path");
     let peer_process = median(
         (0..runs)
@@ -295,6 +311,8 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         cold,
         warm,
         warm_stages,
+        plain,
+        cpu,
     }
 }
 
@@ -351,17 +369,21 @@ fn main() {
         rows.push(r);
     }
     println!(
-        "\n| surface | fidget process ms | fourfold process ms, cold / warm | warm/fidget | fourfold's stages (warm) |"
+        "\n| surface | fidget process ms | fourfold process ms, cold / warm | warm/fidget | plain (--uncertified), CPU twin (--cpu), ms | plain/fidget, CPU/fidget | fourfold's stages (warm) |"
     );
-    println!("|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {} | {:.0} | {:.0} / {:.0} | {:.2}x | {} |",
+            "| {} | {:.0} | {:.0} / {:.0} | {:.2}x | {:.0}, {:.0} | {:.2}x, {:.2}x | {} |",
             r.name,
             r.peer_process,
             r.cold,
             r.warm,
             r.warm / r.peer_process,
+            r.plain,
+            r.cpu,
+            r.plain / r.peer_process,
+            r.cpu / r.peer_process,
             r.warm_stages.trim_start_matches("times (ms): ")
         );
     }
