@@ -275,8 +275,7 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         c
     };
     let (cold, _) = process_ms(&mut fourfold(&[]));
-    let warm_runs: Vec<(f64, String)> =
-        (0..runs).map(|_| process_ms(&mut fourfold(&[]))).collect();
+    let warm_runs: Vec<(f64, String)> = (0..runs).map(|_| process_ms(&mut fourfold(&[]))).collect();
     let warm_stages = warm_runs.last().map(|r| r.1.clone()).unwrap_or_default();
     let warm = median(warm_runs.into_iter().map(|r| r.0).collect());
     let median_of = |extra: &[&str]| {

@@ -155,6 +155,12 @@ fn bad_render_flags_are_usage_errors_that_name_the_flag() {
             &["--undecided", "grey"],
             "--undecided grey: use marker or hatch",
         ),
+        (&["--param", "R=nan"], "parameter R must be a finite number"),
+        // (f32's range: beyond it the GPU's F is unspecified, lavapipe's 0·a zero.)
+        (
+            &["--param", "R=-1e300"],
+            "parameter R = -1e300 is beyond ±3.4e38",
+        ),
     ];
     for (flags, expected) in cases {
         let failure = scene(flags).expect_err(&format!("{flags:?} was accepted"));

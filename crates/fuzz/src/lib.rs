@@ -19,6 +19,7 @@ use fastrand::Rng;
 
 use cases::FormulaCase;
 use check::{Verdict, check_formula};
+use formulas::Formula;
 
 /// What a run does.
 #[derive(Debug, Clone)]
@@ -45,7 +46,9 @@ pub struct Failure {
     pub kind: &'static str,
     /// The input as generated (the formula's command-line arguments, the file, the link).
     pub input: String,
-    /// The formula shrunk to a small one that still fails (formulas only).
+    /// The command of the case with its formula shrunk to a small one that still fails
+    /// (formulas only): the case's own size, view, levels and parameters, without which
+    /// the small formula may not fail.
     pub shrunk: Option<String>,
     pub reason: String,
 }
@@ -55,7 +58,7 @@ impl std::fmt::Display for Failure {
         writeln!(f, "{} fails: {}", self.kind, self.reason)?;
         writeln!(f, "  input: {}", self.input)?;
         if let Some(s) = &self.shrunk {
-            writeln!(f, "  shrunk: fourfold render {s:?} -o out.png")?;
+            writeln!(f, "  shrunk: {s}")?;
         }
         Ok(())
     }
@@ -173,18 +176,24 @@ pub fn run(config: &Config, mut progress: impl FnMut(&Report)) -> Report {
             Err(reason) => {
                 // A hang is not shrunk: each try could take the whole time limit.
                 let tries = if reason.contains(HANG) { 0 } else { 150 };
-                let shrunk = shrink::shrink(&case.formula, tries, |f| {
+                let with_formula = |f: &Formula| {
                     let mut smaller = case.clone();
                     smaller.formula = f.clone();
-                    run_case(&smaller, config).is_err()
+                    smaller
+                };
+                let shrunk = shrink::shrink(&case.formula, tries, |f| {
+                    run_case(&with_formula(f), config).is_err()
                 });
-                report.failures.push(Failure {
-                    kind: "formula",
-                    input: format!(
+                let command = |case: &FormulaCase| {
+                    format!(
                         "fourfold {}",
                         quoted(&case.render_args(Path::new("out.png"), !gpu))
-                    ),
-                    shrunk: Some(shrunk.to_string()),
+                    )
+                };
+                report.failures.push(Failure {
+                    kind: "formula",
+                    input: command(&case),
+                    shrunk: Some(command(&with_formula(&shrunk))),
                     reason,
                 });
             }

@@ -4,7 +4,8 @@
 
 use super::keys::{Speaker, flag_of, keyword_of, link_key};
 use super::limits::{
-    CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, RAYS, STEPS, TOLERANCE, TREE_LEVELS, UNIT, ZOOM,
+    CERT_BUDGET, DOMAIN_BOUND, HITS, NODE_BUDGET, PARAM_BOUND, RAYS, STEPS, TOLERANCE, TREE_LEVELS,
+    UNIT, ZOOM,
 };
 use super::settings::Scene;
 
@@ -99,6 +100,16 @@ impl Scene {
                 return Err(Invalid::other(
                     &format!("params.{name}"),
                     format!("parameter {name} must be a finite number"),
+                ));
+            }
+            if value.abs() > PARAM_BOUND {
+                return Err(Invalid::other(
+                    &format!("params.{name}"),
+                    format!(
+                        "parameter {name} = {value:e} is beyond ±{PARAM_BOUND:.1e}, the largest \
+                         number F is computed with (32-bit floats, as on the GPU): rescale the \
+                         formula so that it needs a smaller value"
+                    ),
                 ));
             }
         }

@@ -54,6 +54,10 @@ pub const MAX_FPS: f64 = 100.0;
 pub const TURNS: RangeInclusive<f64> = -100.0..=100.0;
 /// A domain bound's magnitude: beyond it f32 positions on the GPU lose the picture.
 pub const DOMAIN_BOUND: f64 = 1e6;
+/// A parameter's magnitude: f32's largest. F is computed in f32 (on the GPU, and by the CPU
+/// twin as the GPU does), where a larger value is ±∞, and WGSL lets a compiler assume no
+/// infinity: lavapipe makes 0·a zero where IEEE makes it NaN.
+pub const PARAM_BOUND: f64 = f32::MAX as f64;
 
 /// Whether `fps` is a frame rate an animation's file can have: above 0, at most
 /// [`MAX_FPS`].
