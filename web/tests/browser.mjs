@@ -628,8 +628,11 @@ try {
   await bad.page.close();
 
   // Every example scene, opened by its link in one page: drawn, and nothing in the console.
+  // (In a smaller window: each waits for its complete, certified picture, and SwiftShader's
+  // time goes with the pixels; the checks above drew at 1280×800.)
   const examples = JSON.parse(await shared.page.evaluate(() => window.fourfold.example_links()));
   let generation = s.generation;
+  await shared.page.setViewportSize({ width: 800, height: 500 });
   for (const [name, fragment] of examples) {
     const opened = Date.now();
     await shared.page.evaluate((f) => { location.hash = f; }, fragment);
@@ -641,6 +644,7 @@ try {
       `example ${name} draws (${(100 * c.share).toFixed(1)}% covered, ${seconds} s)`);
   }
   check(shared.errors.length === 0, `no error in the console for any example (${shared.errors.join(' | ') || 'none'})`);
+  await shared.page.setViewportSize({ width: 1280, height: 800 });
 
   // The WGSL of fuzzed formulas (written by `fourfold-fuzz --wgsl-out`, see .ci/run)
   // compiles in Chromium's WebGPU, pipeline constants and all: its compiler evaluates

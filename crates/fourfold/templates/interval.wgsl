@@ -350,29 +350,66 @@ fn iv_pow(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return select(r, IV_EMPTY, none);
 }
 
-// atan, asin, acos and atan2: their WGSL accuracies are large or inherited from other
-// functions, so their ranges are taken whole (pi/2 rounded up): valid, and wide.
+const IV_HALF_PI_DOWN: f32 = 1.57079625129699707031;
 const IV_HALF_PI_UP: f32 = 1.57079637050628662109;
 const IV_PI_UP: f32 = 3.14159274101257324219;
+// atan and asin are increasing, so each bound is the function's value at an end of the
+// interval, widened by 2^-10 of itself: WGSL's atan and atan2 are within 4096 ULPs (2^-11
+// of the value), and asin's error is inherited from atan2(x, sqrt(1 - x x)), within 2^-11 of
+// the value plus at most 2^-13 near |x| = 1 (docs/method.md §5.9). A bound is then kept on the side of
+// 0 that the function's sign proves, as far as a plain bound proves: atan x and asin x have
+// x's sign, |atan x| >= 0.785 min(|x|, 1) (atan x / x falls from 1 to pi/4 on (0, 1]) and
+// |asin x| >= |x|; so a point's sign is decided however near 0 it is.
+const IV_ARC_MARGIN: f32 = 0.0009765625;
 
-fn iv_atan(a: vec2<f32>) -> vec2<f32> {
-    return select(vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP), IV_EMPTY, iv_is_empty(a));
+fn iv_arc_bound(r: f32, up: bool) -> f32 {
+    let m = abs(r) * IV_ARC_MARGIN;
+    return select(iv_down(r - m), iv_up(r + m), up);
 }
 
+fn iv_atan(a: vec2<f32>) -> vec2<f32> {
+    let none = iv_is_empty(a);
+    let b = select(a, vec2<f32>(0.0), none);
+    let least = select(-IV_HALF_PI_UP, min(b.x, 1.0) * 0.785, b.x >= 0.0);
+    let most = select(IV_HALF_PI_UP, max(b.y, -1.0) * 0.785, b.y <= 0.0);
+    let lo = max(iv_arc_bound(atan(b.x), false), least);
+    let hi = min(iv_arc_bound(atan(b.y), true), most);
+    return select(vec2<f32>(lo, hi), IV_EMPTY, none);
+}
+
+// Over the part of the interval in [-1, 1] (a part outside it is a jump: F is undefined there).
 fn iv_asin(a: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(a) | (a.x > 1.0) | (a.y < -1.0);
     iv_jump = iv_jump | (((a.x < -1.0) | (a.y > 1.0)) & !none);
-    return select(vec2<f32>(-IV_HALF_PI_UP, IV_HALF_PI_UP), IV_EMPTY, none);
+    let b = select(clamp(a, vec2<f32>(-1.0), vec2<f32>(1.0)), vec2<f32>(0.0), none);
+    let least = select(-IV_HALF_PI_UP, b.x, b.x >= 0.0);
+    let most = select(IV_HALF_PI_UP, b.y, b.y <= 0.0);
+    let lo = max(iv_arc_bound(asin(b.x), false), least);
+    let hi = min(iv_arc_bound(asin(b.y), true), most);
+    return select(vec2<f32>(lo, hi), IV_EMPTY, none);
 }
 
+// acos x = pi/2 - asin x, which is >= 0.
 fn iv_acos(a: vec2<f32>) -> vec2<f32> {
-    let none = iv_is_empty(a) | (a.x > 1.0) | (a.y < -1.0);
-    iv_jump = iv_jump | (((a.x < -1.0) | (a.y > 1.0)) & !none);
-    return select(vec2<f32>(0.0, IV_PI_UP), IV_EMPTY, none);
+    let r = iv_sub(vec2<f32>(IV_HALF_PI_DOWN, IV_HALF_PI_UP), iv_asin(a));
+    return select(vec2<f32>(max(r.x, 0.0), min(r.y, IV_PI_UP)), IV_EMPTY, iv_is_empty(r));
 }
 
+// atan2(y, x) off its branch cut (x > 0, or y of one sign on the whole box) is the angle of
+// a convex set that misses the origin, whose least and greatest are at corners: their
+// values, widened as atan's, and kept on y's side of 0. A box on the cut or around the
+// origin jumps, and takes the whole range.
 fn iv_atan2(y: vec2<f32>, x: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(y) | iv_is_empty(x);
-    iv_jump = iv_jump | (!((x.x > 0.0) | (y.x > 0.0) | (y.y < 0.0)) & !none);
-    return select(vec2<f32>(-IV_PI_UP, IV_PI_UP), IV_EMPTY, none);
+    let off_cut = (x.x > 0.0) | (y.x > 0.0) | (y.y < 0.0);
+    iv_jump = iv_jump | (!off_cut & !none);
+    let by = select(y, vec2<f32>(1.0), none);
+    let bx = select(x, vec2<f32>(1.0), none);
+    let c = vec4<f32>(atan2(by.x, bx.x), atan2(by.x, bx.y), atan2(by.y, bx.x), atan2(by.y, bx.y));
+    let least = select(-IV_PI_UP, 0.0, by.x >= 0.0);
+    let most = select(IV_PI_UP, 0.0, by.y <= 0.0);
+    let lo = max(iv_arc_bound(min(min(c.x, c.y), min(c.z, c.w)), false), least);
+    let hi = min(iv_arc_bound(max(max(c.x, c.y), max(c.z, c.w)), true), most);
+    let r = select(vec2<f32>(-IV_PI_UP, IV_PI_UP), vec2<f32>(lo, hi), off_cut);
+    return select(r, IV_EMPTY, none);
 }

@@ -7,6 +7,8 @@
 
 mod common;
 
+use std::f64::consts::FRAC_PI_2;
+
 use common::{Rng, example_scenes};
 use fourfold::CompiledFormula;
 use fourfold::eval::{
@@ -331,6 +333,77 @@ fn gpu_sin_and_cos_enclosures_are_tight() {
                 range.0,
                 range.1
             );
+        }
+    }
+}
+
+/// The GPU's atan, asin, acos and atan2 are tight as well as sound (they were the whole
+/// range once, which left every pixel of a formula with one undecided): over points, within
+/// 2^-9 of the value plus 1e-6 on each side (the library widens WGSL's value by 2^-10 of
+/// itself, twice WGSL's 4096 ULPs; acos is pi/2 - asin, so 2^-9 of asin's value); over a
+/// box of x, within that of the exact range; and a
+/// point's enclosure has the value's sign however near 0 (atan2: y's, off its branch cut).
+#[test]
+fn gpu_arc_function_enclosures_are_tight() {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let mut rng = Rng(0xa7c5);
+    let point = |x: f64| Interval::new(x, x);
+    // Each function, its value at (x, y), how far x reaches, and what its error scales with.
+    type Arc = (&'static str, fn(f64, f64) -> f64, f64, fn(f64) -> f64);
+    let functions: [Arc; 4] = [
+        ("atan(x)", |x, _| x.atan(), 50.0, f64::abs),
+        ("asin(x)", |x, _| x.asin(), 1.0, f64::abs),
+        ("acos(x)", |x, _| x.acos(), 1.0, |v| (FRAC_PI_2 - v).abs()),
+        ("atan2(y, x)", |x, y| y.atan2(x), 3.0, f64::abs),
+    ];
+    for (text, f, reach, scale) in functions {
+        let formula = CompiledFormula::compile(text).unwrap();
+        let mut gpu_enclosures = GpuEnclosures::new(&gpu, &formula);
+        let f32_in = |rng: &mut Rng, a: f64, b: f64| f64::from(rng.range(a, b) as f32);
+        let mut boxes: Vec<Box4> = (0..200)
+            .map(|i| {
+                // Near 0 and far from it.
+                let scale = if i % 4 == 0 { 1e-4 * reach } else { reach };
+                let x = f32_in(&mut rng, -scale, scale);
+                // atan2 off its cut: x > 0, or y away from 0.
+                let y = f32_in(&mut rng, 0.01, 2.0) * if i % 2 == 0 { 1.0 } else { -1.0 };
+                [point(x), point(y), point(0.0), point(0.0)]
+            })
+            .collect();
+        boxes.extend((0..100).map(|_| {
+            let lo = f32_in(&mut rng, -reach, reach);
+            let hi = f64::from((lo + rng.range(0.0, reach / 4.0)).min(reach) as f32);
+            [Interval::new(lo, hi), point(0.5), point(0.0), point(0.0)]
+        }));
+        let mut out = vec![Interval::EMPTY; boxes.len()];
+        gpu_enclosures
+            .evaluate(&formula.tape_f, &boxes, &[], &mut out)
+            .unwrap();
+        for (bx, got) in boxes.iter().zip(&out) {
+            let (lo, hi, y) = (bx[0].lo(), bx[0].hi(), bx[1].lo());
+            let (a, b) = (f(lo, y), f(hi, y));
+            let range = (a.min(b), a.max(b));
+            let slack = |v: f64| 2f64.powi(-9) * scale(v) + 1e-6;
+            assert!(
+                got.lo() <= range.0
+                    && got.hi() >= range.1
+                    && got.lo() >= range.0 - slack(range.0)
+                    && got.hi() <= range.1 + slack(range.1),
+                "{text} at x in [{lo}, {hi}], y = {y}: {got} does not hold [{}, {}] within {}",
+                range.0,
+                range.1,
+                slack(range.0).max(slack(range.1))
+            );
+            if lo == hi && a != 0.0 {
+                let sign = if got.lo() > 0.0 {
+                    1.0
+                } else if got.hi() < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                };
+                assert_eq!(sign, a.signum(), "{text} at x = {lo}, y = {y}: {got}");
+            }
         }
     }
 }
