@@ -633,6 +633,11 @@ try {
   const examples = JSON.parse(await shared.page.evaluate(() => window.fourfold.example_links()));
   let generation = s.generation;
   await shared.page.setViewportSize({ width: 800, height: 500 });
+  // (The picture's place, laid out again for the smaller window, before its pixels are read.)
+  await shared.page.waitForFunction(() => {
+    const [, , x1, y1] = JSON.parse(window.fourfold.status()).picture;
+    return x1 <= window.innerWidth && y1 <= window.innerHeight;
+  }, null, { timeout: TIMEOUT, polling: 50 });
   for (const [name, fragment] of examples) {
     const opened = Date.now();
     await shared.page.evaluate((f) => { location.hash = f; }, fragment);

@@ -192,7 +192,7 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
         let stage = naga::ShaderStage::Fragment;
         // (Each mode, plain or certified, draws with its own entry point.)
         let entry = fourfold::render::gpu::Mode::from_constant(values[0] as u32)
-            .expect("a mode the caster makes")
+            .ok_or_else(|| format!("no mode has MODE = {}", values[0]))?
             .entry_point(values[4] == 1.0);
         let (module, info) = naga::back::pipeline_constants::process_overrides(
             module,

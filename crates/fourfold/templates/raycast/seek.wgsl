@@ -191,7 +191,8 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     // From the rays' closest sample if it lies in the box, then from a point near the box's
-    // centre. (A loop over the two: each call of seek_from is a copy of F's code, three.)
+    // centre: one call of seek_from, in a loop over the two starts (a compiler inlines each
+    // call, with its three evaluations of F and its gradient).
     let near = (*tr).closest;
     let rel = 0.5 * (lo + hi) - (*tr).o;
     var s: Seek;
