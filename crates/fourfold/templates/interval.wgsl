@@ -268,7 +268,7 @@ fn iv_sin(a: vec2<f32>) -> vec2<f32> {
 
 // cos x = sin(x + pi/2), with pi/2 as an interval.
 fn iv_cos(a: vec2<f32>) -> vec2<f32> {
-    return iv_sin(iv_add(a, vec2<f32>(1.57079625129699707031, 1.57079637050628662109)));
+    return iv_sin(iv_add(a, vec2<f32>(IV_HALF_PI_DOWN, IV_HALF_PI_UP)));
 }
 
 fn iv_tan(a: vec2<f32>) -> vec2<f32> {

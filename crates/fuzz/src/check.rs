@@ -173,16 +173,25 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
         Mode::Slice(_) => 2.0,
         _ => 0.0,
     };
-    let mode = if case.mode == Mode::BruteForce {
-        0.0
+    use fourfold::render::gpu::Mode as Boxes;
+    let boxes = if case.mode == Mode::BruteForce {
+        Boxes::BruteForce
     } else {
-        1.0
+        Boxes::Tiles
     };
-    let certify = f64::from(u8::from(matches!(case.mode, Mode::Certified { .. })));
-    for values in [
-        [1.0, 4.0, 0.0, 0.0, 0.0],
-        [mode, 16.0, 1.0, section, certify],
+    let certified = matches!(case.mode, Mode::Certified { .. });
+    // (Where the boxes come from, certified or not, and SLOTS, SAMPLING, SECTION.)
+    for (boxes, certified, slots, sampling, section) in [
+        (Boxes::Tiles, false, 4.0, 0.0, 0.0),
+        (boxes, certified, 16.0, 1.0, section),
     ] {
+        let values = [
+            f64::from(boxes as u32),
+            slots,
+            sampling,
+            section,
+            f64::from(u8::from(certified)),
+        ];
         let names = ["MODE", "SLOTS", "SAMPLING", "SECTION", "CERTIFY"];
         let constants = names
             .iter()
@@ -191,9 +200,7 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
             .collect();
         let stage = naga::ShaderStage::Fragment;
         // (Each mode, plain or certified, draws with its own entry point.)
-        let entry = fourfold::render::gpu::Mode::from_constant(values[0] as u32)
-            .ok_or_else(|| format!("no mode has MODE = {}", values[0]))?
-            .entry_point(values[4] == 1.0);
+        let entry = boxes.entry_point(certified);
         let (module, info) = naga::back::pipeline_constants::process_overrides(
             module,
             &info,

@@ -54,13 +54,6 @@ pub enum Mode {
 }
 
 impl Mode {
-    /// The mode whose MODE constant is `value` (0, 1 or 2), if any.
-    pub fn from_constant(value: u32) -> Option<Self> {
-        [Mode::BruteForce, Mode::Tiles, Mode::Walk]
-            .into_iter()
-            .find(|&m| m as u32 == value)
-    }
-
     /// The shader's entry point for a pixel in this mode, plain or certified: one each, so
     /// that a pipeline's compile meets no other mode's code (a driver inlines every call
     /// before it drops the branches a pipeline constant rules out).
