@@ -194,6 +194,9 @@ fn frame_at(gpu: &Gpu, p: &mut Case, size: u32, rays: u32, method: Method) -> (T
     };
     let tiled = matches!(method, Method::Tiles | Method::Unskipped | Method::Leaves);
     let mut render = p.scene.render;
+    // The plain pencil: this bench is the hierarchy against brute force, not certification
+    // (the default since 5f47b8f, which `cargo bench --bench certified` measures).
+    render.certified = false;
     render.rays = rays;
     render.bisection_iters = env_u32("FOURFOLD_BENCH_ITERS", render.bisection_iters);
     render.steps = env_u32("FOURFOLD_BENCH_STEPS", render.steps);

@@ -36,7 +36,11 @@ fn main() {
     );
     println!("|---|---|---|---|---|---|---|---|");
     for name in names {
-        let scene = Scene::example(&name).unwrap_or_else(|| panic!("no example {name}"));
+        let mut scene = Scene::example(&name).unwrap_or_else(|| panic!("no example {name}"));
+        // The plain pencil's passes: how far averaging alone settles a picture (the viewer's
+        // certified first pass, which the passes after it keep where they find nothing, is
+        // `cargo bench --bench certified`'s).
+        scene.render.certified = false;
         let (last, [any, visible, strong]) = accumulate(&gpu, &scene, size);
         let mut reseeded = scene.clone();
         reseeded.render.seed = scene.render.seed.wrapping_add(1);
