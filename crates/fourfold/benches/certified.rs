@@ -11,7 +11,10 @@
 //!    the share of undecided pixels among those that may show M (hit or undecided); and the
 //!    plain frame's time (after a warm-up frame) and recall: the share of the proved hits
 //!    that a single plain frame (the scene's rays, 16 by default) draws as background.
-//!    FOURFOLD_BENCH_QUICK=1 skips it.
+//!    FOURFOLD_BENCH_QUICK=1 skips it;
+//! 3. with FOURFOLD_BENCH_BUDGETS (a list of cell budgets, e.g. `1,4,16,64,2048`), the first
+//!    table's certified frames again at each budget: where the certified pass's time goes
+//!    (every pixel near M pays at least one cell per box its plane crosses).
 
 use std::time::Instant;
 
@@ -115,6 +118,9 @@ fn main() {
             counts.undecided_share()
         );
     }
+    if let Ok(budgets) = std::env::var("FOURFOLD_BENCH_BUDGETS") {
+        by_budget(&gpu, &scenes, &budgets, size, runs);
+    }
     if std::env::var("FOURFOLD_BENCH_QUICK").is_ok_and(|v| v == "1") {
         return;
     }
@@ -155,5 +161,40 @@ fn main() {
             pass(plain.gpu_ms),
             100.0 * missed as f64 / c.hit.max(1) as f64
         );
+    }
+}
+
+/// The first table's certified frames at each of `budgets` (comma-separated cell counts).
+fn by_budget(gpu: &Gpu, scenes: &str, budgets: &str, size: u32, runs: u32) {
+    let budgets: Vec<u32> = budgets
+        .split(',')
+        .map(|b| {
+            b.trim()
+                .parse()
+                .expect("FOURFOLD_BENCH_BUDGETS: cell counts")
+        })
+        .collect();
+    println!("\n## Certified frames by cell budget, {size}x{size}, 16 rays, level 6\n");
+    println!("ms by the wall clock [GPU pass], undecided pixels, at each budget\n");
+    let heads: Vec<String> = budgets.iter().map(u32::to_string).collect();
+    println!("| scene | {} |", heads.join(" | "));
+    println!("|---|{}", "---|".repeat(budgets.len()));
+    for name in scenes.split(',').map(str::trim) {
+        let mut scene = example(name);
+        scene.render.rays = 16;
+        scene.tree.max_level = 6;
+        scene.tree.min_level = scene.tree.min_level.min(6);
+        scene.render.certified = true;
+        let cells: Vec<String> = budgets
+            .iter()
+            .map(|&budget| {
+                scene.render.cert_budget = budget;
+                let t = time_frames(gpu, &scene, size, runs);
+                let pass = t.gpu_ms.map_or(String::new(), |g| format!(" [{g:.1}]"));
+                let undecided = VerdictCounts::of(&t.verdicts).undecided;
+                format!("{:.1}{pass}, {undecided}", t.ms)
+            })
+            .collect();
+        println!("| {name} | {} |", cells.join(" | "));
     }
 }

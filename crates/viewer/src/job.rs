@@ -49,7 +49,10 @@ pub struct JobResult {
     pub tree: Result<Built, String>,
     pub caster: Option<Result<RayCaster, String>>,
     pub tree_ms: f64,
+    /// The caster's pipeline and its warm-up draw.
     pub pipeline_ms: f64,
+    /// Of `pipeline_ms`, the warm-up draw (a driver may compile at the first draw).
+    pub warm_up_ms: f64,
     /// The brute-force setting the pipeline was warmed up for.
     pub brute_force: bool,
     /// The settled picture's certified pipeline for `caster`, where one is being built
@@ -104,6 +107,7 @@ impl JobInputs {
             Err(e) => (Err(e.to_string()), Vec::new(), 0.0),
         };
         let t = Instant::now();
+        let mut warm_up_ms = 0.0;
         let caster = match (&self.gpu, &tree) {
             (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => {
                 let first = first_frames(&self.scene, self.brute_force);
@@ -112,7 +116,9 @@ impl JobInputs {
                     RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
                         .map_err(|e| e.to_string())
                         .and_then(|mut caster| {
+                            let w = Instant::now();
                             warm_up(gpu, &mut caster, hierarchy, &first)?;
+                            warm_up_ms = ms(w);
                             Ok(caster)
                         }),
                 )
@@ -129,6 +135,7 @@ impl JobInputs {
             caster,
             tree_ms,
             pipeline_ms,
+            warm_up_ms,
             settling: None,
         }
     }

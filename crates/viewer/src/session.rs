@@ -30,8 +30,11 @@ pub struct EditTimes {
     pub codegen_ms: f64,
     /// Tree build and hierarchy (background).
     pub tree_ms: f64,
-    /// Render pipeline creation (background; 0 when only the tree changed).
+    /// Render pipeline creation and its warm-up draw (background; 0 when only the tree
+    /// changed).
     pub pipeline_ms: f64,
+    /// Of `pipeline_ms`, the warm-up draw.
+    pub warm_up_ms: f64,
     /// From the changed text to the new tree and pipeline being ready.
     pub ready_ms: f64,
 }
@@ -379,6 +382,7 @@ impl Session {
             codegen_ms: job.codegen_ms,
             tree_ms: result.tree_ms,
             pipeline_ms: result.pipeline_ms,
+            warm_up_ms: result.warm_up_ms,
             ready_ms: ms(job.started),
         };
         self.picture_generation += 1;
