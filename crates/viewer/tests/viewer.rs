@@ -462,6 +462,39 @@ fn the_frame_rate_shown_leaves_out_the_wait_of_an_idle_window() {
     );
 }
 
+#[test]
+fn the_picture_keeps_its_size_as_the_lines_below_it_change_in_a_small_window() {
+    // The status line's text grows as the picture refines and after an edit, and notices
+    // come and go: in a small window a line that wrapped shrank the picture, which started
+    // again (on a software GPU, seconds of certified frame: the page at 800x500 showed a
+    // blank picture after a mistyped formula). At 900 px, with lavapipe's name in the line,
+    // the edit's "edit to picture" made it wrap.
+    let mut h = Harness::builder()
+        .wgpu()
+        .with_size([900.0, 480.0])
+        .build_eframe(move |cc| FourfoldApp::new(cc, Some(small_scene())));
+    settle(&mut h);
+    converge(&mut h);
+    let rect = |h: &Harness<'static, FourfoldApp>| h.state().picture_rect.expect("a picture");
+    let first = rect(&h);
+    h.get_by_label("Copy formula").click();
+    h.step();
+    h.step();
+    assert!(h.state().message.is_some(), "no notice after Copy formula");
+    assert_eq!(rect(&h), first, "a notice moved the picture");
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 - 0.8 + 0.0000001 x y z w");
+    settle(&mut h);
+    converge(&mut h);
+    assert!(h.state().edit_latency_ms.is_some(), "no edit latency shown");
+    assert_eq!(rect(&h), first, "the edit's status line moved the picture");
+    replace_formula(&mut h, "x^2 + (y");
+    for _ in 0..5 {
+        h.step();
+    }
+    assert!(h.state().session.error.is_some(), "no error shown");
+    assert_eq!(rect(&h), first, "the error moved the picture");
+}
+
 /// The bounding box [x0, y0, x1, y1] of the pixels of `rgba` (w×h) that are not `background`.
 fn covered_box(rgba: &[u8], w: u32, background: [u8; 3]) -> Option<[u32; 4]> {
     let mut bbox: Option<[u32; 4]> = None;

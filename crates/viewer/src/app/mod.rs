@@ -258,6 +258,9 @@ impl eframe::App for FourfoldApp {
         egui::Panel::bottom("fourfold status")
             .frame(bare)
             .show(ui, |ui| self.status_line(ui));
+        egui::Panel::bottom("fourfold notice")
+            .frame(bare)
+            .show(ui, |ui| self.notice_line(ui));
         if self.session.scene.render.certified {
             egui::Panel::bottom("fourfold certified")
                 .frame(bare)

@@ -1,5 +1,5 @@
 //! The lines around the picture: the top bar (gallery, undo, presets, files, links), the
-//! status line (adapter, tree, times, messages) and the certified pixels' counts.
+//! status line (adapter, tree, times), the notice line and the certified pixels' counts.
 
 use eframe::egui;
 use egui::{Color32, RichText};
@@ -97,8 +97,8 @@ impl FourfoldApp {
         )
     }
 
-    /// The certified pixels' counts, on a line of their own: as the status line wraps, a
-    /// longer text would shrink the picture and start its (slow) certified frame again.
+    /// The certified pixels' counts, on a line of their own (the status line is cut to one
+    /// line, and these must be seen whole).
     pub(crate) fn certified_line(&self, ui: &mut egui::Ui) {
         let verdicts = self.progressive.verdicts;
         let text = match verdicts {
@@ -127,8 +127,13 @@ impl FourfoldApp {
         }
     }
 
+    /// Adapter, tree, frame times and pace on one line that never wraps (what does not fit
+    /// is cut): its text changes as the picture refines, and a second line would shrink the
+    /// picture and start it again (in a small window on a software GPU, seconds of certified
+    /// frame at every change).
     pub(crate) fn status_line(&self, ui: &mut egui::Ui) {
-        ui.horizontal_wrapped(|ui| {
+        ui.horizontal(|ui| {
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Truncate);
             let adapter = self.gpu.as_ref().map_or("no GPU", |g| g.adapter.as_str());
             ui.label(RichText::new(adapter).small());
             ui.separator();
@@ -152,15 +157,23 @@ impl FourfoldApp {
                 ui.separator();
                 ui.label(RichText::new(format!("edit to picture {ms:.0} ms")).small());
             }
-            if let Some(Notice { text, is_error }) = &self.message {
-                ui.separator();
-                let color = if *is_error {
-                    Color32::from_rgb(255, 110, 100)
-                } else {
-                    Color32::LIGHT_GREEN
-                };
-                ui.label(RichText::new(text).small().color(color));
-            }
         });
+    }
+
+    /// The last notice (what was done, or what went wrong) on a line of its own, kept when
+    /// empty and cut to one line (the whole text on hover), so that the picture keeps its
+    /// size as notices come and go.
+    pub(crate) fn notice_line(&self, ui: &mut egui::Ui) {
+        let Some(Notice { text, is_error }) = &self.message else {
+            ui.label(RichText::new(" ").small());
+            return;
+        };
+        let color = if *is_error {
+            Color32::from_rgb(255, 110, 100)
+        } else {
+            Color32::LIGHT_GREEN
+        };
+        ui.add(egui::Label::new(RichText::new(text).small().color(color)).truncate())
+            .on_hover_text(text);
     }
 }
