@@ -149,10 +149,17 @@ function apng_frames(bytes) {
   return { stated, frames, width, height };
 }
 
-/** A new page at `hash`, with its console errors collected (`init`: a script run in it
- * before the page's own, at every load, given `arg`). */
-async function open(hash = '', init = null, arg = undefined) {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+/** The window pages open in: a small laptop's. SwiftShader's time goes with the pixels,
+ * and most checks wait for a complete, certified picture. */
+const WINDOW = { width: 800, height: 500 };
+/** A desktop's window, for the checks that type formulas or click in the side panel's
+ * lower sections (below a small window's fold), and those that compare their pictures. */
+const DESKTOP = { width: 1280, height: 800 };
+
+/** A new page at `hash` in a window of `size`, with its console errors collected (`init`:
+ * a script run in it before the page's own, at every load, given `arg`). */
+async function open(hash = '', init = null, arg = undefined, size = WINDOW) {
+  const page = await browser.newPage({ viewport: size });
   if (init) await page.addInitScript(init, arg);
   const errors = [];
   page.on('console', (m) => m.type() === 'error' && errors.push(m.text()));
@@ -237,7 +244,8 @@ async function type(page, text) {
 
 try {
   // The default scene.
-  const { page, errors, started } = await open();
+  // (In a desktop's window: the checks that type reach the editor's lower lines.)
+  const { page, errors, started } = await open('', null, undefined, DESKTOP);
   await page.waitForFunction(() => JSON.parse(window.fourfold.status()).first_frame_of >= 1,
     null, { timeout: TIMEOUT, polling: 20 });
   const first_ms = Date.now() - started;
@@ -276,7 +284,7 @@ try {
     + `${(100 * changed(home, turned)).toFixed(1)}% of pixels changed`);
 
   // The page's link opens the same picture in another page.
-  const again = await open('#' + dragged.link.split('#')[1]);
+  const again = await open('#' + dragged.link.split('#')[1], null, undefined, DESKTOP);
   await settled(again.page);
   const reopened = await picture(again.page);
   check(changed(turned, reopened) < 0.01,
@@ -442,7 +450,7 @@ try {
   const es = await settled(embedded.page);
   const eshown = await picture(embedded.page);
   const [ex0, ey0, ex1, ey1] = es.picture;
-  const fills = (ex1 - ex0) >= 1270 && (ey1 - ey0) >= 790;
+  const fills = (ex1 - ex0) >= WINDOW.width - 10 && (ey1 - ey0) >= WINDOW.height - 10;
   await embedded.page.mouse.move((ex0 + ex1) / 2, (ey0 + ey1) / 2);
   await embedded.page.mouse.down();
   await embedded.page.mouse.move((ex0 + ex1) / 2 + 80, (ey0 + ey1) / 2 + 40, { steps: 8 });
@@ -478,7 +486,7 @@ try {
   await gallery.page.waitForFunction(() => JSON.parse(window.fourfold.status()).gallery.pictures >= 2,
     null, { timeout: TIMEOUT, polling: 100 });
   gs = await status(gallery.page);
-  const [pick, at] = gs.gallery.names.find(([name, r]) => name !== gs.preset && r[3] < 790);
+  const [pick, at] = gs.gallery.names.find(([name, r]) => name !== gs.preset && r[3] < WINDOW.height - 10);
   await gallery.page.mouse.click(...middle(at));
   const picked = await settled(gallery.page, gs.generation);
   const picked_drawn = coverage(await picture(gallery.page));
@@ -493,7 +501,8 @@ try {
   // page's frames and downloaded.
   for (const name of ['fourfold.gif', 'fourfold.png']) {
     const animated = await open('', (name) => localStorage.setItem('fourfold.ui',
-      `(export_size: (48, 32), animation: (path: "${name}", motion: Turn, plane: "xw", frames: 3, fps: 10.0))`), name);
+      `(export_size: (48, 32), animation: (path: "${name}", motion: Turn, plane: "xw", frames: 3, fps: 10.0))`), name,
+    DESKTOP);
     const as0 = await settled(animated.page);
     await animated.page.mouse.click(...middle(as0.animation_header));
     // (The section opens over a few frames: its button is clicked once it stays put.)
@@ -567,7 +576,7 @@ try {
   // A slice's critical values: ticks under the slider, coloured by index; a click on one
   // moves the slice there.
   const sliced = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
-    '&angles=0.3,0.5,0.7,0.2,0.9,1.1&slice=-1.5');
+    '&angles=0.3,0.5,0.7,0.2,0.9,1.1&slice=-1.5', null, undefined, DESKTOP);
   await settled(sliced.page);
   await sliced.page.waitForFunction(() => {
     const s = JSON.parse(window.fourfold.status());
@@ -628,16 +637,8 @@ try {
   await bad.page.close();
 
   // Every example scene, opened by its link in one page: drawn, and nothing in the console.
-  // (In a smaller window: each waits for its complete, certified picture, and SwiftShader's
-  // time goes with the pixels; the checks above drew at 1280×800.)
   const examples = JSON.parse(await shared.page.evaluate(() => window.fourfold.example_links()));
   let generation = s.generation;
-  await shared.page.setViewportSize({ width: 800, height: 500 });
-  // (The picture's place, laid out again for the smaller window, before its pixels are read.)
-  await shared.page.waitForFunction(() => {
-    const [, , x1, y1] = JSON.parse(window.fourfold.status()).picture;
-    return x1 <= window.innerWidth && y1 <= window.innerHeight;
-  }, null, { timeout: TIMEOUT, polling: 50 });
   for (const [name, fragment] of examples) {
     const opened = Date.now();
     await shared.page.evaluate((f) => { location.hash = f; }, fragment);
@@ -649,7 +650,6 @@ try {
       `example ${name} draws (${(100 * c.share).toFixed(1)}% covered, ${seconds} s)`);
   }
   check(shared.errors.length === 0, `no error in the console for any example (${shared.errors.join(' | ') || 'none'})`);
-  await shared.page.setViewportSize({ width: 1280, height: 800 });
 
   // The WGSL of fuzzed formulas (written by `fourfold-fuzz --wgsl-out`, see .ci/run)
   // compiles in Chromium's WebGPU, pipeline constants and all: its compiler evaluates
