@@ -33,8 +33,13 @@ use fourfold::render::view::Camera;
 use fourfold::render::{Gpu, Prepared, RayCaster, Target, shader};
 use fourfold::scene::Scene;
 
+// The benchmarks' shared helpers, kept once beside the core's benchmarks.
+#[path = "../../fourfold/benches/common/mod.rs"]
+mod common;
 #[path = "../../fourfold/benches/common/fidget_graph.rs"]
 mod fidget_graph;
+
+use common::{env_u32, gpu_or_exit};
 
 /// A surface: its name, the scene (formula, parameters, domain) and the slice's offset
 /// along n2 (w here: the view's angles are zero). Each formula is negative inside, as
@@ -72,13 +77,6 @@ const SURFACES: [Surface; 4] = [
 /// write a PNG (the peer's whole process), and the file it writes.
 const PEER_RUN: &str = "FOURFOLD_PEER_RUN";
 const PEER_OUT: &str = "FOURFOLD_PEER_OUT";
-
-fn env_u32(name: &str, default: u32) -> u32 {
-    std::env::var(name)
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(default)
-}
 
 fn scene_of(surface: &Surface) -> Scene {
     let mut scene = Scene::parse(surface.scene, surface.name).expect("the bench's scenes parse");
@@ -331,10 +329,7 @@ fn main() {
         .filter(|a| a != "--bench")
         .collect();
     let runs = env_u32("FOURFOLD_BENCH_RUNS", 5).max(1);
-    let gpu = Gpu::new().unwrap_or_else(|e| {
-        eprintln!("{e}");
-        std::process::exit(1);
-    });
+    let gpu = gpu_or_exit();
     let work = std::env::temp_dir().join(format!("fourfold-peer-{}", std::process::id()));
     std::fs::create_dir_all(&work).expect("a work folder");
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
