@@ -80,6 +80,15 @@ fn example(name: &str) -> Scene {
     Scene::parse(text, name).expect("examples parse")
 }
 
+/// The example `name` as the first table draws it: 16 rays, its tree at level 6.
+fn level_six(name: &str) -> Scene {
+    let mut scene = example(name);
+    scene.render.rays = 16;
+    scene.tree.max_level = 6;
+    scene.tree.min_level = scene.tree.min_level.min(6);
+    scene
+}
+
 fn main() {
     let gpu = common::gpu_or_exit();
     let size = env_u32("FOURFOLD_BENCH_SIZE", 512);
@@ -93,10 +102,7 @@ fn main() {
     let scenes =
         std::env::var("FOURFOLD_BENCH_SCENES").unwrap_or_else(|_| "fig-3-9-left,glome".into());
     for name in scenes.split(',').map(str::trim) {
-        let mut scene = example(name);
-        scene.render.rays = 16;
-        scene.tree.max_level = 6;
-        scene.tree.min_level = scene.tree.min_level.min(6);
+        let mut scene = level_six(name);
         scene.render.certified = false;
         let plain = time_frames(&gpu, &scene, size, runs);
         scene.render.certified = true;
@@ -180,10 +186,7 @@ fn by_budget(gpu: &Gpu, scenes: &str, budgets: &str, size: u32, runs: u32) {
     println!("| scene | {} |", heads.join(" | "));
     println!("|---|{}", "---|".repeat(budgets.len()));
     for name in scenes.split(',').map(str::trim) {
-        let mut scene = example(name);
-        scene.render.rays = 16;
-        scene.tree.max_level = 6;
-        scene.tree.min_level = scene.tree.min_level.min(6);
+        let mut scene = level_six(name);
         scene.render.certified = true;
         let cells: Vec<String> = budgets
             .iter()
