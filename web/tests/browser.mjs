@@ -152,9 +152,9 @@ function apng_frames(bytes) {
 /** The window pages open in: a small laptop's. SwiftShader's time goes with the pixels,
  * and most checks wait for a complete, certified picture. */
 const WINDOW = { width: 800, height: 500 };
-/** A desktop's window, for the checks that type formulas or click in the side panel's
- * lower sections (below a small window's fold), and those that compare their pictures. */
-const DESKTOP = { width: 1280, height: 800 };
+/** A taller window, for the checks that type formulas or click in the side panel's lower
+ * sections (below a small window's fold), and those that compare their pictures. */
+const TALL = { width: 800, height: 800 };
 
 /** A new page at `hash` in a window of `size`, with its console errors collected (`init`:
  * a script run in it before the page's own, at every load, given `arg`). */
@@ -244,8 +244,8 @@ async function type(page, text) {
 
 try {
   // The default scene.
-  // (In a desktop's window: the checks that type reach the editor's lower lines.)
-  const { page, errors, started } = await open('', null, undefined, DESKTOP);
+  // (In a tall window: the checks that type reach the editor's lower lines.)
+  const { page, errors, started } = await open('', null, undefined, TALL);
   await page.waitForFunction(() => JSON.parse(window.fourfold.status()).first_frame_of >= 1,
     null, { timeout: TIMEOUT, polling: 20 });
   const first_ms = Date.now() - started;
@@ -284,7 +284,7 @@ try {
     + `${(100 * changed(home, turned)).toFixed(1)}% of pixels changed`);
 
   // The page's link opens the same picture in another page.
-  const again = await open('#' + dragged.link.split('#')[1], null, undefined, DESKTOP);
+  const again = await open('#' + dragged.link.split('#')[1], null, undefined, TALL);
   await settled(again.page);
   const reopened = await picture(again.page);
   check(changed(turned, reopened) < 0.01,
@@ -502,7 +502,7 @@ try {
   for (const name of ['fourfold.gif', 'fourfold.png']) {
     const animated = await open('', (name) => localStorage.setItem('fourfold.ui',
       `(export_size: (48, 32), animation: (path: "${name}", motion: Turn, plane: "xw", frames: 3, fps: 10.0))`), name,
-    DESKTOP);
+    TALL);
     const as0 = await settled(animated.page);
     await animated.page.mouse.click(...middle(as0.animation_header));
     // (The section opens over a few frames: its button is clicked once it stays put.)
@@ -576,7 +576,7 @@ try {
   // A slice's critical values: ticks under the slider, coloured by index; a click on one
   // moves the slice there.
   const sliced = await open('#formula=' + encodeURIComponent('x^2 + y^2 + z^2 + w^2 - 1') +
-    '&angles=0.3,0.5,0.7,0.2,0.9,1.1&slice=-1.5', null, undefined, DESKTOP);
+    '&angles=0.3,0.5,0.7,0.2,0.9,1.1&slice=-1.5', null, undefined, TALL);
   await settled(sliced.page);
   await sliced.page.waitForFunction(() => {
     const s = JSON.parse(window.fourfold.status());
