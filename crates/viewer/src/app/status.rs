@@ -98,7 +98,8 @@ impl FourfoldApp {
     }
 
     /// The certified pixels' counts, on a line of their own (the status line is cut to one
-    /// line, and these must be seen whole).
+    /// line, and these must be seen whole), itself cut only in a window too narrow for it:
+    /// a wrapped line would shrink the picture and start the certified pass again.
     pub(crate) fn certified_line(&self, ui: &mut egui::Ui) {
         let verdicts = self.progressive.verdicts;
         let text = match verdicts {
@@ -114,7 +115,7 @@ impl FourfoldApp {
         } else {
             ui.visuals().text_color()
         };
-        let label = ui.label(RichText::new(text).small().color(color));
+        let label = ui.add(egui::Label::new(RichText::new(text).small().color(color)).truncate());
         if undecided {
             let continuous = self.session.hierarchy.as_ref().is_none_or(|h| h.continuous);
             label.on_hover_text(format!(
@@ -161,8 +162,7 @@ impl FourfoldApp {
     }
 
     /// The last notice (what was done, or what went wrong) on a line of its own, kept when
-    /// empty and cut to one line (the whole text on hover), so that the picture keeps its
-    /// size as notices come and go.
+    /// empty and cut to one line, so that the picture keeps its size as notices come and go.
     pub(crate) fn notice_line(&self, ui: &mut egui::Ui) {
         let Some(Notice { text, is_error }) = &self.message else {
             ui.label(RichText::new(" ").small());
@@ -173,7 +173,7 @@ impl FourfoldApp {
         } else {
             Color32::LIGHT_GREEN
         };
-        ui.add(egui::Label::new(RichText::new(text).small().color(color)).truncate())
-            .on_hover_text(text);
+        // (egui shows the whole text of a cut label on hover.)
+        ui.add(egui::Label::new(RichText::new(text).small().color(color)).truncate());
     }
 }
