@@ -169,38 +169,26 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
     .validate(module)
     .map_err(|e| format!("naga: {e}"))?;
     let section = match case.mode {
-        Mode::Slab(..) => 1.0,
-        Mode::Slice(_) => 2.0,
-        _ => 0.0,
+        Mode::Slab(..) => 1,
+        Mode::Slice(_) => 2,
+        _ => 0,
     };
-    use fourfold::render::gpu::Mode as Boxes;
+    use fourfold::render::gpu::{Mode as Boxes, Variant};
     let boxes = if case.mode == Mode::BruteForce {
         Boxes::BruteForce
     } else {
         Boxes::Tiles
     };
     let certified = matches!(case.mode, Mode::Certified { .. });
-    // (Where the boxes come from, certified or not, and SLOTS, SAMPLING, SECTION.)
-    for (boxes, certified, slots, sampling, section) in [
-        (Boxes::Tiles, false, 4.0, 0.0, 0.0),
-        (boxes, certified, 16.0, 1.0, section),
+    for variant in [
+        Variant::first(),
+        Variant::new(boxes, 16, true, section, certified),
     ] {
-        let values = [
-            f64::from(boxes as u32),
-            slots,
-            sampling,
-            section,
-            f64::from(u8::from(certified)),
-        ];
-        let names = ["MODE", "SLOTS", "SAMPLING", "SECTION", "CERTIFY"];
-        let constants = names
-            .iter()
-            .zip(values)
-            .map(|(n, v)| (n.to_string(), v))
-            .collect();
+        let values = variant.constants();
+        let constants = values.iter().map(|&(n, v)| (n.to_string(), v)).collect();
         let stage = naga::ShaderStage::Fragment;
         // (Each mode, plain or certified, draws with its own entry point.)
-        let entry = boxes.entry_point(certified);
+        let entry = variant.entry_point();
         let (module, info) = naga::back::pipeline_constants::process_overrides(
             module,
             &info,

@@ -14,5 +14,5 @@ pub use caster::RayCaster;
 pub use device::{
     Gpu, GpuError, STORAGE_BUFFERS, TARGET_FORMAT, check_image_size, describe_adapter,
 };
-pub use pipelines::{Fullscreen, Mode, Pass, Target, fullscreen_pipeline};
+pub use pipelines::{Fullscreen, Mode, Pass, Target, Variant, fullscreen_pipeline};
 pub use readback::{Mapping, PendingRgba, TimedRgba, start_texture_read};

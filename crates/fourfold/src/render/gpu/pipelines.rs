@@ -95,11 +95,12 @@ pub(super) fn slot_tier(hits: u32) -> usize {
         .unwrap_or(SLOT_TIERS.len() - 1)
 }
 
-/// What a ray-caster pipeline is specialised for, by the shader's pipeline constants: each
-/// is its own pipeline, so that a pixel runs only its own code (a SIMD rasterizer runs
-/// every branch).
+/// What a ray-caster pipeline is specialised for, by the shader's pipeline constants and
+/// its entry point: each is its own pipeline, so that a pixel runs only its own code (a
+/// SIMD rasterizer runs every branch). (Public for the fuzzer, which makes what wgpu makes
+/// of the shader for a variant without a GPU.)
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Variant {
+pub struct Variant {
     /// MODE: where a pixel's boxes come from.
     mode: Mode,
     /// The index in SLOT_TIERS of SLOTS, the hit slots kept.
@@ -119,7 +120,7 @@ impl Variant {
 
     /// The variant a caster builds at once: tile lists, with the default settings' hit slots
     /// and sampling, the whole plane, plain.
-    pub(super) fn first() -> Self {
+    pub fn first() -> Self {
         let settings = crate::scene::RenderSettings::default();
         Self {
             mode: Mode::Tiles,
@@ -127,6 +128,19 @@ impl Variant {
             random: settings.sampling == crate::scene::Sampling::Random,
             section: 0,
             certified: false,
+        }
+    }
+
+    /// The variant in `mode` keeping `hits` hits (SLOTS: the fewest of SLOT_TIERS that hold
+    /// them), with random rays or stratified ones, on the whole plane (`section` 0), a slab
+    /// (1) or a slice (2), plain or certified.
+    pub fn new(mode: Mode, hits: u32, random: bool, section: u8, certified: bool) -> Self {
+        Self {
+            mode,
+            slots: slot_tier(hits),
+            random,
+            section: section.min(2),
+            certified,
         }
     }
 
@@ -161,6 +175,22 @@ impl Variant {
         }
     }
 
+    /// The shader's pipeline constants for this variant, by name.
+    pub fn constants(self) -> [(&'static str, f64); 5] {
+        [
+            ("MODE", f64::from(self.mode as u32)),
+            ("SLOTS", f64::from(SLOT_TIERS[self.slots])),
+            ("SAMPLING", f64::from(u32::from(self.random))),
+            ("SECTION", f64::from(self.section)),
+            ("CERTIFY", f64::from(u32::from(self.certified))),
+        ]
+    }
+
+    /// The shader's entry point for this variant's pixels.
+    pub fn entry_point(self) -> &'static str {
+        self.mode.entry_point(self.certified)
+    }
+
     pub(super) fn index(self) -> usize {
         let sampled = (self.mode as usize * SLOT_TIERS.len() + self.slots) * 2;
         let sectioned = (sampled + usize::from(self.random)) * 3 + usize::from(self.section);
@@ -184,16 +214,10 @@ pub(super) fn build_pipeline(
             module,
             layout,
             target: color_target(target),
-            fragment: variant.mode.entry_point(variant.certified),
+            fragment: variant.entry_point(),
             cache,
         },
-        &[
-            ("MODE", f64::from(variant.mode as u32)),
-            ("SLOTS", f64::from(SLOT_TIERS[variant.slots])),
-            ("SAMPLING", f64::from(u32::from(variant.random))),
-            ("SECTION", f64::from(variant.section)),
-            ("CERTIFY", f64::from(u32::from(variant.certified))),
-        ],
+        &variant.constants(),
     )
 }
 
