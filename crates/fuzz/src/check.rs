@@ -179,7 +179,8 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
     } else {
         Boxes::Tiles
     };
-    let certified = matches!(case.mode, Mode::Certified { .. });
+    // (Every mode but the plain one draws certified, as the command line does by default.)
+    let certified = case.mode != Mode::Plain;
     for variant in [
         Variant::first(),
         Variant::new(boxes, 16, true, section, certified),
