@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{example_scenes, example_scenes_named};
+use common::{agreement, coverage, example_scenes, example_scenes_named};
 use fourfold::CompiledFormula;
 use fourfold::headless::render_scene;
 use fourfold::render::Device;
@@ -75,34 +75,37 @@ fn generated_shaders_spell_no_infinite_or_nan_constant() {
 /// the frame's settings must stay in a storage buffer, with binding 0 as the header says.
 #[test]
 fn the_ray_caster_reads_no_uniform_buffer() {
+    // A formula's own shader reads bindings 0-6; the interpreting one its program too (7).
     let f = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
-    let shader = shader::generate(&f).unwrap();
-    let mut bindings = Vec::new();
-    for (_, var) in shader.module.global_variables.iter() {
-        assert_ne!(
-            var.space,
-            naga::AddressSpace::Uniform,
-            "{:?} is a uniform buffer",
-            var.name
-        );
-        if let Some(b) = &var.binding {
-            assert!(
-                matches!(var.space, naga::AddressSpace::Storage { .. }),
-                "{:?}",
+    let all = fourfold::render::gpu::STORAGE_BUFFERS;
+    for (shader, count) in [
+        (shader::generate(&f).unwrap(), all - 1),
+        (shader::interpreter().unwrap(), all),
+    ] {
+        let mut bindings = Vec::new();
+        for (_, var) in shader.module.global_variables.iter() {
+            assert_ne!(
+                var.space,
+                naga::AddressSpace::Uniform,
+                "{:?} is a uniform buffer",
                 var.name
             );
-            bindings.push(b.binding);
+            if let Some(b) = &var.binding {
+                assert!(
+                    matches!(var.space, naga::AddressSpace::Storage { .. }),
+                    "{:?}",
+                    var.name
+                );
+                bindings.push(b.binding);
+            }
         }
+        bindings.sort_unstable();
+        assert_eq!(bindings, (0..count).collect::<Vec<_>>());
+        assert!(
+            shader.source.contains("binding 0: storage  Uniforms"),
+            "the header documents binding 0"
+        );
     }
-    bindings.sort_unstable();
-    assert_eq!(
-        bindings,
-        (0..fourfold::render::gpu::STORAGE_BUFFERS).collect::<Vec<_>>()
-    );
-    assert!(
-        shader.source.contains("binding 0: storage  Uniforms"),
-        "the header documents binding 0"
-    );
 }
 
 /// llvmpipe loads a storage buffer word per pixel in a fragment shader, so the ray caster
@@ -506,28 +509,6 @@ fn brute_force_setting_draws_the_same_picture() {
             assert!(close >= 0.90, "{name}: colours agree on {close}");
         }
     }
-}
-
-/// Shares of pixels whose colours agree within `tolerance` per channel, and of pixels that
-/// agree on showing M (not the background).
-fn agreement(a: &[u8], b: &[u8], background: [u8; 3], tolerance: u8) -> (f64, f64) {
-    let n = (a.len() / 4) as f64;
-    let close = a
-        .chunks(4)
-        .zip(b.chunks(4))
-        .filter(|(p, q)| p.iter().zip(*q).all(|(x, y)| x.abs_diff(*y) <= tolerance))
-        .count() as f64;
-    let cover = coverage(a, background)
-        .iter()
-        .zip(coverage(b, background))
-        .filter(|(p, q)| **p == *q)
-        .count() as f64;
-    (close / n, cover / n)
-}
-
-/// Pixels that are not background.
-fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
-    rgba.chunks(4).map(|p| p[..3] != background).collect()
 }
 
 #[test]
@@ -1376,7 +1357,9 @@ fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
     assert_eq!(sibling.pipelines_built(), 0);
     let sibling = std::thread::scope(|s| {
         s.spawn(|| {
-            sibling.warm_up(&gpu, h, &certified).unwrap();
+            // (A sibling's buffers hold an empty tree.)
+            let empty = fourfold::tree::Hierarchy::default();
+            sibling.warm_up(&gpu, &empty, &certified).unwrap();
             sibling
         })
         .join()

@@ -101,6 +101,7 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
     }
     if checked == 0 {
         pipeline_constants(&text, case)?;
+        interpreter_program(&text)?;
     }
     // The slice sweep's critical values: searched (a small budget: any formula's search
     // ends, proved or undecided) or refused as check refuses.
@@ -205,6 +206,43 @@ fn pipeline_constants(text: &str, case: &FormulaCase) -> Result<(), String> {
             .map_err(|e| format!("SPIR-V {values:?}: {e}"))?;
     }
     Ok(())
+}
+
+/// The interpreting shader's program for the formula (what the viewer draws a new formula
+/// with on a GPU while its own shader compiles): made, or refused for its registers, and
+/// every tape's range and every register within the program and the interpreter.
+fn interpreter_program(text: &str) -> Result<(), String> {
+    use fourfold::render::shader::{InterpretError, REGISTERS, program};
+    let formula = Program::new(text)
+        .map_err(|e| format!("check accepts it, but: {e}"))?
+        .formula;
+    let words = match program(&formula) {
+        Ok(words) => words,
+        Err(InterpretError::TooManyRegisters(n)) if n > REGISTERS => return Ok(()),
+        Err(e) => return Err(format!("interpreter: {e}")),
+    };
+    let registers = REGISTERS as u32;
+    for t in 0..3 {
+        let [start, end, out, _] = words[2 * t];
+        let outs = words[2 * t + 1];
+        if start < 6 || start > end || end as usize > words.len() {
+            return Err(format!(
+                "interpreter: tape {t} runs {start}..{end} of {}",
+                words.len()
+            ));
+        }
+        if out >= registers || outs.iter().any(|&r| r >= registers) {
+            return Err(format!("interpreter: tape {t}'s outputs {out}, {outs:?}"));
+        }
+    }
+    // Operation codes 0-2 read no register (a constant's bits, an index).
+    let bad = words[6..].iter().find(|&&[code, a, b, out]| {
+        out >= registers || (code > 2 && (a >= registers || b >= registers))
+    });
+    match bad {
+        Some(word) => Err(format!("interpreter: instruction {word:?}")),
+        None => Ok(()),
+    }
 }
 
 /// Why the GPU's picture of `case` is not the twin's to compare, if it is not: a sin, cos

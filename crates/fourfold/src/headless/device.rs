@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::render::gpu::{Gpu, GpuError, STORAGE_BUFFERS, describe_adapter};
+use crate::render::gpu::{Gpu, GpuError, STORAGE_BUFFERS};
 
 impl Gpu {
     /// Opens the first adapter wgpu finds (any backend, or those named in WGPU_BACKEND),
@@ -49,8 +49,7 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
-        let adapter = describe_adapter(&info);
-        Ok(Self::from_parts(device, queue, adapter).with_pipeline_cache(cache, &info))
+        Ok(Self::from_parts(device, queue, &info).with_pipeline_cache(cache, &info))
     }
 }
 

@@ -29,18 +29,21 @@ impl PendingPicture {
 }
 
 impl RayCaster {
-    /// Draws one pixel with the pipeline frames of `scene` will draw with (brute force, or
-    /// tile lists: empty ones are bound), so that a driver that compiles a shader at its
-    /// first draw (llvmpipe) does it now, on the caller's thread, rather than in a window's
-    /// frame.
+    /// Draws a 4×4-pixel picture of the view with the pipeline frames of `scene` will draw
+    /// with (brute force, or tile lists of `hierarchy`: an empty one binds empty lists, and
+    /// the pixels are drawn as background), so that a driver that readies a shader at its
+    /// first draw does it now, on the caller's thread, rather than in a window's frame.
+    /// llvmpipe does so at the first draw that runs the pixels' code: after a warm-up over
+    /// empty lists the first frame still took 0.3 s more (docs/benchmarks.md). The caster's
+    /// buffers must hold `hierarchy` or an empty one.
     pub fn warm_up(
         &mut self,
         gpu: &Gpu,
         hierarchy: &Hierarchy,
         scene: &Scene,
     ) -> Result<(), GpuError> {
-        let (camera, uniforms) = frame(scene, hierarchy, &[], [1, 1], FrameOptions::default());
-        self.set_tiles(gpu, Some(&TileLists::build(&Hierarchy::default(), &camera)));
+        let (camera, uniforms) = frame(scene, hierarchy, &[], [4, 4], FrameOptions::default());
+        self.set_tiles(gpu, Some(&TileLists::build(hierarchy, &camera)));
         self.render_rgba(gpu, &uniforms).map(|_| ())
     }
 

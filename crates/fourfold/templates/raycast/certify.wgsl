@@ -6,14 +6,7 @@
 // depth first. Two samples of opposite sign, where F is continuous on the segment between
 // them, prove a root: HIT. No cell left: EMPTY. Budget (march.y cells) or stack spent
 // first: UNDECIDED.
-const CERT_EMPTY: u32 = 0u;
-const CERT_HIT: u32 = 1u;
-const CERT_UNDECIDED: u32 = 2u;
 const CERT_STACK: u32 = 24u;
-// The ray index of a hit found along the ray aimed through a certified root.
-const AIMED: u32 = 0xffffffffu;
-// Undecided pixels: filled with this colour, or hatched with it (flag 1024).
-const UNDECIDED_COLOR = vec3<f32>(1.0, 0.0, 1.0);
 
 struct Box {
     lo: vec4<f32>,
@@ -447,10 +440,31 @@ fn trace_aimed(tr: ptr<function, Tracer>, px: vec2<u32>) {
     }
 }
 
-// What an undecided pixel with no hit shows: the marker colour, or (flag 1024) stripes of
-// it over the background.
-fn undecided_color(px: vec2<u32>) -> vec3<f32> {
-    let stripe = ((px.x + px.y) / 3u) % 2u == 0u;
-    let hatch = (u.control.z & 1024u) != 0u;
-    return select(UNDECIDED_COLOR, u.background.rgb, hatch && !stripe);
+// The certified pixels' entry points (see entry.wgsl for the plain ones).
+@fragment
+fn fs_tiles_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_tiles(&tr, vec2<u32>(fl.pos.xy));
+    return certified_color(&tr, fl);
+}
+
+@fragment
+fn fs_walk_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_walk(&tr);
+    return certified_color(&tr, fl);
+}
+
+@fragment
+fn fs_brute_force_certified(fl: Flat) -> @location(0) vec4<f32> {
+    var tr = start_pixel(fl);
+    cast_brute_force(&tr);
+    return certified_color(&tr, fl);
+}
+
+// (The verdict first: a hit the rays missed is aimed at and added to the tracer.)
+fn certified_color(tr: ptr<function, Tracer>, fl: Flat) -> vec4<f32> {
+    let px = vec2<u32>(fl.pos.xy);
+    let verdict = certify(tr, px);
+    return pixel_color(*tr, px, verdict);
 }

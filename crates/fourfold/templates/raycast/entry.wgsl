@@ -42,8 +42,9 @@ fn fs_background() -> @location(0) vec4<f32> {
     return vec4<f32>(settings.background.rgb, 1.0);
 }
 
-// The pixels' entry points, one per source of boxes (MODE) and per kind of pixel, plain or
-// certified (CERTIFY, docs/method.md §5.9: its verdict too), so that a pipeline's compile
+// The pixels' entry points, one per source of boxes (MODE) and per kind of pixel, plain
+// (here) or certified (CERTIFY, docs/method.md §5.9: its verdict too, in certify.wgsl,
+// which a shader that draws plain pixels only leaves out), so that a pipeline's compile
 // meets no other mode's code and a plain one no certified search: a driver inlines every
 // call before it drops the branches a pipeline constant rules out (docs/benchmarks.md,
 // "An edit through the viewer's session").
@@ -55,24 +56,10 @@ fn fs_tiles(fl: Flat) -> @location(0) vec4<f32> {
 }
 
 @fragment
-fn fs_tiles_certified(fl: Flat) -> @location(0) vec4<f32> {
-    var tr = start_pixel(fl);
-    cast_tiles(&tr, vec2<u32>(fl.pos.xy));
-    return certified_color(&tr, fl);
-}
-
-@fragment
 fn fs_walk(fl: Flat) -> @location(0) vec4<f32> {
     var tr = start_pixel(fl);
     cast_walk(&tr);
     return plain_color(tr, fl);
-}
-
-@fragment
-fn fs_walk_certified(fl: Flat) -> @location(0) vec4<f32> {
-    var tr = start_pixel(fl);
-    cast_walk(&tr);
-    return certified_color(&tr, fl);
 }
 
 @fragment
@@ -82,22 +69,8 @@ fn fs_brute_force(fl: Flat) -> @location(0) vec4<f32> {
     return plain_color(tr, fl);
 }
 
-@fragment
-fn fs_brute_force_certified(fl: Flat) -> @location(0) vec4<f32> {
-    var tr = start_pixel(fl);
-    cast_brute_force(&tr);
-    return certified_color(&tr, fl);
-}
-
 fn plain_color(tr: Tracer, fl: Flat) -> vec4<f32> {
     return pixel_color(tr, vec2<u32>(fl.pos.xy), CERT_EMPTY);
-}
-
-// (The verdict first: a hit the rays missed is aimed at and added to the tracer.)
-fn certified_color(tr: ptr<function, Tracer>, fl: Flat) -> vec4<f32> {
-    let px = vec2<u32>(fl.pos.xy);
-    let verdict = certify(tr, px);
-    return pixel_color(*tr, px, verdict);
 }
 
 // The pixel's tracer, before its rays: the settings in `u`, copied from binding 0, but for
@@ -211,6 +184,23 @@ fn cast_walk(tr: ptr<function, Tracer>) {
             break;
         }
     }
+}
+
+// A pixel's certified verdict (certify.wgsl), in its colour's alpha (see pixel_color).
+const CERT_EMPTY: u32 = 0u;
+const CERT_HIT: u32 = 1u;
+const CERT_UNDECIDED: u32 = 2u;
+// The ray index of a hit found along the ray aimed through a certified root.
+const AIMED: u32 = 0xffffffffu;
+// Undecided pixels: filled with this colour, or hatched with it (flag 1024).
+const UNDECIDED_COLOR = vec3<f32>(1.0, 0.0, 1.0);
+
+// What an undecided pixel with no hit shows: the marker colour, or (flag 1024) stripes of
+// it over the background.
+fn undecided_color(px: vec2<u32>) -> vec3<f32> {
+    let stripe = ((px.x + px.y) / 3u) % 2u == 0u;
+    let hatch = (u.control.z & 1024u) != 0u;
+    return select(UNDECIDED_COLOR, u.background.rgb, hatch && !stripe);
 }
 
 // The pixel's colour from its hits, with its certified verdict (CERT_EMPTY where not

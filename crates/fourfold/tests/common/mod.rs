@@ -98,3 +98,25 @@ pub fn read_texture(gpu: &fourfold::render::Gpu, texture: &wgpu::Texture) -> Vec
         .flat_map(|y| data[y * padded as usize..][..row as usize].to_vec())
         .collect()
 }
+
+/// Shares of pixels whose colours agree within `tolerance` per channel, and of pixels that
+/// agree on showing M (not the background).
+pub fn agreement(a: &[u8], b: &[u8], background: [u8; 3], tolerance: u8) -> (f64, f64) {
+    let n = (a.len() / 4) as f64;
+    let close = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| p.iter().zip(*q).all(|(x, y)| x.abs_diff(*y) <= tolerance))
+        .count() as f64;
+    let cover = coverage(a, background)
+        .iter()
+        .zip(coverage(b, background))
+        .filter(|(p, q)| **p == *q)
+        .count() as f64;
+    (close / n, cover / n)
+}
+
+/// Pixels that are not background.
+pub fn coverage(rgba: &[u8], background: [u8; 3]) -> Vec<bool> {
+    rgba.chunks(4).map(|p| p[..3] != background).collect()
+}

@@ -103,11 +103,7 @@ impl FourfoldApp {
                     rs.renderer.write().callback_resources.insert(blit);
                 }
                 (
-                    Some(Gpu::from_parts(
-                        rs.device.clone(),
-                        rs.queue.clone(),
-                        fourfold::render::gpu::describe_adapter(&info),
-                    )),
+                    Some(Gpu::from_parts(rs.device.clone(), rs.queue.clone(), &info)),
                     Some(rs.renderer.clone()),
                 )
             }

@@ -1,6 +1,6 @@
 //! The ray caster's storage buffers: the hierarchy and its bounds (per tree), the tile lists
-//! and box records (per view, rewritten in place and grown when too small), and the bind
-//! group over all seven.
+//! and box records (per view, rewritten in place and grown when too small), the interpreting shader's
+//! program (per formula), and the bind group over all eight.
 
 use wgpu::util::DeviceExt;
 
@@ -97,8 +97,8 @@ pub(super) fn tiling_of(l: &TileLists) -> Tiling {
     }
 }
 
-/// Bindings 0 to 6: uniforms, hierarchy, tile lists, box records, node bounds, certifying
-/// tile lists and their box records.
+/// Bindings 0 to 7: uniforms, hierarchy, tile lists, box records, node bounds, certifying
+/// tile lists and their box records, and the interpreting shader's program.
 pub(super) fn bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
@@ -117,4 +117,21 @@ pub(super) fn bind_group(
         layout,
         entries: &entries,
     })
+}
+
+/// The interpreting shader's program for a formula (binding 7; `shader::program`), or for
+/// another shader a placeholder it never reads.
+pub(super) fn program_buffer(gpu: &Gpu, program: &[[u32; 4]]) -> wgpu::Buffer {
+    let placeholder = [[0u32; 4]];
+    let words = if program.is_empty() {
+        &placeholder[..]
+    } else {
+        program
+    };
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fourfold interpreted program"),
+            contents: bytemuck::cast_slice(words),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
 }

@@ -13,7 +13,9 @@ use crate::render::view::{Camera, FLAG_KEEP_MISSES, TileLists, Tiling, Uniforms}
 use crate::scene::Scene;
 use crate::tree::Hierarchy;
 
-use super::buffers::{bind_group, node_buffers, tiling_of, usable, view_buffer, write_or_grow};
+use super::buffers::{
+    bind_group, node_buffers, program_buffer, tiling_of, usable, view_buffer, write_or_grow,
+};
 use super::cache::{CacheUse, ShaderCache};
 use super::device::{Gpu, GpuError, STORAGE_BUFFERS, check_image_size};
 use super::pipelines::{
@@ -26,21 +28,23 @@ use super::readback::{FrameCopy, PendingRgba, Timer};
 /// the shader module and layouts, and where the pipelines are kept between runs
 /// (`Gpu::pipeline_cache`) with what became of the file when the first was built.
 #[derive(Clone)]
-struct Shared {
+pub(super) struct Shared {
     target: Target,
-    module: wgpu::ShaderModule,
-    pipeline_layout: wgpu::PipelineLayout,
+    pub(super) module: wgpu::ShaderModule,
+    pub(super) pipeline_layout: wgpu::PipelineLayout,
     layout: wgpu::BindGroupLayout,
     cache: Option<Arc<ShaderCache>>,
     cache_use: CacheUse,
+    /// The shader is the interpreting one (`Shader::interprets`): plain pixels only.
+    pub(super) interprets: bool,
 }
 
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
 pub struct RayCaster {
-    shared: Shared,
+    pub(super) shared: Shared,
     /// Per [`Variant`] (`Variant::index`); the tile pipeline for the default settings is
     /// built at once, the others when first used.
-    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
+    pub(super) pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
     uniforms: wgpu::Buffer,
     nodes: wgpu::Buffer,
     /// Per node, `Hierarchy::slope` and `Hierarchy::curvature` (read by the walk and,
@@ -56,12 +60,14 @@ pub struct RayCaster {
     cert_tiles: wgpu::Buffer,
     cert_boxes: wgpu::Buffer,
     cert_tiling: Tiling,
+    /// The interpreting shader's program (binding 7; a placeholder for another shader).
+    pub(super) program: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
     /// background elsewhere.
     rects: Vec<[u32; 4]>,
     /// Draws the background (built when first used).
-    background: std::sync::OnceLock<wgpu::RenderPipeline>,
+    pub(super) background: std::sync::OnceLock<wgpu::RenderPipeline>,
 }
 
 impl RayCaster {
@@ -172,40 +178,14 @@ impl RayCaster {
             layout,
             cache: cache.map(Arc::new),
             cache_use,
+            interprets: shader.interprets,
         };
         Self::assemble(gpu, shared, pipelines, hierarchy)
     }
 
-    /// A caster of the same shader, target, layouts and pipeline cache, with buffers of its
-    /// own for an empty tree and no pipeline: its pipelines can be built and warmed up on
-    /// another thread while this one draws, then handed over with [`RayCaster::adopt`]. (A
-    /// driver that compiles a pipeline at its first draw, as llvmpipe, would otherwise do
-    /// it inside the frame that first needs it, or before a picture that does not.)
-    pub fn sibling(&self, gpu: &Gpu) -> Result<Self, GpuError> {
-        let pipelines = std::array::from_fn(|_| std::sync::OnceLock::new());
-        Self::assemble(gpu, self.shared.clone(), pipelines, &Hierarchy::default())
-    }
-
-    /// Takes the pipelines that `sibling` (made by [`RayCaster::sibling`] from this caster)
-    /// built and this caster lacks; false, taking none, if it is another caster's.
-    pub fn adopt(&mut self, sibling: RayCaster) -> bool {
-        let (mine, theirs) = (&self.shared, &sibling.shared);
-        if theirs.module != mine.module || theirs.pipeline_layout != mine.pipeline_layout {
-            return false;
-        }
-        for (mine, theirs) in self.pipelines.iter_mut().zip(sibling.pipelines) {
-            if let Some(pipeline) = theirs.into_inner()
-                && mine.get().is_none()
-            {
-                let _ = mine.set(pipeline);
-            }
-        }
-        true
-    }
-
     /// A caster of `shared`'s shader with `pipelines` built, its buffers made for
     /// `hierarchy`.
-    fn assemble(
+    pub(super) fn assemble(
         gpu: &Gpu,
         shared: Shared,
         pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
@@ -223,6 +203,7 @@ impl RayCaster {
         let boxes = view_buffer(gpu, 0);
         let cert_tiles = view_buffer(gpu, 0);
         let cert_boxes = view_buffer(gpu, 0);
+        let program = program_buffer(gpu, &[]);
         let bind_group = bind_group(
             device,
             &shared.layout,
@@ -234,6 +215,7 @@ impl RayCaster {
                 &bounds,
                 &cert_tiles,
                 &cert_boxes,
+                &program,
             ],
         );
         Ok(Self {
@@ -248,6 +230,7 @@ impl RayCaster {
             cert_tiles,
             cert_boxes,
             cert_tiling: Tiling::zeroed(),
+            program,
             bind_group,
             rects: Default::default(),
             background: Default::default(),
@@ -300,7 +283,7 @@ impl RayCaster {
     }
 
     /// Makes the bind group anew for the buffers held now (after any of them is replaced).
-    fn rebind(&mut self, gpu: &Gpu) {
+    pub(super) fn rebind(&mut self, gpu: &Gpu) {
         self.bind_group = bind_group(
             &gpu.device,
             &self.shared.layout,
@@ -312,6 +295,7 @@ impl RayCaster {
                 &self.bounds,
                 &self.cert_tiles,
                 &self.cert_boxes,
+                &self.program,
             ],
         );
     }
@@ -346,6 +330,12 @@ impl RayCaster {
         pass: Pass,
         timestamps: Option<&wgpu::QuerySet>,
     ) {
+        if self.shared.interprets && uniforms.certified() {
+            // The interpreting shader has no certified pixels, and a plain pass would read
+            // as every pixel proved empty: callers wait for the formula's own shader.
+            debug_assert!(false, "a certified pass asked of the interpreting shader");
+            return;
+        }
         let mut uniforms = *uniforms;
         uniforms.tiling = self.tiling;
         uniforms.cert_tiling = self.cert_tiling;

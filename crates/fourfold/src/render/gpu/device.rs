@@ -7,8 +7,9 @@ use std::sync::Arc;
 use super::cache::CacheDir;
 use crate::render::view::tiles::MAX_ENTRIES;
 
-/// Storage buffers the ray caster's shader reads (bindings 0-6).
-pub const STORAGE_BUFFERS: u32 = 7;
+/// Storage buffers the ray caster's shaders read (bindings 0-6; the interpreting shader's
+/// program is binding 7). WebGPU's default limit is 8.
+pub const STORAGE_BUFFERS: u32 = 8;
 
 /// The colour format the ray caster writes.
 pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -32,6 +33,8 @@ pub enum GpuError {
         bytes: u64,
         limit: u64,
     },
+    #[error("the interpreting shader cannot draw this formula: {0}")]
+    Interpret(#[from] crate::render::shader::InterpretError),
     #[error("reading the picture back from the GPU failed: {0}")]
     Readback(String),
     #[error(
@@ -91,6 +94,9 @@ pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter: String,
+    /// The adapter is a CPU's (llvmpipe, SwiftShader): it compiles a shader in a tenth of
+    /// the time a GPU's driver takes, and draws many times slower.
+    pub software: bool,
     /// Where ray casters keep their compiled pipelines between runs (None: nowhere; the
     /// device has the `PIPELINE_CACHE` feature wherever this is set).
     pub pipeline_cache: Option<Arc<CacheDir>>,
@@ -111,12 +117,14 @@ impl Gpu {
             .contains(wgpu::Features::TIMESTAMP_QUERY)
     }
 
-    /// From a device someone else made (the viewer's), keeping no pipeline cache.
-    pub fn from_parts(device: wgpu::Device, queue: wgpu::Queue, adapter: String) -> Self {
+    /// From a device someone else made (the viewer's) on the adapter `info` describes,
+    /// keeping no pipeline cache.
+    pub fn from_parts(device: wgpu::Device, queue: wgpu::Queue, info: &wgpu::AdapterInfo) -> Self {
         Self {
             device,
             queue,
-            adapter,
+            adapter: describe_adapter(info),
+            software: info.device_type == wgpu::DeviceType::Cpu,
             pipeline_cache: None,
         }
     }

@@ -6,6 +6,7 @@ mod buffers;
 mod cache;
 mod caster;
 mod device;
+mod handover;
 mod pipelines;
 mod readback;
 

@@ -3,9 +3,11 @@
 //! and validated by naga. Parameters are read from the frame's settings (binding 0), so
 //! changing one needs no new shader.
 
+mod interpreter;
 mod source;
 mod tapes;
 
+pub use interpreter::{InterpretError, REGISTERS, encode_tape, interpreter, program};
 pub use source::{
     CodegenError, INTERVAL_LIBRARY, MAX_PARAMS, Shader, TEMPLATE, generate, listing, validate,
 };

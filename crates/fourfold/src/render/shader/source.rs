@@ -23,6 +23,8 @@ pub const TEMPLATE: &str = concat!(
     "\n",
     include_str!("../../../templates/raycast/entry.wgsl"),
 );
+/// The certified pixels' part of the template, which the interpreting shader leaves out.
+const CERTIFY: &str = include_str!("../../../templates/raycast/certify.wgsl");
 const F_MARKER: &str = "//@FOURFOLD_F@";
 const GRAD_MARKER: &str = "//@FOURFOLD_GRAD@";
 const F_GRAD_MARKER: &str = "//@FOURFOLD_F_GRAD@";
@@ -49,6 +51,9 @@ pub enum CodegenError {
 pub struct Shader {
     pub source: String,
     pub module: naga::Module,
+    /// It is the interpreting shader (`interpreter`): it reads the formula from binding 7
+    /// and has no certified pixels.
+    pub interprets: bool,
 }
 
 /// The shader of `formula` as a file: a header naming F and where each parameter is read,
@@ -99,13 +104,29 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
             |v| format!("IvFGrad({}, {}, {}, {}, {})", v[0], v[1], v[2], v[3], v[4])
         )
     );
-    let source = TEMPLATE
-        .replace(F_MARKER, &f)
-        .replace(GRAD_MARKER, &grad)
-        .replace(F_GRAD_MARKER, &f_grad)
-        .replace(INTERVAL_MARKER, &interval);
+    let source = splice(TEMPLATE, &f, &grad, &f_grad, &interval);
     let module = validate(&source)?;
-    Ok(Shader { source, module })
+    Ok(Shader {
+        source,
+        module,
+        interprets: false,
+    })
+}
+
+/// The template without certified pixels (for the interpreting shader, which draws plain
+/// pixels only).
+pub(super) fn plain_template() -> String {
+    TEMPLATE.replacen(CERTIFY, "", 1)
+}
+
+/// `template` with the formula's point functions F, ∇F and both at once, and its interval
+/// functions, at their markers.
+pub(super) fn splice(template: &str, f: &str, grad: &str, f_grad: &str, interval: &str) -> String {
+    template
+        .replace(F_MARKER, f)
+        .replace(GRAD_MARKER, grad)
+        .replace(F_GRAD_MARKER, f_grad)
+        .replace(INTERVAL_MARKER, interval)
 }
 
 /// Parses and validates WGSL with naga (all capabilities a WebGPU device has).
