@@ -3,12 +3,14 @@
 //!
 //! For each preset of FOURFOLD_BENCH_SCENES (default the glome, the chapter's scene and the
 //! tiger), certified (the default) and plain, three edits that each change a constant of the
-//! formula (so each makes a new shader and ray caster), on the first adapter wgpu finds:
-//! from the changed text to the new tree and caster being ready for the first preview
-//! (`EditTimes::ready_ms`, of which the caster's pipeline and its warm-up), and, for a
-//! certified scene, to the settled picture's certified pipeline being there too (built
-//! beside the window after the caster). Each edit waits for the one before to finish
-//! entirely, so that no compile of one slows the next.
+//! formula (so each makes a new shader and ray caster), on the first adapter wgpu finds, with
+//! the first frames drawn by the interpreting shader (built once, before the edits) and by
+//! the formula's own: from the changed text to the new tree and caster being ready for the
+//! first preview (`EditTimes::ready_ms`, of which the caster's pipeline and its warm-up),
+//! one preview-sized frame drawn with that caster, and the time until the formula's own
+//! pipelines are there too (built beside the window after the caster: the settled picture's
+//! certified one, and where the caster interprets its plain one). Each edit waits for the
+//! one before to finish entirely, so that no compile of one slows the next.
 
 // The benchmarks' shared helpers, kept once beside the core's benchmarks.
 #[path = "../../fourfold/benches/common/mod.rs"]
@@ -16,8 +18,12 @@ mod common;
 
 use std::time::{Duration, Instant};
 
+use fourfold::render::{Camera, FrameOptions, Gpu, Uniforms};
 use fourfold::scene::{EXAMPLES, Scene};
 use fourfold_viewer::Session;
+
+/// The preview-sized frame: a quarter of a 960×720 picture's side.
+const PREVIEW: [u32; 2] = [240, 180];
 
 fn main() {
     let mut gpu = common::gpu_or_exit();
@@ -27,57 +33,89 @@ fn main() {
     let names = std::env::var("FOURFOLD_BENCH_SCENES")
         .unwrap_or_else(|_| "glome,fig-3-9-left,tiger".into());
     println!(
-        "\n| preset | certified | edit → ready for the preview, ms (of which pipeline, of that its warm-up draw) | edit → certified pipeline ready, ms |"
+        "\n| preset | certified | first frames by | edit → ready for the preview, ms (of which pipeline, of that its warm-up draw) | a {}×{} frame with that caster, ms | edit → own pipelines ready, ms |",
+        PREVIEW[0], PREVIEW[1]
     );
-    println!("|---|---|---|---|");
+    println!("|---|---|---|---|---|---|");
+    let mut constant = 0;
     for name in names.split(',').map(str::trim) {
         let Some((_, text)) = EXAMPLES.iter().find(|(n, _)| *n == name) else {
             eprintln!("no example {name}");
             std::process::exit(1);
         };
         for certified in [true, false] {
-            let mut scene = Scene::parse(text, name).expect("examples parse");
-            scene.render.certified = certified;
-            let formula = scene.formula.clone();
-            let mut session = Session::new(scene);
-            session.set_text(&formula, Some(&gpu));
-            settle(&mut session, &gpu);
-            let (mut ready, mut settled) = (Vec::new(), Vec::new());
-            for k in 1..=3 {
-                let started = Instant::now();
-                // A constant no edit before used (the driver may keep the pipelines of a
-                // shader it compiled in this process).
-                let k = if certified { k } else { k + 3 };
-                session.set_text(&format!("{formula} + 0.00{k}"), Some(&gpu));
-                session.wait(Some(&gpu));
-                let t = session.times;
-                ready.push(format!(
-                    "{:.0} ({:.0}, {:.0})",
-                    t.ready_ms, t.pipeline_ms, t.warm_up_ms
-                ));
+            for interpreted in [true, false] {
+                let mut scene = Scene::parse(text, name).expect("examples parse");
+                scene.render.certified = certified;
+                let formula = scene.formula.clone();
+                let mut session = Session::new(scene);
+                session.interpret_new_formulas(interpreted);
+                session.set_text(&formula, Some(&gpu));
                 settle(&mut session, &gpu);
-                settled.push(format!("{:.0}", started.elapsed().as_secs_f64() * 1e3));
+                session.wait_for_interpreter(Some(&gpu));
+                let (mut ready, mut frames, mut settled) = (Vec::new(), Vec::new(), Vec::new());
+                for _ in 0..3 {
+                    // A constant no edit before used (the driver may keep the pipelines of
+                    // a shader it compiled in this process).
+                    constant += 1;
+                    let started = Instant::now();
+                    session.set_text(&format!("{formula} + 0.00{constant}"), Some(&gpu));
+                    session.wait(Some(&gpu));
+                    let t = session.times;
+                    assert_eq!(session.interpreting(), interpreted, "{name}");
+                    ready.push(format!(
+                        "{:.0} ({:.0}, {:.0})",
+                        t.ready_ms, t.pipeline_ms, t.warm_up_ms
+                    ));
+                    frames.push(format!("{:.0}", preview_frame_ms(&mut session, &gpu)));
+                    settle(&mut session, &gpu);
+                    settled.push(format!("{:.0}", started.elapsed().as_secs_f64() * 1e3));
+                }
+                let by = if interpreted {
+                    "interpreter"
+                } else {
+                    "own shader"
+                };
+                let settled = if certified || interpreted {
+                    settled.join(", ")
+                } else {
+                    "-".into()
+                };
+                println!(
+                    "| {name} | {certified} | {by} | {} | {} | {settled} |",
+                    ready.join(", "),
+                    frames.join(", ")
+                );
             }
-            let settled = if certified {
-                settled.join(", ")
-            } else {
-                "-".into()
-            };
-            println!(
-                "| {name} | {certified} | {} | {settled} |",
-                ready.join(", ")
-            );
         }
     }
 }
 
-/// Polls the session until its build and the certified pipeline that follows it are done.
-fn settle(session: &mut Session, gpu: &fourfold::render::Gpu) {
+/// Draws one plain preview-sized frame of the session's scene with its caster (as it is
+/// right after the edit) and waits for it: its milliseconds.
+fn preview_frame_ms(session: &mut Session, gpu: &Gpu) -> f64 {
+    let scene = &session.scene;
+    let hierarchy = session.hierarchy.clone().expect("a tree");
+    let camera = Camera::new(&scene.domain, &scene.view, PREVIEW[0], PREVIEW[1]);
+    let mut render = scene.render;
+    render.certified = false;
+    let (domain, params) = (&scene.domain, &session.tree_params);
+    let options = FrameOptions::default();
+    let uniforms = Uniforms::new(&camera, &render, domain, &hierarchy, params, options);
+    let caster = session.caster.as_mut().expect("a caster");
+    let started = Instant::now();
+    caster.bin_view(gpu, &hierarchy, None, &camera, &uniforms);
+    caster.render_rgba(gpu, &uniforms).expect("a frame");
+    started.elapsed().as_secs_f64() * 1e3
+}
+
+/// Polls the session until its build and the own pipelines that follow it are done.
+fn settle(session: &mut Session, gpu: &Gpu) {
     let deadline = Instant::now() + Duration::from_secs(120);
     session.wait(Some(gpu));
     while session.certified_pipeline_pending() {
         session.poll(Some(gpu));
-        assert!(Instant::now() < deadline, "no certified pipeline in 120 s");
+        assert!(Instant::now() < deadline, "no own pipelines in 120 s");
         std::thread::sleep(Duration::from_millis(1));
     }
     if let Some(error) = &session.error {

@@ -1,13 +1,16 @@
 //! The background half of an edit: the tree and hierarchy for a program (the library's
 //! `Prepared`), the boxes certified pixels search, and where the shader is new the viewer's
-//! ray caster, warmed up where the platform can wait for it. It runs on a thread natively and
-//! in slices of the window's frames in a web page (the platform's `BuildWork`).
+//! ray caster: the interpreting shader's (compiled once per run) drawing the new formula at
+//! once where it can, else the formula's own, warmed up where the platform can wait for it.
+//! It runs on a thread natively and in slices of the window's frames in a web page (the
+//! platform's `BuildWork`).
 
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, TryRecvError};
 
 use web_time::Instant;
 
+use fourfold::CompiledFormula;
 use fourfold::render::{Gpu, Prepared, Program, RayCaster, Target};
 use fourfold::scene::Scene;
 use fourfold::tree::{BuildError, Hierarchy, TreeStats};
@@ -35,6 +38,9 @@ pub struct JobInputs {
     pub make_pipeline: bool,
     /// The brute-force setting the pipeline is warmed up for.
     pub brute_force: bool,
+    /// The interpreting shader's caster, once built (`build_interpreter`): a new shader's
+    /// first frames draw with it while the formula's own shader compiles.
+    pub interpreter: Option<Arc<RayCaster>>,
 }
 
 /// A built tree as the viewer keeps it: the ray caster's hierarchy, the one certified
@@ -55,29 +61,31 @@ pub struct JobResult {
     pub warm_up_ms: f64,
     /// The brute-force setting the pipeline was warmed up for.
     pub brute_force: bool,
-    /// The settled picture's certified pipeline for `caster`, where one is being built
-    /// beside the window (natively; a page builds it at its first certified frame).
+    /// The formula's own pipelines for `caster`, where they are being built beside the
+    /// window (natively; a page builds the certified one at its first certified frame).
     pub settling: Option<Settling>,
 }
 
-/// A certified pipeline being built and warmed up on the build's thread after the caster
-/// it belongs to was handed over, so that the edit's first preview does not wait for its
-/// compile (hundreds of milliseconds on llvmpipe; the settled picture does, if still).
-/// Dropping it abandons the build if it has not started.
+/// The formula's own pipelines being built and warmed up on the build's thread after the
+/// caster they belong to was handed over, so that the edit's first preview does not wait
+/// for their compile (hundreds of milliseconds on llvmpipe, about half a second on a GPU's
+/// driver; the settled picture does, if still): where the caster interprets, a caster of
+/// the formula's own shader (`RayCaster::take_shader`), else the certified pipeline in a
+/// sibling (`RayCaster::adopt`). Dropping it abandons the build if it has not started.
 pub struct Settling {
-    pub receiver: Receiver<RayCaster>,
+    pub receiver: Receiver<Result<RayCaster, String>>,
     /// Never sent on: its receiver on the build's thread sees it dropped with the Settling.
     pub wanted: Sender<()>,
 }
 
 impl Settling {
-    /// The caster's sibling holding the pipeline once it is built (`RayCaster::adopt`); Err
-    /// if it never will be (its build failed), None while it is being built.
-    pub fn poll(&self) -> Option<Result<RayCaster, ()>> {
+    /// The caster holding the pipelines once they are built; Err if they never will be
+    /// (with why, where the GPU said), None while they are being built.
+    pub fn poll(&self) -> Option<Result<RayCaster, Option<String>>> {
         match self.receiver.try_recv() {
-            Ok(sibling) => Some(Ok(sibling)),
+            Ok(built) => Some(built.map_err(Some)),
             Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Err(())),
+            Err(TryRecvError::Disconnected) => Some(Err(None)),
         }
     }
 }
@@ -112,8 +120,9 @@ impl JobInputs {
             (Some(gpu), Ok((hierarchy, _, _))) if self.make_pipeline => {
                 let first = first_frames(&self.scene, self.brute_force);
                 let shader = &self.program.shader;
-                Some(
-                    RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
+                Some(match self.interpreted(gpu, hierarchy, &first) {
+                    Some(caster) => Ok(caster),
+                    None => RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
                         .map_err(|e| e.to_string())
                         .and_then(|mut caster| {
                             let w = Instant::now();
@@ -121,7 +130,7 @@ impl JobInputs {
                             warm_up_ms = ms(w);
                             Ok(caster)
                         }),
-                )
+                })
             }
             _ => None,
         };
@@ -137,6 +146,29 @@ impl JobInputs {
             pipeline_ms,
             warm_up_ms,
             settling: None,
+        }
+    }
+
+    /// A caster of the interpreting shader drawing the program over `hierarchy`, where the
+    /// interpreter is built, has the pipeline `first` draws with, and holds the formula's
+    /// tapes (None: the formula's own shader draws from the first frame).
+    fn interpreted(&self, gpu: &Gpu, hierarchy: &Hierarchy, first: &Scene) -> Option<RayCaster> {
+        let interpreter = self.interpreter.as_ref()?;
+        if !interpreter.has_pipeline_for(first, hierarchy) {
+            return None;
+        }
+        interpreter
+            .interpret(gpu, &self.program.formula, hierarchy)
+            .ok()
+    }
+
+    /// What a caster of the formula's own shader is built from, to take over from an
+    /// interpreting one.
+    pub fn own_pipelines(&self) -> OwnPipelines {
+        OwnPipelines {
+            shader: self.program.shader.clone(),
+            first: first_frames(&self.scene, self.brute_force),
+            settled: self.settled_scene(),
         }
     }
 
@@ -161,4 +193,50 @@ pub fn first_frames(scene: &Scene, brute_force: bool) -> Scene {
     first.render.certified = false;
     first.render.brute_force = brute_force;
     first
+}
+
+/// A caster of the formula's own shader, for `RayCaster::take_shader`: its first frames'
+/// pipeline and the settled picture's.
+pub struct OwnPipelines {
+    shader: Arc<fourfold::render::Shader>,
+    first: Scene,
+    settled: Option<Scene>,
+}
+
+impl OwnPipelines {
+    /// The caster, its pipelines built and warmed up (for any hierarchy: it takes over the
+    /// interpreting caster's buffers).
+    pub fn build(&self, gpu: &Gpu, warm_up: WarmUp) -> Result<RayCaster, String> {
+        let empty = Hierarchy::default();
+        let mut caster = RayCaster::for_scene(gpu, &self.shader, &empty, VIEW_TARGET, &self.first)
+            .map_err(|e| e.to_string())?;
+        warm_up(gpu, &mut caster, &empty, &self.first)?;
+        if let Some(settled) = &self.settled {
+            warm_up(gpu, &mut caster, &empty, settled)?;
+        }
+        Ok(caster)
+    }
+}
+
+/// The interpreting shader's caster, its pipeline for the first frames of `scene` built and
+/// warmed up by drawing `formula` over `hierarchy` (a driver may compile at the first draw
+/// that reaches the pixels' code); None where the GPU refused it: edits then draw with
+/// their own shaders.
+pub fn build_interpreter(
+    gpu: &Gpu,
+    scene: &Scene,
+    formula: &CompiledFormula,
+    hierarchy: &Hierarchy,
+    warm_up: WarmUp,
+) -> Option<RayCaster> {
+    let shader = fourfold::render::shader::interpreter().ok()?;
+    let first = first_frames(scene, scene.render.brute_force);
+    let empty = Hierarchy::default();
+    let mut caster = RayCaster::for_scene(gpu, &shader, &empty, VIEW_TARGET, &first).ok()?;
+    match caster.interpret(gpu, formula, hierarchy) {
+        Ok(mut drawing) => warm_up(gpu, &mut drawing, hierarchy, &first).ok()?,
+        // (Too many registers: the pipeline alone.)
+        Err(_) => warm_up(gpu, &mut caster, &empty, &first).ok()?,
+    }
+    Some(caster)
 }

@@ -104,9 +104,25 @@ pub struct Session {
     /// A brute-force setting waiting for its pipeline (warmed up in the background, so that
     /// the window never waits for a driver compiling it at its first draw).
     pub pending_brute_force: Option<bool>,
-    /// The caster's certified pipeline, while it is built beside the window (natively,
-    /// after the caster itself: an edit's first preview does not wait for it).
+    /// The formula's own pipelines, while they are built beside the window (natively,
+    /// after the caster itself: an edit's first preview does not wait for them).
     settling: Option<Settling>,
+    /// The interpreting shader's caster, built once (natively) after the first picture.
+    interpreter: Interpreter,
+    /// Whether new formulas' first frames draw with it, as set (None: the default).
+    interpret: Option<bool>,
+}
+
+/// The interpreting shader's caster (`job::build_interpreter`): the first frames of a new
+/// formula draw with it while its own shader compiles.
+enum Interpreter {
+    /// Not built yet (no picture yet, or no GPU), nor found unwanted.
+    Unstarted,
+    Building(platform::Background<Option<Arc<RayCaster>>>),
+    Ready(Arc<RayCaster>),
+    /// Every formula draws with its own shader (the platform's or the adapter's choice,
+    /// or `interpret_new_formulas`), or the GPU refused the interpreting one.
+    Off,
 }
 
 impl Session {
@@ -133,6 +149,8 @@ impl Session {
             slice_budget: *SLICE_BUDGET.start(),
             pending_brute_force: None,
             settling: None,
+            interpreter: Interpreter::Unstarted,
+            interpret: None,
         }
     }
 
@@ -143,21 +161,107 @@ impl Session {
         self.settling.is_some() || self.job.as_ref().is_some_and(|j| j.makes_pipeline)
     }
 
-    /// Takes the certified pipeline built beside the window, once it is there.
-    fn adopt_settled_pipeline(&mut self) {
-        let Some(settling) = &self.settling else {
+    /// Takes the formula's own pipelines built beside the window, once they are there.
+    fn adopt_settled_pipeline(&mut self, gpu: Option<&Gpu>) {
+        let (Some(settling), Some(caster)) = (&self.settling, &mut self.caster) else {
             return;
         };
         match settling.poll() {
-            None => {}
+            None => return,
+            Some(Ok(built)) if caster.interprets() => match gpu {
+                Some(gpu) => caster.take_shader(gpu, built),
+                None => return,
+            },
             Some(Ok(sibling)) => {
-                if let Some(caster) = &mut self.caster {
-                    caster.adopt(sibling);
-                }
-                self.settling = None;
+                caster.adopt(sibling);
+            }
+            // The formula's own shader failed: the interpreting one draws on, plain (it
+            // cannot certify).
+            Some(Err(why)) if caster.interprets() => {
+                let why = why.unwrap_or_else(|| "its build stopped".into());
+                self.error = Some(format!(
+                    "the formula's own shader failed ({why}): its picture is not certified"
+                ));
             }
             // Its build failed: the settled picture builds it when it first draws.
-            Some(Err(())) => self.settling = None,
+            Some(Err(_)) => {}
+        }
+        self.settling = None;
+    }
+
+    /// Whether new formulas' first frames draw with the interpreting shader: by default
+    /// where the platform does and the adapter is a GPU's; on or off here (tests, the edit
+    /// bench's comparison).
+    pub fn interpret_new_formulas(&mut self, on: bool) {
+        self.interpret = Some(on);
+        self.interpreter = match std::mem::replace(&mut self.interpreter, Interpreter::Off) {
+            kept @ (Interpreter::Building(_) | Interpreter::Ready(_)) if on => kept,
+            _ if on => Interpreter::Unstarted,
+            _ => Interpreter::Off,
+        };
+    }
+
+    /// Whether the interpreting shader is built (new formulas' first frames draw with it).
+    pub fn interpreter_ready(&self) -> bool {
+        matches!(self.interpreter, Interpreter::Ready(_))
+    }
+
+    /// Whether the picture on screen is drawn by the interpreting shader (its formula's
+    /// own is being compiled).
+    pub fn interpreting(&self) -> bool {
+        self.caster.as_ref().is_some_and(RayCaster::interprets)
+    }
+
+    /// Starts building the interpreting shader's caster (once, after the first picture,
+    /// where it is wanted), or takes it once built.
+    fn keep_interpreter(&mut self, gpu: Option<&Gpu>) {
+        match &mut self.interpreter {
+            Interpreter::Unstarted => {
+                let (Some(gpu), Some(program), Some(hierarchy)) =
+                    (gpu.cloned(), &self.program, &self.hierarchy)
+                else {
+                    return;
+                };
+                // On a CPU's adapter the formula's own shader is ready in half a second and
+                // draws 25-33 times faster than the interpreter (docs/benchmarks.md).
+                if !self
+                    .interpret
+                    .unwrap_or(platform::INTERPRETS && !gpu.software)
+                {
+                    self.interpreter = Interpreter::Off;
+                    return;
+                }
+                let scene = self.scene.clone();
+                let (formula, hierarchy) = (program.formula.clone(), hierarchy.clone());
+                self.interpreter = Interpreter::Building(platform::Background::start(
+                    "fourfold interpreter",
+                    move || {
+                        let warm_up = platform::warm_up;
+                        crate::job::build_interpreter(&gpu, &scene, &formula, &hierarchy, warm_up)
+                            .map(Arc::new)
+                    },
+                ));
+            }
+            Interpreter::Building(work) => match work.poll() {
+                None => {}
+                Some(Some(Some(caster))) => self.interpreter = Interpreter::Ready(caster),
+                Some(_) => self.interpreter = Interpreter::Off,
+            },
+            Interpreter::Ready(_) | Interpreter::Off => {}
+        }
+    }
+
+    /// Blocks until the interpreting shader is built or given up (tests, benchmarks).
+    pub fn wait_for_interpreter(&mut self, gpu: Option<&Gpu>) {
+        while matches!(
+            self.interpreter,
+            Interpreter::Unstarted | Interpreter::Building(_)
+        ) {
+            if gpu.is_none() || self.hierarchy.is_none() {
+                return;
+            }
+            self.keep_interpreter(gpu);
+            platform::pause();
         }
     }
 
@@ -295,6 +399,10 @@ impl Session {
             brute_force: self
                 .pending_brute_force
                 .unwrap_or(self.scene.render.brute_force),
+            interpreter: match &self.interpreter {
+                Interpreter::Ready(caster) if new_shader => Some(caster.clone()),
+                _ => None,
+            },
         };
         let work = match BuildWork::start(inputs) {
             Ok(work) => work,
@@ -322,7 +430,10 @@ impl Session {
 
     /// Takes a finished build, if any; returns true when the picture changed.
     pub fn poll(&mut self, gpu: Option<&Gpu>) -> bool {
-        self.adopt_settled_pipeline();
+        self.adopt_settled_pipeline(gpu);
+        if self.caster.is_some() {
+            self.keep_interpreter(gpu);
+        }
         let Some(job) = &mut self.job else {
             return false;
         };

@@ -398,6 +398,7 @@ fn a_build_makes_the_certified_pipeline_beside_the_window_after_the_caster() {
             gpu: Some(gpu.clone()),
             make_pipeline: true,
             brute_force: false,
+            interpreter: None,
         };
         let mut work = BuildWork::start(inputs).unwrap();
         let deadline = Instant::now() + Duration::from_secs(120);
@@ -419,12 +420,74 @@ fn a_build_makes_the_certified_pipeline_beside_the_window_after_the_caster() {
         let sibling = settling
             .receiver
             .recv_timeout(Duration::from_secs(120))
-            .expect("the certified pipeline is built");
+            .expect("the certified pipeline is built")
+            .unwrap();
         assert_eq!(sibling.pipelines_built(), 1);
         assert!(caster.adopt(sibling), "the sibling is the caster's");
         assert_eq!(caster.pipelines_built(), 2);
         assert!(caster.has_pipeline_for(&scene, &hierarchy));
     }
+}
+
+/// Once the interpreting shader is built (after the first picture, where it is on), a new
+/// formula's first frames draw with it, at once; its own shader compiles beside the window and takes over
+/// the picture, which then settles certified. A parameter's new tree keeps to the caster
+/// on screen, whichever shader it has.
+#[test]
+fn a_new_formula_draws_with_the_interpreter_until_its_own_shader_takes_over() {
+    let mut h = harness(small_scene());
+    // (On a CPU's adapter, as in CI, the viewer leaves it off by default.)
+    h.state_mut().session.interpret_new_formulas(true);
+    settle_without_error(&mut h, "the first picture");
+    assert!(
+        !h.state().session.interpreting(),
+        "the first picture interprets"
+    );
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !h.state().session.interpreter_ready() {
+        h.step();
+        assert!(Instant::now() < deadline, "no interpreter in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let pipelines = h.state().session.counters.pipelines;
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 = a");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while h.state().session.building() {
+        h.step();
+        assert!(Instant::now() < deadline, "no build in 120 s");
+    }
+    let session = &h.state().session;
+    assert!(session.error.is_none(), "{:?}", session.error);
+    assert_eq!(session.scene.formula, "x^2 + y^2 + z^2 + w^2 = a");
+    assert!(
+        session.interpreting(),
+        "the new formula's first frames do not interpret"
+    );
+    assert_eq!(session.counters.pipelines, pipelines + 1);
+    assert!(
+        session.times.pipeline_ms < session.times.ready_ms,
+        "{:?}",
+        session.times
+    );
+    // The new picture's verdicts (the old picture's stay until its first frame is drawn).
+    let generation = session.picture_generation;
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let p = &h.state().progressive;
+        if p.first_frame_of == Some(generation) && p.verdicts.is_some() {
+            break;
+        }
+        h.step();
+        assert!(Instant::now() < deadline, "no verdicts in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let app = h.state();
+    assert!(
+        !app.session.interpreting(),
+        "the settled picture interprets"
+    );
+    let c = app.progressive.verdicts.unwrap();
+    assert!(c.hit > 0 && c.empty > 0, "{c:?}");
 }
 
 #[test]

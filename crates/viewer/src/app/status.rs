@@ -151,6 +151,9 @@ impl FourfoldApp {
             if !p.converged() {
                 frame.push_str(&format!(" · refining {:.0}%", 100.0 * p.fraction()));
             }
+            if self.session.interpreting() {
+                frame.push_str(" · interpreted while its shader compiles");
+            }
             ui.label(RichText::new(frame).small());
             ui.separator();
             ui.label(RichText::new(format!("UI {:.0} fps", self.pacing.fps())).small());

@@ -270,8 +270,14 @@ impl Progressive {
             // picture once still is certified where the scene asks: its first pass proves
             // each pixel, the plain passes averaged into it after keep what it proved where
             // their rays find nothing.
-            let settled =
-                scene.render.certified && certifying.is_some() && stage.div == 1 && !interacting;
+            // (An interpreting caster cannot certify: its formula's own shader is coming,
+            // or failed, and the picture stays plain.)
+            let certifies = certifier_pending || !caster.interprets();
+            let settled = scene.render.certified
+                && certifying.is_some()
+                && certifies
+                && stage.div == 1
+                && !interacting;
             let certified = settled && stage.frame == 0;
             if certified && certifier_pending {
                 // Back at the next frame, which the window draws at once (not waiting for

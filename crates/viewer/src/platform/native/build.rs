@@ -20,6 +20,10 @@ use crate::job::{JobInputs, JobResult, Settling};
 /// so time it as it draws.
 pub const WAITS_FOR_GPU: bool = true;
 
+/// A new formula's first frames draw with the interpreting shader while its own compiles
+/// on the build's thread (`job::build_interpreter`).
+pub const INTERPRETS: bool = true;
+
 /// Boxes the slice slider's search for critical values may look at: on a thread of its
 /// own, the library's default.
 pub const CRITICAL_BOX_BUDGET: usize = fourfold::scene::limits::CRITICAL_BOX_BUDGET;
@@ -49,9 +53,10 @@ pub fn pause() {
     std::thread::sleep(std::time::Duration::from_millis(2));
 }
 
-/// Draws one pixel with the caster's pipeline, on the build's thread, so that a driver that
-/// compiles a shader at its first draw (llvmpipe) does not do it in a window's frame.
-fn warm_up(
+/// Draws a few pixels with the caster's pipeline (`RayCaster::warm_up`), on the build's
+/// thread, so that a driver that compiles a shader at its first draw (llvmpipe) does not do
+/// it in a window's frame.
+pub fn warm_up(
     gpu: &Gpu,
     caster: &mut RayCaster,
     hierarchy: &Hierarchy,
@@ -62,17 +67,29 @@ fn warm_up(
         .map_err(|e| e.to_string())
 }
 
-/// Where the build made a caster for a certified scene: a sibling of it for the settled
-/// picture's certified pipeline, handed to the window in `result` (`JobResult::settling`),
-/// and the work that builds and warms it up, to be run once `result` is sent.
+/// Where the build made a caster of the interpreting shader, or one for a certified scene:
+/// the formula's own pipelines built beside the window (a caster of its own shader, or a
+/// sibling with the certified pipeline), handed to the window in `result`
+/// (`JobResult::settling`), and the work that builds and warms them up, to be run once
+/// `result` is sent.
 fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOnce() + use<>> {
-    let scene = inputs.settled_scene()?;
     let gpu = inputs.gpu.clone()?;
-    let (Some(Ok(caster)), Ok((hierarchy, ..))) = (&result.caster, &result.tree) else {
+    let (Some(Ok(caster)), Ok(_)) = (&result.caster, &result.tree) else {
         return None;
     };
-    let mut sibling = caster.sibling(&gpu).ok()?;
-    let hierarchy = hierarchy.clone();
+    // What is built: a caster of the formula's own shader for an interpreting one, or the
+    // settled picture's certified pipeline in a sibling of the caster (whose buffers hold
+    // an empty tree, which its warm-up draws).
+    let build: Box<BuildBeside> = if caster.interprets() {
+        let own = inputs.own_pipelines();
+        Box::new(move |gpu| own.build(gpu, warm_up))
+    } else {
+        let (mut sibling, scene) = (caster.sibling(&gpu).ok()?, inputs.settled_scene()?);
+        Box::new(move |gpu| {
+            let empty = Hierarchy::default();
+            warm_up(gpu, &mut sibling, &empty, &scene).map(|()| sibling)
+        })
+    };
     let (sender, receiver) = channel();
     let (wanted, still_wanted) = channel();
     result.settling = Some(Settling { receiver, wanted });
@@ -84,11 +101,16 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
             still_wanted.recv_timeout(SETTLING_DELAY),
             Err(RecvTimeoutError::Disconnected)
         );
-        if !abandoned && warm_up(&gpu, &mut sibling, &hierarchy, &scene).is_ok() {
-            let _ = sender.send(sibling);
+        if abandoned {
+            return;
         }
+        let built = build(&gpu);
+        let _ = sender.send(built);
     })
 }
+
+/// What the build's thread makes beside the window once the caster is handed over.
+type BuildBeside = dyn FnOnce(&Gpu) -> Result<RayCaster, String> + Send;
 
 /// How long the certified pipeline's build waits after its caster is handed over: about a
 /// keystroke's interval; the preview and half-resolution stages take longer than that.

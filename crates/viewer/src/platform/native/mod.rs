@@ -9,7 +9,10 @@ mod thumbnails;
 mod ui;
 mod window;
 
-pub use build::{Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU, pause};
+pub use build::{
+    Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
+    warm_up,
+};
 pub use thumbnails::Thumbnails;
 pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections};
 pub use window::run;

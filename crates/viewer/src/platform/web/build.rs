@@ -18,6 +18,11 @@ use crate::job::{JobInputs, JobResult};
 /// stage's squares could keep a software GPU busy for minutes).
 pub const WAITS_FOR_GPU: bool = false;
 
+/// A page draws every formula with its own shader: its build has no thread to compile the
+/// formula's shader on beside the interpreting one's frames (a page's pipelines compile in
+/// the browser's GPU process, in the queue's order).
+pub const INTERPRETS: bool = false;
+
 /// Boxes the slice slider's search for critical values may look at: a page searches in
 /// slices of its frames, so a search that needs more than a few seconds of them is cut
 /// short, its remaining boxes shown undecided.
@@ -42,7 +47,7 @@ impl CriticalWork {
 pub fn pause() {}
 
 /// A page compiles a pipeline when it makes it and cannot wait for a read-back: no warm-up.
-fn warm_up(
+pub fn warm_up(
     _gpu: &Gpu,
     _caster: &mut RayCaster,
     _hierarchy: &Hierarchy,

@@ -8,7 +8,10 @@ mod files;
 mod thumbnails;
 mod ui;
 
-pub use build::{Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, WAITS_FOR_GPU, pause};
+pub use build::{
+    Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
+    warm_up,
+};
 pub use thumbnails::Thumbnails;
 pub use ui::{
     EMBEDS, State, end_frame, file_actions, open_link, page_address, sections, split_embed,
