@@ -162,6 +162,16 @@ impl JobInputs {
             .ok()
     }
 
+    /// Builds the interpreting shader's pipeline for this job's first frames where it lacks
+    /// it (a slice's, a slab's, brute force's...), so that the next new formula drawn so
+    /// draws with it at once (this one drew with its own shader).
+    pub fn complete_interpreter(&self) {
+        if let (Some(interpreter), Some(gpu)) = (&self.interpreter, &self.gpu) {
+            let first = first_frames(&self.scene, self.brute_force);
+            interpreter.build_pipeline_for(gpu, &first, &Hierarchy::default());
+        }
+    }
+
     /// What a caster of the formula's own shader is built from, to take over from an
     /// interpreting one.
     pub fn own_pipelines(&self) -> OwnPipelines {

@@ -490,6 +490,61 @@ fn a_new_formula_draws_with_the_interpreter_until_its_own_shader_takes_over() {
     assert!(c.hit > 0 && c.empty > 0, "{c:?}");
 }
 
+/// A new formula in a mode the interpreting shader has no pipeline for (a slice) draws with
+/// its own shader, and the build's thread then gives the interpreter that mode's pipeline:
+/// the next new formula in it is interpreted.
+#[test]
+fn the_interpreter_gains_the_pipeline_of_a_mode_it_lacked() {
+    use fourfold::render::{Gpu, Program};
+    use fourfold::tree::Hierarchy;
+    use fourfold_viewer::job::{JobInputs, build_interpreter, first_frames};
+    use fourfold_viewer::platform::{BuildWork, warm_up};
+    use std::sync::Arc;
+    let gpu = Gpu::new().unwrap();
+    let scene = small_scene();
+    let formula = Program::new(&scene.formula).unwrap().formula;
+    let empty = Hierarchy::default();
+    let interpreter = build_interpreter(&gpu, &scene, &formula, &empty, warm_up).unwrap();
+    let interpreter = Arc::new(interpreter);
+    let mut sliced = scene.clone();
+    sliced.view.slice = Some(0.3);
+    let first = first_frames(&sliced, false);
+    assert!(!interpreter.has_pipeline_for(&first, &empty));
+    let interprets = |text: &str| {
+        let inputs = JobInputs {
+            generation: 1,
+            program: Program::new(text).unwrap(),
+            scene: sliced.clone(),
+            gpu: Some(gpu.clone()),
+            make_pipeline: true,
+            brute_force: false,
+            interpreter: Some(interpreter.clone()),
+        };
+        let mut work = BuildWork::start(inputs).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(120);
+        loop {
+            if let Some(result) = work.poll(Duration::ZERO) {
+                break result.unwrap().caster.unwrap().unwrap().interprets();
+            }
+            assert!(Instant::now() < deadline, "no build in 120 s");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    };
+    assert!(
+        !interprets("x^2 + y^2 + z^2 + w^2 = 0.9"),
+        "no slice pipeline yet"
+    );
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !interpreter.has_pipeline_for(&first, &empty) {
+        assert!(Instant::now() < deadline, "no slice pipeline in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(
+        interprets("x^2 + y^2 + z^2 + w^2 = 0.8"),
+        "the slice pipeline was built"
+    );
+}
+
 #[test]
 fn a_picture_converges_with_one_binning_per_resolution() {
     let mut h = harness(small_scene());

@@ -114,6 +114,12 @@ impl RayCaster {
             .is_some()
     }
 
+    /// Builds the pipeline that frames of `scene` draw with, if it is not built (on any
+    /// thread: the interpreting shader's caster gains a mode's pipeline while others draw).
+    pub fn build_pipeline_for(&self, gpu: &Gpu, scene: &Scene, hierarchy: &Hierarchy) {
+        self.pipeline(gpu, Variant::of_scene(scene, hierarchy));
+    }
+
     /// What became of the pipeline cache kept between runs when the first pipeline was
     /// built (loaded, new, ignored with a reason, or off).
     pub fn pipeline_cache(&self) -> &CacheUse {

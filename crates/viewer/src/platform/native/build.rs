@@ -151,6 +151,7 @@ impl BuildWork {
                 if let Some(work) = settling {
                     work();
                 }
+                inputs.complete_interpreter();
             })
             .map_err(|e| format!("could not start the tree build: {e}"))?;
         Ok(Self {
