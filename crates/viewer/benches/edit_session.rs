@@ -9,8 +9,10 @@
 //! first preview (`EditTimes::ready_ms`, of which the caster's pipeline and its warm-up),
 //! one preview-sized frame drawn with that caster, and the time until the formula's own
 //! pipelines are there too (built beside the window after the caster: the settled picture's
-//! certified one, and where the caster interprets its plain one). Each edit waits for the
-//! one before to finish entirely, so that no compile of one slows the next.
+//! certified one, and where the caster interprets its plain one), and for a certified scene
+//! one certified frame of that size then (what the settled picture's first pass costs, a
+//! driver's code generation included where the warm-up left it). Each edit waits for the one
+//! before to finish entirely, so that no compile of one slows the next.
 
 // The benchmarks' shared helpers, kept once beside the core's benchmarks.
 #[path = "../../fourfold/benches/common/mod.rs"]
@@ -33,10 +35,11 @@ fn main() {
     let names = std::env::var("FOURFOLD_BENCH_SCENES")
         .unwrap_or_else(|_| "glome,fig-3-9-left,tiger".into());
     println!(
-        "\n| preset | certified | first frames by | edit → ready for the preview, ms (of which pipeline, of that its warm-up draw) | a {}×{} frame with that caster, ms | edit → own pipelines ready, ms |",
-        PREVIEW[0], PREVIEW[1]
+        "\n| preset | certified | first frames by | edit → ready for the preview, ms (of which pipeline, of that its warm-up draw) | a {w}×{h} frame with that caster, ms | edit → own pipelines ready, ms | then a certified {w}×{h} frame, ms |",
+        w = PREVIEW[0],
+        h = PREVIEW[1]
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     let mut constant = 0;
     for name in names.split(',').map(str::trim) {
         let Some((_, text)) = EXAMPLES.iter().find(|(n, _)| *n == name) else {
@@ -54,6 +57,7 @@ fn main() {
                 settle(&mut session, &gpu);
                 session.wait_for_interpreter(Some(&gpu));
                 let (mut ready, mut frames, mut settled) = (Vec::new(), Vec::new(), Vec::new());
+                let mut proved = Vec::new();
                 for _ in 0..3 {
                     // A constant no edit before used (the driver may keep the pipelines of
                     // a shader it compiled in this process).
@@ -67,9 +71,12 @@ fn main() {
                         "{:.0} ({:.0}, {:.0})",
                         t.ready_ms, t.pipeline_ms, t.warm_up_ms
                     ));
-                    frames.push(format!("{:.0}", preview_frame_ms(&mut session, &gpu)));
+                    frames.push(format!("{:.0}", frame_ms(&mut session, &gpu, false)));
                     settle(&mut session, &gpu);
                     settled.push(format!("{:.0}", started.elapsed().as_secs_f64() * 1e3));
+                    if certified {
+                        proved.push(format!("{:.0}", frame_ms(&mut session, &gpu, true)));
+                    }
                 }
                 let by = if interpreted {
                     "interpreter"
@@ -81,8 +88,13 @@ fn main() {
                 } else {
                     "-".into()
                 };
+                let proved = if certified {
+                    proved.join(", ")
+                } else {
+                    "-".into()
+                };
                 println!(
-                    "| {name} | {certified} | {by} | {} | {} | {settled} |",
+                    "| {name} | {certified} | {by} | {} | {} | {settled} | {proved} |",
                     ready.join(", "),
                     frames.join(", ")
                 );
@@ -91,20 +103,21 @@ fn main() {
     }
 }
 
-/// Draws one plain preview-sized frame of the session's scene with its caster (as it is
-/// right after the edit) and waits for it: its milliseconds.
-fn preview_frame_ms(session: &mut Session, gpu: &Gpu) -> f64 {
+/// Draws one preview-sized frame of the session's scene with its caster as it is, plain or
+/// certified, and waits for it: its milliseconds.
+fn frame_ms(session: &mut Session, gpu: &Gpu, certified: bool) -> f64 {
     let scene = &session.scene;
     let hierarchy = session.hierarchy.clone().expect("a tree");
     let camera = Camera::new(&scene.domain, &scene.view, PREVIEW[0], PREVIEW[1]);
     let mut render = scene.render;
-    render.certified = false;
+    render.certified = certified;
     let (domain, params) = (&scene.domain, &session.tree_params);
     let options = FrameOptions::default();
     let uniforms = Uniforms::new(&camera, &render, domain, &hierarchy, params, options);
     let caster = session.caster.as_mut().expect("a caster");
     let started = Instant::now();
-    caster.bin_view(gpu, &hierarchy, None, &camera, &uniforms);
+    let certifying = session.certifying.clone();
+    caster.bin_view(gpu, &hierarchy, certifying.as_deref(), &camera, &uniforms);
     caster.render_rgba(gpu, &uniforms).expect("a frame");
     started.elapsed().as_secs_f64() * 1e3
 }

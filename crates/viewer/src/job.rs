@@ -214,15 +214,21 @@ pub struct OwnPipelines {
 }
 
 impl OwnPipelines {
-    /// The caster, its pipelines built and warmed up (for any hierarchy: it takes over the
-    /// interpreting caster's buffers).
-    pub fn build(&self, gpu: &Gpu, warm_up: WarmUp) -> Result<RayCaster, String> {
-        let empty = Hierarchy::default();
-        let mut caster = RayCaster::for_scene(gpu, &self.shader, &empty, VIEW_TARGET, &self.first)
-            .map_err(|e| e.to_string())?;
-        warm_up(gpu, &mut caster, &empty, &self.first)?;
+    /// The caster, its pipelines built and warmed up over `hierarchy` (its buffers are
+    /// dropped when it hands its shader over to the interpreting caster, which keeps its
+    /// own).
+    pub fn build(
+        &self,
+        gpu: &Gpu,
+        hierarchy: &Hierarchy,
+        warm_up: WarmUp,
+    ) -> Result<RayCaster, String> {
+        let mut caster =
+            RayCaster::for_scene(gpu, &self.shader, hierarchy, VIEW_TARGET, &self.first)
+                .map_err(|e| e.to_string())?;
+        warm_up(gpu, &mut caster, hierarchy, &self.first)?;
         if let Some(settled) = &self.settled {
-            warm_up(gpu, &mut caster, &empty, settled)?;
+            warm_up(gpu, &mut caster, hierarchy, settled)?;
         }
         Ok(caster)
     }

@@ -223,7 +223,7 @@ impl Session {
                     return;
                 };
                 // On a CPU's adapter the formula's own shader is ready in half a second and
-                // draws 25-33 times faster than the interpreter (docs/benchmarks.md).
+                // draws 25-38 times faster than the interpreter (docs/benchmarks.md).
                 if !self
                     .interpret
                     .unwrap_or(platform::INTERPRETS && !gpu.software)

@@ -74,20 +74,24 @@ pub fn warm_up(
 /// `result` is sent.
 fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOnce() + use<>> {
     let gpu = inputs.gpu.clone()?;
-    let (Some(Ok(caster)), Ok(_)) = (&result.caster, &result.tree) else {
+    let (Some(Ok(caster)), Ok((hierarchy, ..))) = (&result.caster, &result.tree) else {
         return None;
     };
     // What is built: a caster of the formula's own shader for an interpreting one, or the
-    // settled picture's certified pipeline in a sibling of the caster (whose buffers hold
-    // an empty tree, which its warm-up draws).
+    // settled picture's certified pipeline in a sibling of the caster; each warmed up over
+    // the tree (llvmpipe generates a pipeline's code at the first draw that runs its
+    // pixels: over an empty tree, the first certified frame took a second more).
+    let hierarchy = hierarchy.clone();
     let build: Box<BuildBeside> = if caster.interprets() {
         let own = inputs.own_pipelines();
-        Box::new(move |gpu| own.build(gpu, warm_up))
+        Box::new(move |gpu| own.build(gpu, &hierarchy, warm_up))
     } else {
         let (mut sibling, scene) = (caster.sibling(&gpu).ok()?, inputs.settled_scene()?);
         Box::new(move |gpu| {
-            let empty = Hierarchy::default();
-            warm_up(gpu, &mut sibling, &empty, &scene).map(|()| sibling)
+            sibling
+                .set_hierarchy(gpu, &hierarchy)
+                .map_err(|e| e.to_string())?;
+            warm_up(gpu, &mut sibling, &hierarchy, &scene).map(|()| sibling)
         })
     };
     let (sender, receiver) = channel();
