@@ -30,7 +30,7 @@ use crate::session::{SLICE_BUDGET, Session};
 
 use crate::outcome::{Outcome, Window};
 use crate::settings::{KEY_SCENE, KEY_UI, UiSettings};
-use inset::InsetCaster;
+use inset::{InsetBuild, InsetCaster};
 
 /// The viewer application.
 pub struct FourfoldApp {
@@ -63,6 +63,7 @@ pub struct FourfoldApp {
     /// The projection drawn beside a slice, and the ray caster it draws with.
     pub inset: Progressive,
     inset_caster: Option<InsetCaster>,
+    inset_build: Option<InsetBuild>,
     /// Where the formula editor and the picture were at the last frame (the web page's
     /// tests type into the one and read the other).
     pub editor_rect: Option<egui::Rect>,
@@ -133,6 +134,7 @@ impl FourfoldApp {
             picture_waits: false,
             inset: Progressive::waking(cc.egui_ctx.clone()),
             inset_caster: None,
+            inset_build: None,
             critical: Default::default(),
             critical_strip_rect: None,
         };

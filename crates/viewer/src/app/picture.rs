@@ -8,14 +8,14 @@ use eframe::{egui, egui_wgpu};
 use egui::Color32;
 use web_time::Instant;
 
-use fourfold::render::RayCaster;
 use fourfold::render::twin::viridis;
 use fourfold::render::view::{rotate_view, scene_hidden_range};
+use fourfold::render::{RayCaster, Shader};
 use fourfold::scene::limits::ZOOM;
 use fourfold::scene::{ColorBy, Scene};
 
 use super::FourfoldApp;
-use super::inset::InsetCaster;
+use super::inset::{InsetBuild, InsetCaster};
 use crate::job::VIEW_TARGET;
 use crate::notice::Notice;
 use crate::platform;
@@ -82,24 +82,28 @@ impl FourfoldApp {
     }
 
     /// Keeps a second ray caster for the projection beside a slice: made for the session's
-    /// shader, given each new hierarchy, dropped when not shown.
+    /// shader off the window's frames (the projection waits for it), given each new
+    /// hierarchy, dropped when not shown.
     pub(crate) fn keep_inset_caster(&mut self) {
         let s = &self.session;
         let (Some(gpu), Some(program), Some(hierarchy)) = (&self.gpu, &s.program, &s.hierarchy)
         else {
             return;
         };
-        let shader = &program.shader;
+        let (gpu, shader, hierarchy) = (gpu.clone(), program.shader.clone(), hierarchy.clone());
         if !self.side_by_side() {
             self.inset_caster = None;
+            self.inset_build = None;
             return;
         }
-        let generation = s.picture_generation;
+        let generation = self.session.picture_generation;
+        let shader = &shader;
+        self.take_inset_build(shader);
         if let Some(inset) = &mut self.inset_caster
             && Arc::ptr_eq(&inset.shader, shader)
         {
             if inset.generation != generation {
-                match inset.caster.set_hierarchy(gpu, hierarchy) {
+                match inset.caster.set_hierarchy(&gpu, &hierarchy) {
                     Ok(()) => inset.generation = generation,
                     Err(e) => {
                         self.message = Some(Notice::error(e.to_string()));
@@ -109,17 +113,57 @@ impl FourfoldApp {
             }
             return;
         }
-        let projection = projection_beside(&s.scene);
+        // Another formula's caster draws no more; this one's is built, or being built.
+        self.inset_caster = None;
+        if self
+            .inset_build
+            .as_ref()
+            .is_some_and(|b| Arc::ptr_eq(&b.shader, shader))
+        {
+            return;
+        }
+        let projection = projection_beside(&self.session.scene);
         let first = crate::job::first_frames(&projection, projection.render.brute_force);
-        match RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first) {
-            Ok(caster) => {
+        let for_shader = shader.clone();
+        let work = platform::Background::start("fourfold inset", move || {
+            let mut caster =
+                RayCaster::for_scene(&gpu, &for_shader, &hierarchy, VIEW_TARGET, &first)
+                    .map_err(|e| e.to_string())?;
+            platform::warm_up(&gpu, &mut caster, &hierarchy, &first)?;
+            Ok(caster)
+        });
+        self.inset_build = Some(InsetBuild {
+            shader: shader.clone(),
+            generation,
+            work,
+        });
+    }
+
+    /// Takes the inset caster built beside the window once it is there (and still for
+    /// `shader`).
+    fn take_inset_build(&mut self, shader: &Arc<Shader>) {
+        let Some(build) = &mut self.inset_build else {
+            return;
+        };
+        if !Arc::ptr_eq(&build.shader, shader) {
+            self.inset_build = None;
+            return;
+        }
+        let Some(done) = build.work.poll() else {
+            return;
+        };
+        let (shader, generation) = (build.shader.clone(), build.generation);
+        self.inset_build = None;
+        match done {
+            Some(Ok(caster)) => {
                 self.inset_caster = Some(InsetCaster {
                     caster,
-                    shader: shader.clone(),
+                    shader,
                     generation,
                 });
             }
-            Err(e) => self.message = Some(Notice::error(e.to_string())),
+            Some(Err(e)) => self.message = Some(Notice::error(e)),
+            None => self.message = Some(Notice::error("the projection's ray caster was lost")),
         }
     }
 
