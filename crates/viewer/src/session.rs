@@ -111,6 +111,9 @@ pub struct Session {
     interpreter: Interpreter,
     /// Whether new formulas' first frames draw with it, as set (None: the default).
     interpret: Option<bool>,
+    /// A variant's pipelines built beside the window failed for this caster: frames build
+    /// what they lack themselves (and the GPU's error is said).
+    beside_failed: bool,
 }
 
 /// The interpreting shader's caster (`job::build_interpreter`): the first frames of a new
@@ -151,6 +154,7 @@ impl Session {
             settling: None,
             interpreter: Interpreter::Unstarted,
             interpret: None,
+            beside_failed: false,
         }
     }
 
@@ -183,10 +187,49 @@ impl Session {
                     "the formula's own shader failed ({why}): its picture is not certified"
                 ));
             }
-            // Its build failed: the settled picture builds it when it first draws.
-            Some(Err(_)) => {}
+            // Its build failed: the frames build what they lack when they first draw.
+            Some(Err(_)) => self.beside_failed = true,
         }
         self.settling = None;
+    }
+
+    /// Whether the caster has the pipeline the picture's plain frames draw with, for the
+    /// scene as it is now (a slice's, a slab's, more hit slots...). Where it, or the settled
+    /// picture's certified one, is missing, builds them beside the window, once, rather
+    /// than inside a frame (a driver compiles one for a fraction of a second): the picture
+    /// waits for the plain one, the certified pass for the other.
+    pub fn ready_to_draw(&mut self, gpu: Option<&Gpu>) -> bool {
+        let (Some(gpu), Some(caster), Some(hierarchy)) = (gpu, &self.caster, &self.hierarchy)
+        else {
+            return true;
+        };
+        let first = crate::job::first_frames(&self.scene, self.scene.render.brute_force);
+        let plain = caster.has_pipeline_for(&first, hierarchy);
+        if caster.interprets() {
+            // Its formula's own caster is coming (then asked again), or failed.
+            return plain || self.settling.is_none();
+        }
+        if self.beside_failed {
+            return true;
+        }
+        let mut wanted = Vec::new();
+        if !plain {
+            wanted.push(first.clone());
+        }
+        let mut settled = first;
+        settled.render.certified = true;
+        if self.scene.render.certified && !caster.has_pipeline_for(&settled, hierarchy) {
+            wanted.push(settled);
+        }
+        // (What is in flight is taken first, and the caster asked again.)
+        if wanted.is_empty() || self.settling.is_some() || self.job.is_some() {
+            return plain;
+        }
+        match platform::pipelines_beside(gpu, caster, hierarchy, wanted) {
+            Some(settling) => self.settling = Some(settling),
+            None => return true,
+        }
+        plain
     }
 
     /// Whether new formulas' first frames draw with the interpreting shader: by default
@@ -462,6 +505,7 @@ impl Session {
             Some(Ok(caster)) => {
                 self.caster = Some(caster);
                 self.settling = result.settling;
+                self.beside_failed = false;
                 self.counters.pipelines += 1;
             }
             Some(Err(e)) => {

@@ -545,6 +545,48 @@ fn the_interpreter_gains_the_pipeline_of_a_mode_it_lacked() {
     );
 }
 
+/// Switching the view to a slice needs the slice's pipelines (plain and certified): they are
+/// built beside the window, not in the frame that first draws the slice, and the picture
+/// waits for them.
+#[test]
+fn a_slice_s_pipelines_are_built_beside_the_window() {
+    use fourfold_viewer::job::first_frames;
+    let mut h = harness(small_scene());
+    h.state_mut().ui.side_by_side = false;
+    settle_without_error(&mut h, "the projection");
+    converge(&mut h);
+    h.state_mut().session.scene.view.slice = Some(0.3);
+    let sliced = first_frames(&h.state().session.scene, false);
+    let mut settled = sliced.clone();
+    settled.render.certified = true;
+    let has = |h: &Harness<'static, FourfoldApp>, scene: &Scene| {
+        let s = &h.state().session;
+        let hierarchy = s.hierarchy.as_ref().unwrap();
+        s.caster
+            .as_ref()
+            .unwrap()
+            .has_pipeline_for(scene, hierarchy)
+    };
+    assert!(!has(&h, &sliced) && !has(&h, &settled));
+    h.step();
+    assert!(
+        h.state().session.certified_pipeline_pending(),
+        "the slice's pipelines are not being built beside the window"
+    );
+    assert!(!has(&h, &sliced), "the frame built the slice's pipeline");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !(has(&h, &sliced) && has(&h, &settled)) {
+        h.step();
+        assert!(Instant::now() < deadline, "no slice pipelines in 120 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    converge(&mut h);
+    assert!(
+        h.state().progressive.verdicts.is_some(),
+        "the slice is not certified"
+    );
+}
+
 #[test]
 fn a_picture_converges_with_one_binning_per_resolution() {
     let mut h = harness(small_scene());

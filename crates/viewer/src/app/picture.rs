@@ -124,12 +124,21 @@ impl FourfoldApp {
         }
         let projection = projection_beside(&self.session.scene);
         let first = crate::job::first_frames(&projection, projection.render.brute_force);
+        // Its settled picture's certified pipeline too, where the scene is certified.
+        let settled = projection.render.certified.then(|| {
+            let mut settled = first.clone();
+            settled.render.certified = true;
+            settled
+        });
         let for_shader = shader.clone();
         let work = platform::Background::start("fourfold inset", move || {
             let mut caster =
                 RayCaster::for_scene(&gpu, &for_shader, &hierarchy, VIEW_TARGET, &first)
                     .map_err(|e| e.to_string())?;
             platform::warm_up(&gpu, &mut caster, &hierarchy, &first)?;
+            if let Some(settled) = &settled {
+                platform::warm_up(&gpu, &mut caster, &hierarchy, settled)?;
+            }
             Ok(caster)
         });
         self.inset_build = Some(InsetBuild {
@@ -303,11 +312,15 @@ impl FourfoldApp {
         if let (Some(gpu), Some(renderer)) = (&self.gpu, &self.renderer) {
             let mut renderer = renderer.write();
             let s = &mut self.session;
+            // (A pipeline the scene now needs is built beside the window: the picture on
+            // screen stays until it is there.)
+            let ready = s.ready_to_draw(Some(gpu));
+            more |= !ready;
             let Some(hierarchy) = &s.hierarchy else {
                 return false;
             };
             let certifier_pending = s.certified_pipeline_pending();
-            if let Some(caster) = &mut s.caster {
+            if let Some(caster) = s.caster.as_mut().filter(|_| ready) {
                 let subject = Subject {
                     caster,
                     hierarchy,

@@ -113,6 +113,37 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
     })
 }
 
+/// Builds the pipelines that frames of `scenes` draw with in a sibling of `caster`, warmed
+/// up over `hierarchy`, on a thread of its own: the sibling comes through the Settling (to
+/// adopt). None where no sibling could be made.
+pub fn pipelines_beside(
+    gpu: &Gpu,
+    caster: &RayCaster,
+    hierarchy: &Arc<Hierarchy>,
+    scenes: Vec<Scene>,
+) -> Option<Settling> {
+    let mut sibling = caster.sibling(gpu).ok()?;
+    let (gpu, hierarchy) = (gpu.clone(), hierarchy.clone());
+    let (sender, receiver) = channel();
+    let (wanted, _) = channel();
+    // If no thread can start, the sender is dropped with the work: the Settling says so.
+    let _ = std::thread::Builder::new()
+        .name("fourfold pipelines".into())
+        .spawn(move || {
+            let built = sibling
+                .set_hierarchy(&gpu, &hierarchy)
+                .map_err(|e| e.to_string())
+                .and_then(|()| {
+                    for scene in &scenes {
+                        warm_up(&gpu, &mut sibling, &hierarchy, scene)?;
+                    }
+                    Ok(sibling)
+                });
+            let _ = sender.send(built);
+        });
+    Some(Settling { receiver, wanted })
+}
+
 /// What the build's thread makes beside the window once the caster is handed over.
 type BuildBeside = dyn FnOnce(&Gpu) -> Result<RayCaster, String> + Send;
 

@@ -11,7 +11,7 @@ mod window;
 
 pub use build::{
     Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
-    warm_up,
+    pipelines_beside, warm_up,
 };
 pub use thumbnails::Thumbnails;
 pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections};

@@ -11,7 +11,7 @@ use fourfold::render::{Gpu, PrepareSteps, Prepared, RayCaster};
 use fourfold::scene::Scene;
 use fourfold::tree::Hierarchy;
 
-use crate::job::{JobInputs, JobResult};
+use crate::job::{JobInputs, JobResult, Settling};
 
 /// A page cannot wait for the GPU: the picture's squares go in runs, at most two queued,
 /// the next once the queue says one is done (queued as fast as they were encoded, a
@@ -54,6 +54,19 @@ pub fn warm_up(
     _scene: &Scene,
 ) -> Result<(), String> {
     Ok(())
+}
+
+/// A page builds no pipeline beside its frames: it has one thread, and the browser compiles
+/// a pipeline in its GPU process in the queue's order, so one made ahead would hold up the
+/// frames before it (a settled picture's certified one, the previews after an edit). A
+/// frame makes what it lacks when it first draws.
+pub fn pipelines_beside(
+    _gpu: &Gpu,
+    _caster: &RayCaster,
+    _hierarchy: &Arc<Hierarchy>,
+    _scenes: Vec<Scene>,
+) -> Option<Settling> {
+    None
 }
 
 /// A build run in slices of the window's frames (the library's `PrepareSteps`), replaced by

@@ -10,7 +10,7 @@ mod ui;
 
 pub use build::{
     Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
-    warm_up,
+    pipelines_beside, warm_up,
 };
 pub use thumbnails::Thumbnails;
 pub use ui::{
