@@ -364,6 +364,11 @@ impl FourfoldApp {
                 more |= inset_more;
             }
         }
+        if self.inset_build.is_some() {
+            // Its caster is built on a thread, which wakes no one: look again next frame.
+            more = true;
+            waits = false;
+        }
         self.picture_waits = more && waits;
         let took_ms = started.elapsed().as_secs_f64() * 1e3;
         self.pacing.rays_took(took_ms);
