@@ -244,6 +244,13 @@ impl Session {
         };
     }
 
+    /// Whether new formulas' first frames draw with the interpreting shader on `gpu`: as
+    /// set, else where the platform does and the adapter is a GPU's.
+    pub fn interprets_new_formulas(&self, gpu: &Gpu) -> bool {
+        self.interpret
+            .unwrap_or(platform::INTERPRETS && !gpu.software)
+    }
+
     /// Whether the interpreting shader is built (new formulas' first frames draw with it).
     pub fn interpreter_ready(&self) -> bool {
         matches!(self.interpreter, Interpreter::Ready(_))
@@ -267,10 +274,7 @@ impl Session {
                 };
                 // On a CPU's adapter the formula's own shader is ready in half a second and
                 // draws 25-38 times faster than the interpreter (docs/benchmarks.md).
-                if !self
-                    .interpret
-                    .unwrap_or(platform::INTERPRETS && !gpu.software)
-                {
+                if !self.interprets_new_formulas(&gpu) {
                     self.interpreter = Interpreter::Off;
                     return;
                 }

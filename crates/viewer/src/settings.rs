@@ -30,6 +30,9 @@ pub struct UiSettings {
     pub animation: AnimationChoice,
     /// Show a slice beside the projection, with the slice's place marked there.
     pub side_by_side: bool,
+    /// Draw a new formula's first frames with the interpreting shader while its own
+    /// compiles, as set (None: the default, on a GPU's adapter only).
+    pub interpret: Option<bool>,
 }
 
 impl Default for UiSettings {
@@ -46,6 +49,7 @@ impl Default for UiSettings {
             export_size: [1024, 1024],
             animation: AnimationChoice::default(),
             side_by_side: true,
+            interpret: None,
         }
     }
 }

@@ -436,9 +436,17 @@ fn a_build_makes_the_certified_pipeline_beside_the_window_after_the_caster() {
 #[test]
 fn a_new_formula_draws_with_the_interpreter_until_its_own_shader_takes_over() {
     let mut h = harness(small_scene());
-    // (On a CPU's adapter, as in CI, the viewer leaves it off by default.)
-    h.state_mut().session.interpret_new_formulas(true);
     settle_without_error(&mut h, "the first picture");
+    // On a CPU's adapter, as in CI, it is off by default: switched on in the Rendering panel.
+    let gpu = h.state().gpu().unwrap().clone();
+    assert!(!h.state().session.interprets_new_formulas(&gpu));
+    h.get_by_label_contains("Rendering").click();
+    h.step();
+    h.get_by_label_contains("interpreted first frames")
+        .click_accesskit();
+    h.step();
+    assert!(h.state().session.interprets_new_formulas(&gpu));
+    assert_eq!(h.state().ui.interpret, Some(true), "not remembered");
     assert!(
         !h.state().session.interpreting(),
         "the first picture interprets"

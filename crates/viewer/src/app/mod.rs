@@ -143,6 +143,9 @@ impl FourfoldApp {
                 "no GPU renderer: the viewer needs wgpu (on Linux without a GPU: apt-get install -y mesa-vulkan-drivers)",
             ));
         }
+        if let Some(on) = app.ui.interpret {
+            app.session.interpret_new_formulas(on);
+        }
         app.session.load_scene(scene, app.gpu.as_ref());
         app
     }

@@ -157,6 +157,22 @@ impl FourfoldApp {
         if toggled {
             self.session.set_brute_force(brute, self.gpu.as_ref());
         }
+        if let Some(gpu) = self.gpu.as_ref().filter(|_| crate::platform::INTERPRETS) {
+            let mut on = self.session.interprets_new_formulas(gpu);
+            let changed = ui
+                .checkbox(&mut on, "interpreted first frames")
+                .on_hover_text(
+                    "Draw a new formula at once with a shader that interprets any formula, \
+                     while its own shader compiles (about half a second on a GPU); its own \
+                     takes over, and certifies the picture. On by default on a GPU; off on a \
+                     CPU's software adapter, where the interpreter draws 25-38 times slower.",
+                )
+                .changed();
+            if changed {
+                self.session.interpret_new_formulas(on);
+                self.ui.interpret = Some(on);
+            }
+        }
     }
 }
 
