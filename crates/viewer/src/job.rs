@@ -174,20 +174,15 @@ impl JobInputs {
 
     /// What a caster of the formula's own shader is built from, to take over from an
     /// interpreting one.
-    pub fn own_pipelines(&self) -> OwnPipelines {
-        OwnPipelines {
-            shader: self.program.shader.clone(),
-            first: first_frames(&self.scene, self.brute_force),
-            settled: self.settled_scene(),
-        }
+    pub fn own_caster(&self) -> CasterPlan {
+        CasterPlan::new(self.program.shader.clone(), &self.scene, self.brute_force)
     }
 
     /// What the settled picture draws where it differs from the first frames: certified,
     /// where the scene is (None where it is not).
     pub fn settled_scene(&self) -> Option<Scene> {
-        let mut settled = first_frames(&self.scene, self.brute_force);
-        settled.render.certified = self.scene.render.certified;
-        settled.render.certified.then_some(settled)
+        let first = first_frames(&self.scene, self.brute_force);
+        self.scene.render.certified.then(|| settled_frames(&first))
     }
 }
 
@@ -205,18 +200,36 @@ pub fn first_frames(scene: &Scene, brute_force: bool) -> Scene {
     first
 }
 
-/// A caster of the formula's own shader, for `RayCaster::take_shader`: its first frames'
-/// pipeline and the settled picture's.
-pub struct OwnPipelines {
+/// What the settled picture of `first` (`first_frames`) draws: the same, certified.
+pub fn settled_frames(first: &Scene) -> Scene {
+    let mut settled = first.clone();
+    settled.render.certified = true;
+    settled
+}
+
+/// A caster to build beside the window, with the pipelines a scene's frames draw with: its
+/// first frames' and, where the scene is certified, its settled picture's. (A formula's own
+/// caster, which takes over from an interpreting one with `RayCaster::take_shader`; the
+/// projection's beside a slice.)
+pub struct CasterPlan {
     shader: Arc<fourfold::render::Shader>,
     first: Scene,
     settled: Option<Scene>,
 }
 
-impl OwnPipelines {
-    /// The caster, its pipelines built and warmed up over `hierarchy` (its buffers are
-    /// dropped when it hands its shader over to the interpreting caster, which keeps its
-    /// own).
+impl CasterPlan {
+    /// For `scene`'s frames drawn with `shader`, brute force or not as `brute_force` says.
+    pub fn new(shader: Arc<fourfold::render::Shader>, scene: &Scene, brute_force: bool) -> Self {
+        let first = first_frames(scene, brute_force);
+        let settled = scene.render.certified.then(|| settled_frames(&first));
+        Self {
+            shader,
+            first,
+            settled,
+        }
+    }
+
+    /// The caster for `hierarchy`, its pipelines built and warmed up over it.
     pub fn build(
         &self,
         gpu: &Gpu,

@@ -216,8 +216,7 @@ impl Session {
         if !plain {
             wanted.push(first.clone());
         }
-        let mut settled = first;
-        settled.render.certified = true;
+        let settled = crate::job::settled_frames(&first);
         if self.scene.render.certified && !caster.has_pipeline_for(&settled, hierarchy) {
             wanted.push(settled);
         }

@@ -8,15 +8,15 @@ use eframe::{egui, egui_wgpu};
 use egui::Color32;
 use web_time::Instant;
 
+use fourfold::render::Shader;
 use fourfold::render::twin::viridis;
 use fourfold::render::view::{rotate_view, scene_hidden_range};
-use fourfold::render::{RayCaster, Shader};
 use fourfold::scene::limits::ZOOM;
 use fourfold::scene::{ColorBy, Scene};
 
 use super::FourfoldApp;
 use super::inset::{InsetBuild, InsetCaster};
-use crate::job::VIEW_TARGET;
+use crate::job::CasterPlan;
 use crate::notice::Notice;
 use crate::platform;
 use crate::progressive::{Progressive, Subject};
@@ -123,23 +123,9 @@ impl FourfoldApp {
             return;
         }
         let projection = projection_beside(&self.session.scene);
-        let first = crate::job::first_frames(&projection, projection.render.brute_force);
-        // Its settled picture's certified pipeline too, where the scene is certified.
-        let settled = projection.render.certified.then(|| {
-            let mut settled = first.clone();
-            settled.render.certified = true;
-            settled
-        });
-        let for_shader = shader.clone();
+        let plan = CasterPlan::new(shader.clone(), &projection, projection.render.brute_force);
         let work = platform::Background::start("fourfold inset", move || {
-            let mut caster =
-                RayCaster::for_scene(&gpu, &for_shader, &hierarchy, VIEW_TARGET, &first)
-                    .map_err(|e| e.to_string())?;
-            platform::warm_up(&gpu, &mut caster, &hierarchy, &first)?;
-            if let Some(settled) = &settled {
-                platform::warm_up(&gpu, &mut caster, &hierarchy, settled)?;
-            }
-            Ok(caster)
+            plan.build(&gpu, &hierarchy, platform::warm_up)
         });
         self.inset_build = Some(InsetBuild {
             shader: shader.clone(),

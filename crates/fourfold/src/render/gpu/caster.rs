@@ -61,7 +61,7 @@ pub struct RayCaster {
     cert_boxes: wgpu::Buffer,
     cert_tiling: Tiling,
     /// The interpreting shader's program (binding 7; a placeholder for another shader).
-    pub(super) program: wgpu::Buffer,
+    program: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
     /// background elsewhere.
@@ -186,16 +186,18 @@ impl RayCaster {
             cache_use,
             interprets: shader.interprets,
         };
-        Self::assemble(gpu, shared, pipelines, hierarchy)
+        Self::assemble(gpu, shared, pipelines, hierarchy, &[])
     }
 
     /// A caster of `shared`'s shader with `pipelines` built, its buffers made for
-    /// `hierarchy`.
+    /// `hierarchy` and, for the interpreting shader, the formula's `program` (empty for
+    /// another: a placeholder).
     pub(super) fn assemble(
         gpu: &Gpu,
         shared: Shared,
         pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
         hierarchy: &Hierarchy,
+        program: &[[u32; 4]],
     ) -> Result<Self, GpuError> {
         let device = &gpu.device;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
@@ -209,7 +211,7 @@ impl RayCaster {
         let boxes = view_buffer(gpu, 0);
         let cert_tiles = view_buffer(gpu, 0);
         let cert_boxes = view_buffer(gpu, 0);
-        let program = program_buffer(gpu, &[]);
+        let program = program_buffer(gpu, program);
         let bind_group = bind_group(
             device,
             &shared.layout,

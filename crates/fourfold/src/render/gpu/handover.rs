@@ -7,7 +7,6 @@ use crate::formula::CompiledFormula;
 use crate::render::shader::program;
 use crate::tree::Hierarchy;
 
-use super::buffers::program_buffer;
 use super::caster::RayCaster;
 use super::device::{Gpu, GpuError};
 
@@ -19,7 +18,13 @@ impl RayCaster {
     /// it inside the frame that first needs it, or before a picture that does not.)
     pub fn sibling(&self, gpu: &Gpu) -> Result<Self, GpuError> {
         let pipelines = std::array::from_fn(|_| std::sync::OnceLock::new());
-        Self::assemble(gpu, self.shared.clone(), pipelines, &Hierarchy::default())
+        Self::assemble(
+            gpu,
+            self.shared.clone(),
+            pipelines,
+            &Hierarchy::default(),
+            &[],
+        )
     }
 
     /// Takes the pipelines that `sibling` (made by [`RayCaster::sibling`] from this caster)
@@ -66,10 +71,7 @@ impl RayCaster {
             }
             lock
         });
-        let mut caster = Self::assemble(gpu, self.shared.clone(), pipelines, hierarchy)?;
-        caster.program = program_buffer(gpu, &program);
-        caster.rebind(gpu);
-        Ok(caster)
+        Self::assemble(gpu, self.shared.clone(), pipelines, hierarchy, &program)
     }
 
     /// Draws from now on with `own`'s shader and pipelines (a caster of the formula's own

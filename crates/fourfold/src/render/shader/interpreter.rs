@@ -16,8 +16,7 @@ use crate::ops::{BINARY, UNARY};
 use super::source::{CodegenError, Shader, plain_template, splice, validate};
 
 /// The registers the interpreter holds (each a float and a flag, per pixel): a formula whose
-/// tapes need more draws with its own shader only. The examples and the certified tests'
-/// ten unseen scenes need 8 to 18.
+/// tapes need more draws with its own shader only. The examples need 5 to 11.
 pub const REGISTERS: usize = 32;
 
 /// Instructions the interpreter runs a round of its loop (see `ff_run`).
@@ -50,34 +49,28 @@ pub enum InterpretError {
 
 /// The interpreting shader, validated by naga.
 pub fn interpreter() -> Result<Shader, CodegenError> {
+    // Arithmetic keeps a NaN in hardware, so only its operands' flags pass on; every other
+    // operation is a builtin or a select, and its operands' bits are tested (tapes.rs).
     let mut cases = String::new();
-    for spec in &UNARY {
-        let builtin = spec.op != UnaryOp::Neg;
-        let flag = if builtin {
-            "na || ff_undefined(a)"
-        } else {
-            "na"
-        };
+    let mut case = |code: u32, value: String, flag: &str| {
         let _ = writeln!(
             cases,
-            "            case {}u: {{\n                v = {};\n                n = {flag};\n            }}",
-            UNARY_CODE + spec.op as u32,
-            (spec.wgsl)("a"),
+            "            case {code}u: {{\n                v = {value};\n                n = {flag};\n            }}",
         );
+    };
+    for spec in &UNARY {
+        let flag = match spec.op {
+            UnaryOp::Neg => "na",
+            _ => "na || ff_undefined(a)",
+        };
+        case(UNARY_CODE + spec.op as u32, (spec.wgsl)("a"), flag);
     }
     for spec in &BINARY {
-        let builtin = !matches!(spec.op, BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul);
-        let flag = if builtin {
-            "na || nb || ff_undefined(a) || ff_undefined(b)"
-        } else {
-            "na || nb"
+        let flag = match spec.op {
+            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul => "na || nb",
+            _ => "na || nb || ff_undefined(a) || ff_undefined(b)",
         };
-        let _ = writeln!(
-            cases,
-            "            case {}u: {{\n                v = {};\n                n = {flag};\n            }}",
-            BINARY_CODE + spec.op as u32,
-            (spec.wgsl)("a", "b"),
-        );
+        case(BINARY_CODE + spec.op as u32, (spec.wgsl)("a", "b"), flag);
     }
     let steps: Vec<String> = (0..UNROLL)
         .map(|k| format!("        ff_step(i + {k}u, head.y, p);"))
@@ -252,6 +245,10 @@ fn schedule(tape: &Tape) -> Vec<usize> {
     let users =
         (tape.uniform_len()..instrs.len()).chain(tape.outputs().iter().map(|&o| o as usize));
     for i in users {
+        // (An output is placed already unless it is uniform.)
+        if placed[i] {
+            continue;
+        }
         // i and the uniform values it needs that are not placed yet, in the tape's order
         // (which is a topological one).
         let mut needed = vec![i];

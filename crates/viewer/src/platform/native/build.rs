@@ -83,16 +83,11 @@ fn settle_beside(inputs: &JobInputs, result: &mut JobResult) -> Option<impl FnOn
     // pixels: over an empty tree, the first certified frame took a second more).
     let hierarchy = hierarchy.clone();
     let build: Box<BuildBeside> = if caster.interprets() {
-        let own = inputs.own_pipelines();
+        let own = inputs.own_caster();
         Box::new(move |gpu| own.build(gpu, &hierarchy, warm_up))
     } else {
-        let (mut sibling, scene) = (caster.sibling(&gpu).ok()?, inputs.settled_scene()?);
-        Box::new(move |gpu| {
-            sibling
-                .set_hierarchy(gpu, &hierarchy)
-                .map_err(|e| e.to_string())?;
-            warm_up(gpu, &mut sibling, &hierarchy, &scene).map(|()| sibling)
-        })
+        let (sibling, scene) = (caster.sibling(&gpu).ok()?, inputs.settled_scene()?);
+        Box::new(move |gpu| warm_sibling(gpu, sibling, &hierarchy, &[scene]))
     };
     let (sender, receiver) = channel();
     let (wanted, still_wanted) = channel();
@@ -122,7 +117,7 @@ pub fn pipelines_beside(
     hierarchy: &Arc<Hierarchy>,
     scenes: Vec<Scene>,
 ) -> Option<Settling> {
-    let mut sibling = caster.sibling(gpu).ok()?;
+    let sibling = caster.sibling(gpu).ok()?;
     let (gpu, hierarchy) = (gpu.clone(), hierarchy.clone());
     let (sender, receiver) = channel();
     let (wanted, _) = channel();
@@ -130,18 +125,26 @@ pub fn pipelines_beside(
     let _ = std::thread::Builder::new()
         .name("fourfold pipelines".into())
         .spawn(move || {
-            let built = sibling
-                .set_hierarchy(&gpu, &hierarchy)
-                .map_err(|e| e.to_string())
-                .and_then(|()| {
-                    for scene in &scenes {
-                        warm_up(&gpu, &mut sibling, &hierarchy, scene)?;
-                    }
-                    Ok(sibling)
-                });
-            let _ = sender.send(built);
+            let _ = sender.send(warm_sibling(&gpu, sibling, &hierarchy, &scenes));
         });
     Some(Settling { receiver, wanted })
+}
+
+/// `sibling` (of the session's caster; its buffers hold an empty tree) given `hierarchy`,
+/// with the pipelines that frames of `scenes` draw with built and warmed up over it.
+fn warm_sibling(
+    gpu: &Gpu,
+    mut sibling: RayCaster,
+    hierarchy: &Hierarchy,
+    scenes: &[Scene],
+) -> Result<RayCaster, String> {
+    sibling
+        .set_hierarchy(gpu, hierarchy)
+        .map_err(|e| e.to_string())?;
+    for scene in scenes {
+        warm_up(gpu, &mut sibling, hierarchy, scene)?;
+    }
+    Ok(sibling)
 }
 
 /// What the build's thread makes beside the window once the caster is handed over.
