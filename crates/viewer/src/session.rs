@@ -272,7 +272,7 @@ impl Session {
                     return;
                 };
                 // On a CPU's adapter the formula's own shader is ready in half a second and
-                // draws 25-38 times faster than the interpreter (docs/benchmarks.md).
+                // draws 24-52 times faster than the interpreter (docs/benchmarks.md).
                 if !self.interprets_new_formulas(&gpu) {
                     self.interpreter = Interpreter::Off;
                     return;

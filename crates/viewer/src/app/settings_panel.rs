@@ -165,7 +165,7 @@ impl FourfoldApp {
                     "Draw a new formula at once with a shader that interprets any formula, \
                      while its own shader compiles (about half a second on a GPU); its own \
                      takes over, and certifies the picture. On by default on a GPU; off on a \
-                     CPU's software adapter, where the interpreter draws 25-38 times slower.",
+                     CPU's software adapter, where the interpreter draws 24-52 times slower.",
                 )
                 .changed();
             if changed {
