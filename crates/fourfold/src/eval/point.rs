@@ -33,6 +33,22 @@ impl PointEvaluator {
 
     /// Evaluates every output of `tape` at `p`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
+        if self.single {
+            self.run::<true>(tape, p, params, out);
+        } else {
+            self.run::<false>(tape, p, params, out);
+        }
+    }
+
+    /// [`Self::eval_into`] with the rounding chosen once, outside the loop (`SINGLE`: to f32).
+    #[inline(always)]
+    fn run<const SINGLE: bool>(
+        &mut self,
+        tape: &Tape,
+        p: [f64; 4],
+        params: &[f64],
+        out: &mut [f64],
+    ) {
         let (slots, start) = prepare_slots(&mut self.slots, &mut self.prefix, tape, params, 0.0);
         for (i, op) in tape.ops().iter().enumerate().skip(start) {
             let v = match *op {
@@ -43,12 +59,12 @@ impl PointEvaluator {
                 Op::Sub(a, b) => slots[a as usize] - slots[b as usize],
                 Op::Mul(a, b) => slots[a as usize] * slots[b as usize],
                 Op::Neg(a) => -slots[a as usize],
-                Op::Square(a) => powi(slots[a as usize], 2),
+                Op::Square(a) => slots[a as usize] * slots[a as usize],
                 Op::Powi(a, n) => powi(slots[a as usize], n),
                 Op::Unary(op, a) => (op.spec().point)(slots[a as usize]),
                 Op::Binary(op, a, b) => (op.spec().point)(slots[a as usize], slots[b as usize]),
             };
-            slots[i] = if self.single { to_f32(v) } else { v };
+            slots[i] = if SINGLE { to_f32(v) } else { v };
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
             *o = slots[slot as usize];
@@ -64,6 +80,7 @@ impl PointEvaluator {
 }
 
 /// `x` rounded to the nearest f32 (±∞ beyond its range), subnormals flushed to 0.
+#[inline(always)]
 fn to_f32(x: f64) -> f64 {
     let y = x as f32;
     if y.is_subnormal() {

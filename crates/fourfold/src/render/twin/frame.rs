@@ -3,14 +3,13 @@
 
 use rayon::prelude::*;
 
-use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
 use crate::tree::{Curvature, Hierarchy};
 
 use super::certify::Certifier;
-use super::pixel::{AIMED, Marched, Pixel};
+use super::pixel::{AIMED, Evaluators, Marched, Pixel};
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
@@ -27,7 +26,11 @@ pub fn render_rgba(
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
         .map(|py| {
-            let mut certifier = Certifier::new(formula, params, u);
+            let mut scratch = Scratch {
+                certifier: Certifier::new(formula, params, u),
+                evals: Evaluators::new(),
+                boxes: Vec::new(),
+            };
             let mut row = Vec::with_capacity(width as usize * 4);
             for px in 0..width {
                 let pixel = (px, py);
@@ -36,7 +39,7 @@ pub fn render_rgba(
                     params,
                     [hierarchy, certifying],
                     u,
-                    &mut certifier,
+                    &mut scratch,
                     pixel,
                 );
                 row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
@@ -48,20 +51,29 @@ pub fn render_rgba(
     rows.concat()
 }
 
+/// What a row's pixels reuse from one to the next.
+struct Scratch<'a> {
+    certifier: Certifier<'a>,
+    evals: Evaluators,
+    /// The boxes of the pixel's rays.
+    boxes: Vec<Marched>,
+}
+
 /// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
-/// covers): a walk of the hierarchy's marched boxes whose sphere meets its observer plane
-/// (the shader's MODE 2), or the domain for brute force.
-fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
+/// covers), into `boxes`: a walk of the hierarchy's marched boxes whose sphere meets its
+/// observer plane (the shader's MODE 2), or the domain for brute force.
+fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, boxes: &mut Vec<Marched>) {
+    boxes.clear();
     if u.brute_force() {
-        return vec![Marched {
+        boxes.push(Marched {
             lo: u.domain_lo,
             hi: u.domain_hi,
             steps: u.counts.brute_steps,
             slope: [f32::INFINITY; 4],
             curvature: Curvature::NONE,
-        }];
+        });
+        return;
     }
-    let mut boxes = Vec::new();
     let mut i = 0usize;
     while i < h.nodes.len() {
         let node = &h.nodes[i];
@@ -90,7 +102,6 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4) -> Vec<Marched> {
         }
         i += 1;
     }
-    boxes
 }
 
 /// A pixel's colour and verdict; `h` holds the hierarchy the rays march and the one the
@@ -100,7 +111,7 @@ fn render_pixel(
     params: &[f64],
     h: [&Hierarchy; 2],
     u: &Uniforms,
-    certifier: &mut Certifier<'_>,
+    scratch: &mut Scratch<'_>,
     (px, py): (u32, u32),
 ) -> ([f32; 3], Verdict) {
     let (w, hgt) = (u.size.width as f32, u.size.height as f32);
@@ -131,7 +142,7 @@ fn render_pixel(
         u,
         formula,
         params,
-        eval: PointEvaluator::single_precision(),
+        eval: &mut scratch.evals,
         seed,
         offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
         hits: Vec::with_capacity(16),
@@ -141,23 +152,23 @@ fn render_pixel(
         bracket: None,
         closest: ([0.0; 2], f32::INFINITY),
     };
-    let boxes = boxes_of(h[0], u, o);
-    for b in &boxes {
+    let boxes = &mut scratch.boxes;
+    boxes_of(h[0], u, o, boxes);
+    for b in boxes.iter() {
         pixel.trace_box(o, b);
     }
     // As the shader: a pixel whose rays found nothing searches its boxes between them.
     if pixel.hits.is_empty() && !u.brute_force() && !pixel.slice() {
-        for b in &boxes {
+        for b in boxes.iter() {
             pixel.seek_in_plane(o, b);
         }
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        let bounds: Vec<(V4, V4)> = boxes_of(h[1], u, plane)
-            .iter()
-            .map(|b| (b.lo, b.hi))
-            .collect();
-        let outcome = certifier.pixel(plane, &bounds, pixel.bracket);
+        let mut covered = Vec::new();
+        boxes_of(h[1], u, plane, &mut covered);
+        let bounds: Vec<(V4, V4)> = covered.iter().map(|b| (b.lo, b.hi)).collect();
+        let outcome = scratch.certifier.pixel(plane, &bounds, pixel.bracket);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.
@@ -171,7 +182,7 @@ fn render_pixel(
                 } else {
                     [1.0, 0.0]
                 };
-                for b in &boxes {
+                for b in boxes.iter() {
                     pixel.trace_ray(o, b, AIMED);
                 }
                 if pixel.hits.is_empty() {

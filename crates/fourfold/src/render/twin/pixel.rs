@@ -16,11 +16,27 @@ use super::shading::{MARK_COLOR, V4, add, base_color, clip_to_slab, dot, rand01,
 /// `AIMED`).
 pub(super) const AIMED: u32 = u32::MAX;
 
-pub(super) struct Pixel<'a> {
+/// The point evaluators of a row of pixels, one per tape so that each keeps its tape's
+/// uniform prefix from pixel to pixel.
+pub(super) struct Evaluators {
+    f: PointEvaluator,
+    all: PointEvaluator,
+}
+
+impl Evaluators {
+    pub(super) fn new() -> Self {
+        Self {
+            f: PointEvaluator::single_precision(),
+            all: PointEvaluator::single_precision(),
+        }
+    }
+}
+
+pub(super) struct Pixel<'a, 'e> {
     pub(super) u: &'a Uniforms,
     pub(super) formula: &'a CompiledFormula,
     pub(super) params: &'a [f64],
-    pub(super) eval: PointEvaluator,
+    pub(super) eval: &'e mut Evaluators,
     pub(super) seed: u32,
     pub(super) offset: f32,
     pub(super) hits: Vec<(f32, u32)>,
@@ -46,16 +62,16 @@ pub(super) struct Marched {
     pub(super) curvature: Curvature,
 }
 
-impl Pixel<'_> {
+impl Pixel<'_, '_> {
     pub(super) fn f(&mut self, p: V4) -> f32 {
         let p = p.map(f64::from);
-        self.eval.eval(&self.formula.tape_f, p, self.params) as f32
+        self.eval.f.eval(&self.formula.tape_f, p, self.params) as f32
     }
 
     /// F and ∇F at `p`, in f32.
     pub(super) fn f_grad(&mut self, p: V4) -> (f32, V4) {
         let mut out = [0.0; 5];
-        self.eval.eval_into(
+        self.eval.all.eval_into(
             &self.formula.tape_all,
             p.map(f64::from),
             self.params,
@@ -69,12 +85,26 @@ impl Pixel<'_> {
         if !bent {
             return [self.f(p), 0.0];
         }
-        let mut out = [0.0; 5];
-        let p = p.map(f64::from);
-        self.eval
-            .eval_into(&self.formula.tape_all, p, self.params, &mut out);
-        let g = (0..4).map(|k| out[k + 1] * f64::from(d[k])).sum::<f64>();
-        [out[0] as f32, g as f32]
+        let (f, g) = self.f_grad(p);
+        [f, slope(g, d)]
+    }
+
+    /// Whether the march keeps its closest sample: only the search between the rays reads
+    /// it, which neither a slice nor brute force makes.
+    fn keeps_closest(&self) -> bool {
+        !self.slice() && !self.u.brute_force()
+    }
+
+    /// The march's sample at `p`, t along `d` (whose direction in the plane is `along`): F
+    /// and dF/dt (see [`Self::f_slope`]), kept as the closest where it may be; one
+    /// evaluation of F and ∇F for both, as the shader's `sample`.
+    fn sample(&mut self, p: V4, t: f32, d: V4, along: [f32; 2], bent: bool) -> [f32; 2] {
+        if !self.keeps_closest() {
+            return self.f_slope(p, d, bent);
+        }
+        let (f, g) = self.f_grad(p);
+        self.keep_closest(f, g, t, along);
+        [f, if bent { slope(g, d) } else { 0.0 }]
     }
 
     pub(super) fn dir2(&self, k: u32) -> [f32; 2] {
@@ -153,11 +183,10 @@ impl Pixel<'_> {
         self.hits.insert(at, (t, ray));
     }
 
-    /// Keeps the sample at `p`, t along the ray whose direction in the plane is `along`, if
-    /// M may be nearer it than the closest so far: by |F| over |∇F| in the plane (the
-    /// shader's `keep_closest`; the march's F is evaluated again with its gradient).
-    fn keep_closest(&mut self, p: V4, t: f32, along: [f32; 2]) {
-        let (f, g) = self.f_grad(p);
+    /// Keeps the sample with value `f` and gradient `g`, t along the ray whose direction in
+    /// the plane is `along`, if M may be nearer it than the closest so far: by |F| over |∇F|
+    /// in the plane (the shader's `keep_closest`).
+    fn keep_closest(&mut self, f: f32, g: V4, t: f32, along: [f32; 2]) {
         let (gs, gt) = (dot(g, self.u.n1), dot(g, self.u.n2));
         let away = f.abs() / (gs * gs + gt * gt).sqrt();
         if away < self.closest.1 {
@@ -219,8 +248,7 @@ impl Pixel<'_> {
         let bent = bend.0.is_finite() && bend.1.is_finite();
         let along = [dot(d, self.u.n1), dot(d, self.u.n2)];
         let mut ta = t0;
-        let [mut fa, mut ga] = self.f_slope(add(o, scale(d, ta)), d, bent);
-        self.keep_closest(add(o, scale(d, ta)), ta, along);
+        let [mut fa, mut ga] = self.sample(add(o, scale(d, ta)), ta, d, along, bent);
         let mut s = 1;
         loop {
             let m = fa.abs() * reach;
@@ -233,8 +261,7 @@ impl Pixel<'_> {
                 return;
             }
             let tb = t0 + s as f32 * dt;
-            let [fb, gb] = self.f_slope(add(o, scale(d, tb)), d, bent);
-            self.keep_closest(add(o, scale(d, tb)), tb, along);
+            let [fb, gb] = self.sample(add(o, scale(d, tb)), tb, d, along, bent);
             if !same_side(fa, fb) {
                 if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
                     let at = |t: f32| {
@@ -343,6 +370,13 @@ impl Pixel<'_> {
                 + u.shading.specular * specular
         })
     }
+}
+
+/// dF/dt along `d` from ∇F, in f64 (as the evaluator's outputs, exact in f32, multiply).
+fn slope(g: V4, d: V4) -> f32 {
+    (0..4)
+        .map(|k| f64::from(g[k]) * f64::from(d[k]))
+        .sum::<f64>() as f32
 }
 
 /// Whether F keeps its sign from `fa` to `fb`: signs compared as the shader's `same_side`

@@ -18,7 +18,7 @@ fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
     a[0] * b[0] + a[1] * b[1]
 }
 
-impl Pixel<'_> {
+impl Pixel<'_, '_> {
     fn in_plane(&self, o: V4, st: [f32; 2]) -> V4 {
         add(o, add(scale(self.u.n1, st[0]), scale(self.u.n2, st[1])))
     }
