@@ -5,10 +5,10 @@
 use web_time::Instant;
 
 use crate::formula::CompiledFormula;
+use crate::render::Prepared;
 use crate::render::gpu::{Gpu, GpuError, RayCaster};
 use crate::render::picture::{Device, Painter, PendingPicture, Picture, RenderError, check_size};
 use crate::render::view::{FrameOptions, TileLists, Uniforms, frame};
-use crate::render::{Prepared, shader};
 use crate::scene::Scene;
 use crate::tree::Hierarchy;
 
@@ -133,15 +133,11 @@ pub fn render_prepared(
     options: FrameOptions,
 ) -> Result<Picture, RenderError> {
     check_size(width, height)?;
-    let t = Instant::now();
-    let shader = shader::generate(formula)?;
-    let codegen_ms = ms(t);
-    let mut painter = Painter::new(device, &shader, &prepared.hierarchy, scene)?;
+    let mut painter = Painter::for_formula(device, formula, &prepared.hierarchy, scene)?;
     let source = prepared.source(formula, scene.render.certified);
-    let pending = painter.start(source, scene, [width, height], options)?;
-    let mut picture = pending.wait()?;
-    picture.times.codegen_ms = codegen_ms;
-    Ok(picture)
+    painter
+        .start(source, scene, [width, height], options)?
+        .wait()
 }
 
 /// As [`render_prepared`], first zooming and centring `scene` on the manifold (the tree's

@@ -4,10 +4,10 @@
 //! wait for each picture (`headless::draw`); a web page polls it over its frames.
 
 use crate::formula::CompiledFormula;
+use crate::render::Prepared;
 use crate::render::animation::Animation;
 use crate::render::picture::{Device, Painter, PendingPicture};
 use crate::render::view::{FrameOptions, Rotation4, framing};
-use crate::render::{Prepared, shader};
 use crate::scene::Scene;
 
 /// The frames of an animation of a scene, started in order.
@@ -52,9 +52,8 @@ impl AnimationFrames {
                 scene.view.pan = view.pan;
             }
         }
-        let shader = shader::generate(formula).map_err(|e| e.to_string())?;
         let first = animation.scene_at(&scene, 0);
-        let painter = Painter::new(device, &shader, &prepared.hierarchy, &first)
+        let painter = Painter::for_formula(device, formula, &prepared.hierarchy, &first)
             .map_err(|e| e.to_string())?;
         Ok(Self {
             scene,

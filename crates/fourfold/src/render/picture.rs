@@ -138,7 +138,9 @@ pub enum Device<'a> {
 /// kept from picture to picture (and from tree to tree); or on the CPU twin.
 pub struct Painter {
     gpu: Option<(Gpu, RayCaster)>,
-    /// Milliseconds it took to make the pipeline (0 on the CPU).
+    /// Milliseconds it took to generate and validate the shader, and to make the pipeline
+    /// (0 on the CPU, which needs neither).
+    pub codegen_ms: f64,
     pub pipeline_ms: f64,
     /// What became of the pipeline cache kept between runs.
     pub pipeline_cache: CacheUse,
@@ -154,24 +156,49 @@ impl Painter {
         hierarchy: &Hierarchy,
         scene: &Scene,
     ) -> Result<Self, RenderError> {
-        let started = Instant::now();
-        let gpu = match device {
-            Device::Gpu(gpu) => {
-                let target = super::gpu::Target::OFFSCREEN;
-                let caster = RayCaster::for_scene(gpu, shader, hierarchy, target, scene)?;
-                Some((gpu.clone(), caster))
-            }
-            Device::Cpu => None,
+        let Device::Gpu(gpu) = device else {
+            return Ok(Self::cpu());
         };
-        let pipeline_ms = if gpu.is_some() { ms(started) } else { 0.0 };
-        let pipeline_cache = gpu
-            .as_ref()
-            .map_or(CacheUse::Off, |(_, caster)| caster.pipeline_cache().clone());
+        let started = Instant::now();
+        let target = super::gpu::Target::OFFSCREEN;
+        let caster = RayCaster::for_scene(gpu, shader, hierarchy, target, scene)?;
         Ok(Self {
-            gpu,
-            pipeline_ms,
-            pipeline_cache,
+            codegen_ms: 0.0,
+            pipeline_ms: ms(started),
+            pipeline_cache: caster.pipeline_cache().clone(),
+            gpu: Some((gpu.clone(), caster)),
         })
+    }
+
+    /// As [`Self::new`] for a formula whose shader is not made yet: it is generated and
+    /// validated on a GPU (its time is the pictures' codegen time), and not at all for the
+    /// CPU twin, which needs none.
+    pub fn for_formula(
+        device: Device<'_>,
+        formula: &CompiledFormula,
+        hierarchy: &Hierarchy,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
+        if let Device::Cpu = device {
+            return Ok(Self::cpu());
+        }
+        let started = Instant::now();
+        let shader = super::shader::generate(formula)?;
+        let codegen_ms = ms(started);
+        let painter = Self::new(device, &shader, hierarchy, scene)?;
+        Ok(Self {
+            codegen_ms,
+            ..painter
+        })
+    }
+
+    fn cpu() -> Self {
+        Self {
+            gpu: None,
+            codegen_ms: 0.0,
+            pipeline_ms: 0.0,
+            pipeline_cache: CacheUse::Off,
+        }
     }
 
     /// How many ray-caster pipelines this painter has built (0 on the CPU), and whether the
@@ -224,6 +251,7 @@ impl Painter {
             adapter: self.adapter(),
             times: StageTimes {
                 tree_ms: source.build_ms,
+                codegen_ms: self.codegen_ms,
                 pipeline_ms: self.pipeline_ms,
                 pipeline_cache: self.pipeline_cache.clone(),
                 ..StageTimes::default()
