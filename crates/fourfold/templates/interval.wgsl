@@ -140,6 +140,9 @@ fn iv_sqr(a: vec2<f32>) -> vec2<f32> {
 // 1/|b| may reach 2^62 at most: a divisor within ±2^-62 of 0 gives the whole line.
 const IV_DIV_FLOOR: f32 = 2.16840434497100886801e-19; // 2^-62
 
+// A divisor with 0 for one bound (|x|, x^2, sqrt(x) over a box that reaches 0) and the
+// other beyond the floor gives a half-line where a keeps its sign, as the CPU's intervals
+// do: 1 / sqrt(y) is then proved positive, not the whole line.
 fn iv_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(a) | iv_is_empty(b);
     let pole = (b.x <= IV_DIV_FLOOR) & (b.y >= -IV_DIV_FLOOR);
@@ -149,7 +152,17 @@ fn iv_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let q = vec4<f32>(a.x / d.x, a.x / d.y, a.y / d.x, a.y / d.y);
     let lo = select(iv_down_n(min(min(q.x, q.y), min(q.z, q.w)), 3u), -IV_BIG, whole);
     let hi = select(iv_up_n(max(max(q.x, q.y), max(q.z, q.w)), 3u), IV_BIG, whole);
-    return iv_keep_or_empty(lo, hi, none);
+    // The half-line: a's bound nearer 0 over b's bound away from it is its finite end, and
+    // it reaches +inf where a and b keep the same sign.
+    let above = (b.x == 0.0) & (b.y > IV_DIV_FLOOR);
+    let below = (b.y == 0.0) & (b.x < -IV_DIV_FLOOR);
+    let a_pos = a.x >= 0.0;
+    let half = (above | below) & (a_pos | (a.y <= 0.0));
+    let end = select(a.y, a.x, a_pos) / select(1.0, select(b.x, b.y, above), half);
+    let rising = above == a_pos;
+    let half_lo = select(-IV_BIG, iv_down_n(end, 3u), rising);
+    let half_hi = select(iv_up_n(end, 3u), IV_BIG, rising);
+    return iv_keep_or_empty(select(lo, half_lo, half), select(hi, half_hi, half), none);
 }
 
 fn iv_min(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
