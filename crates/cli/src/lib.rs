@@ -21,7 +21,7 @@ pub use critical::{CriticalArgs, critical};
 pub use failure::Failure;
 pub use input::{Input, Warn};
 pub use mesh::{MeshArgs, mesh};
-pub use render::{RenderArgs, render, render_scene_of};
+pub use render::{CUT_WARNING, RenderArgs, render, render_scene_of};
 pub use tree::{TreeArgs, tree};
 pub use view::{ViewArgs, view};
 pub use wgsl::{WgslArgs, wgsl};

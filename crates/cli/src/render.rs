@@ -364,10 +364,14 @@ fn cache_note(cache: &CacheUse) -> String {
     }
 }
 
+/// How the warning for pixels cut short begins (what a program reading the output may look
+/// for).
+pub const CUT_WARNING: &str = "warning: the GPU driver cut the work of";
+
 /// The warning for pixels whose work the GPU driver cut short (`which`: how many, of what).
 pub fn cut_warning(which: &str) -> String {
     format!(
-        "\nwarning: the GPU driver cut the work of {which} short (llvmpipe stops a shader's \
+        "\n{CUT_WARNING} {which} short (llvmpipe stops a shader's \
          loops after 65535 iterations), so they may miss parts of the manifold. Lower --rays, \
          the scene's steps or --max-level, or render with --cpu."
     )

@@ -28,6 +28,11 @@ const RAW_MARKERS: &[&str] = &[
 /// pixel's edge, where a formula has thin parts or a huge slope.
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
+/// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`], or
+/// pixels the driver cut short.
+pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
+pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
+
 /// Beyond this, the GPU's sin, cos and tan are not the twin's to compare: WGSL bounds their
 /// error on [−π, π] only, and each implementation reduces a larger argument with its own
 /// precision (`cos(1e30 xyz)` is noise on either, a different noise).
@@ -38,8 +43,9 @@ pub const TRIG_ARGUMENT_BOUND: f64 = 1e4;
 pub enum Verdict {
     /// Every path drew it.
     Drew,
-    /// Every path drew it, but the GPU's picture was not compared with the twin's: why.
-    DrewUncompared(String),
+    /// Every path drew it, but the GPU's picture was not compared with the twin's: why
+    /// ([`UNCOMPARED_TRIG`], [`UNCOMPARED_CUT`]).
+    DrewUncompared(&'static str),
     /// Every path refused it, with this message (its first line).
     Refused(String),
 }
@@ -143,9 +149,14 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
                 "render exits {gpu}, render --cpu {cpu}:\n{gpu_said}\n{cpu_said}"
             ));
         }
-        if gpu == 0 && !gpu_said.contains("cut short") {
-            if let Some(why) = precision_unspecified(case) {
-                return Ok(Verdict::DrewUncompared(why));
+        if gpu == 0 {
+            // (The pixels the driver cut short miss what they did not reach: the render
+            // warns of them, and they are not the twin's to match.)
+            if gpu_said.contains(fourfold_cli::CUT_WARNING) {
+                return Ok(Verdict::DrewUncompared(UNCOMPARED_CUT));
+            }
+            if precision_unspecified(case) {
+                return Ok(Verdict::DrewUncompared(UNCOMPARED_TRIG));
             }
             compare(&gpu_png, &cpu_png)?;
         }
@@ -245,11 +256,10 @@ fn interpreter_program(text: &str) -> Result<(), String> {
     }
 }
 
-/// Why the GPU's picture of `case` is not the twin's to compare, if it is not: a sin, cos
-/// or tan whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an
-/// enclosure over the whole domain, so a formula may be left uncompared that never gets
-/// there).
-fn precision_unspecified(case: &FormulaCase) -> Option<String> {
+/// Whether the GPU's picture of `case` is not the twin's to compare: a sin, cos or tan
+/// whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over
+/// the whole domain, so a formula may be left uncompared that never gets there).
+fn precision_unspecified(case: &FormulaCase) -> bool {
     use fourfold::eval::{IntervalEvaluator, Tape};
     use fourfold::expr::{Node, UnaryOp};
     let args = case.render_args(Path::new("unused.png"), true);
@@ -258,10 +268,14 @@ fn precision_unspecified(case: &FormulaCase) -> Option<String> {
         command: Some(fourfold_cli::Command::Render(render)),
     }) = Cli::try_parse_from(argv)
     else {
-        return None;
+        return false;
     };
-    let scene = fourfold_cli::render_scene_of(&render).ok()?;
-    let formula = fourfold::CompiledFormula::compile(&scene.formula).ok()?;
+    let Ok(scene) = fourfold_cli::render_scene_of(&render) else {
+        return false;
+    };
+    let Ok(formula) = fourfold::CompiledFormula::compile(&scene.formula) else {
+        return false;
+    };
     let graph = &formula.graph;
     let mut roots = vec![formula.f];
     roots.extend(formula.gradient);
@@ -276,7 +290,7 @@ fn precision_unspecified(case: &FormulaCase) -> Option<String> {
         })
         .collect();
     if arguments.is_empty() {
-        return None;
+        return false;
     }
     let tape = Tape::new(graph, &arguments);
     let params = scene.param_values(&formula.param_names());
@@ -287,9 +301,7 @@ fn precision_unspecified(case: &FormulaCase) -> Option<String> {
         .filter(|v| !v.is_empty())
         .map(|v| v.lo().abs().max(v.hi().abs()))
         .fold(0.0, f64::max);
-    (reach > TRIG_ARGUMENT_BOUND).then(|| {
-        format!("sin, cos or tan of arguments up to {reach:.1e}, beyond ±{TRIG_ARGUMENT_BOUND:e}")
-    })
+    reach > TRIG_ARGUMENT_BOUND
 }
 
 /// The GPU's picture and the CPU twin's cover the same pixels, but for a few.

@@ -73,9 +73,9 @@ pub struct Report {
     /// How many formulas each refusal (its message's first words) turned away.
     pub refusals: std::collections::BTreeMap<String, usize>,
     pub on_gpu: usize,
-    /// Drawn on the GPU, but its picture not compared with the twin's (see
-    /// `check::TRIG_ARGUMENT_BOUND`).
-    pub uncompared: usize,
+    /// Drawn on the GPU, but its picture not compared with the twin's, by why
+    /// (`check::UNCOMPARED_TRIG`, `check::UNCOMPARED_CUT`).
+    pub uncompared: std::collections::BTreeMap<&'static str, usize>,
     pub scene_files: usize,
     pub links: usize,
     pub failures: Vec<Failure>,
@@ -89,14 +89,17 @@ impl std::fmt::Display for Report {
         writeln!(
             f,
             "{} formulas ({} drawn, {} refused, {} also on the GPU, {} of whose pictures \
-             were not compared: trigonometry beyond ±{:e}) at {rate:.1} per second; \
+             were not compared{}) at {rate:.1} per second; \
              {} scene files, {} links; {} failures in {:.0} s",
             self.formulas,
             self.drawn,
             self.refused,
             self.on_gpu,
-            self.uncompared,
-            check::TRIG_ARGUMENT_BOUND,
+            self.uncompared.values().sum::<usize>(),
+            self.uncompared
+                .iter()
+                .map(|(why, n)| format!(", {n} for {why}"))
+                .collect::<String>(),
             self.scene_files,
             self.links,
             self.failures.len(),
@@ -166,7 +169,9 @@ pub fn run(config: &Config, mut progress: impl FnMut(&Report)) -> Report {
         match run_case(&case, config) {
             Ok(verdict @ (Verdict::Drew | Verdict::DrewUncompared(_))) => {
                 report.drawn += 1;
-                report.uncompared += usize::from(verdict != Verdict::Drew);
+                if let Verdict::DrewUncompared(why) = verdict {
+                    *report.uncompared.entry(why).or_default() += 1;
+                }
                 sample_wgsl(config, &case, report.drawn);
             }
             Ok(Verdict::Refused(why)) => {
