@@ -110,7 +110,9 @@ fn iv_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return iv_add(a, iv_neg(b));
 }
 
-// (Bounds are within ±2^62, so every product is finite.)
+// (Bounds are within ±2^62, so every product is finite. An unbounded operand gives the
+// whole line: exact products with infinite bounds, as iv_div's quotients, cost the
+// certified pass a tenth on lavapipe, products being its commonest operation.)
 fn iv_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let p = vec4<f32>(a.x * b.x, a.x * b.y, a.y * b.x, a.y * b.y);
     let whole = iv_unbounded(a) | iv_unbounded(b);
@@ -140,25 +142,37 @@ fn iv_sqr(a: vec2<f32>) -> vec2<f32> {
 // 1/|b| may reach 2^62 at most: a divisor within ±2^-62 of 0 gives the whole line.
 const IV_DIV_FLOOR: f32 = 2.16840434497100886801e-19; // 2^-62
 
+// Whether each of four bounds stands for ±inf.
+fn iv_infinite4(x: vec4<f32>) -> vec4<bool> {
+    return abs(x) >= vec4<f32>(IV_BIG);
+}
+
+// x / y bound by bound (y nonzero), ±IV_BIG standing for ±inf: inf over a bound is inf of
+// the quotient's sign, a finite bound over inf is 0, as the CPU's intervals take them.
+fn iv_quot4(x: vec4<f32>, y: vec4<f32>) -> vec4<f32> {
+    // (Over a finite or infinite bound y, |inf / y| >= 1: the quotient keeps its sign.)
+    let q = x / y;
+    return select(select(q, vec4<f32>(0.0), iv_infinite4(y)), sign(q) * IV_BIG, iv_infinite4(x));
+}
+
 // A divisor with 0 for one bound (|x|, x^2, sqrt(x) over a box that reaches 0) and the
 // other beyond the floor gives a half-line where a keeps its sign, as the CPU's intervals
 // do: 1 / sqrt(y) is then proved positive, not the whole line.
 fn iv_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(a) | iv_is_empty(b);
     let pole = (b.x <= IV_DIV_FLOOR) & (b.y >= -IV_DIV_FLOOR);
-    let whole = pole | iv_unbounded(a) | iv_unbounded(b);
     // x / y is within 2.5 ulps for |y| in [2^-126, 2^126] (WGSL §15.7.4).
     let d = iv_or_one(b, none | pole);
-    let q = vec4<f32>(a.x / d.x, a.x / d.y, a.y / d.x, a.y / d.y);
-    let lo = select(iv_down_n(min(min(q.x, q.y), min(q.z, q.w)), 3u), -IV_BIG, whole);
-    let hi = select(iv_up_n(max(max(q.x, q.y), max(q.z, q.w)), 3u), IV_BIG, whole);
+    let q = iv_quot4(vec4<f32>(a.x, a.x, a.y, a.y), vec4<f32>(d.x, d.y, d.x, d.y));
+    let lo = select(iv_down_n(min(min(q.x, q.y), min(q.z, q.w)), 3u), -IV_BIG, pole);
+    let hi = select(iv_up_n(max(max(q.x, q.y), max(q.z, q.w)), 3u), IV_BIG, pole);
     // The half-line: a's bound nearer 0 over b's bound away from it is its finite end, and
     // it reaches +inf where a and b keep the same sign.
     let above = (b.x == 0.0) & (b.y > IV_DIV_FLOOR);
     let below = (b.y == 0.0) & (b.x < -IV_DIV_FLOOR);
     let a_pos = a.x >= 0.0;
     let half = (above | below) & (a_pos | (a.y <= 0.0));
-    let end = select(a.y, a.x, a_pos) / select(1.0, select(b.x, b.y, above), half);
+    let end = iv_quot4(vec4<f32>(select(a.y, a.x, a_pos)), vec4<f32>(select(1.0, select(b.x, b.y, above), half))).x;
     let rising = above == a_pos;
     let half_lo = select(-IV_BIG, iv_down_n(end, 3u), rising);
     let half_hi = select(iv_up_n(end, 3u), IV_BIG, rising);
@@ -324,7 +338,9 @@ fn iv_cosh(a: vec2<f32>) -> vec2<f32> {
 
 fn iv_tanh(a: vec2<f32>) -> vec2<f32> {
     let jump = iv_jump;
-    let e = iv_exp(iv_mul(a, vec2<f32>(2.0)));
+    // (2a exactly, an infinite bound kept: tanh of a half-line to +inf is near 1, not the
+    // whole line iv_mul would make of it.)
+    let e = iv_exp(iv_keep_or_empty(2.0 * a.x, 2.0 * a.y, iv_is_empty(a)));
     let r = iv_sub(vec2<f32>(1.0), iv_div(vec2<f32>(2.0), iv_add(e, vec2<f32>(1.0))));
     // An unbounded e^2x only means tanh is near 1: it stays continuous.
     iv_jump = jump;
