@@ -138,8 +138,8 @@ pub enum Device<'a> {
 /// kept from picture to picture (and from tree to tree); or on the CPU twin.
 pub struct Painter {
     gpu: Option<(Gpu, RayCaster)>,
-    /// Milliseconds it took to generate and validate the shader, and to make the pipeline
-    /// (0 on the CPU, which needs neither).
+    /// Milliseconds it took to generate and validate the shader (0 on the CPU, which needs
+    /// none, and where [`Self::new`] was given it), and to make the pipeline (0 on the CPU).
     pub codegen_ms: f64,
     pub pipeline_ms: f64,
     /// What became of the pipeline cache kept between runs.
