@@ -558,15 +558,14 @@ fn the_interpreter_gains_the_pipeline_of_a_mode_it_lacked() {
 /// waits for them.
 #[test]
 fn a_slice_s_pipelines_are_built_beside_the_window() {
-    use fourfold_viewer::job::first_frames;
+    use fourfold_viewer::job::{first_frames, settled_frames};
     let mut h = harness(small_scene());
     h.state_mut().ui.side_by_side = false;
     settle_without_error(&mut h, "the projection");
     converge(&mut h);
     h.state_mut().session.scene.view.slice = Some(0.3);
     let sliced = first_frames(&h.state().session.scene, false);
-    let mut settled = sliced.clone();
-    settled.render.certified = true;
+    let settled = settled_frames(&sliced);
     let has = |h: &Harness<'static, FourfoldApp>, scene: &Scene| {
         let s = &h.state().session;
         let hierarchy = s.hierarchy.as_ref().unwrap();

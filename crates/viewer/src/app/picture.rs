@@ -85,25 +85,24 @@ impl FourfoldApp {
     /// shader off the window's frames (the projection waits for it), given each new
     /// hierarchy, dropped when not shown.
     pub(crate) fn keep_inset_caster(&mut self) {
-        let s = &self.session;
-        let (Some(gpu), Some(program), Some(hierarchy)) = (&self.gpu, &s.program, &s.hierarchy)
-        else {
-            return;
-        };
-        let (gpu, shader, hierarchy) = (gpu.clone(), program.shader.clone(), hierarchy.clone());
         if !self.side_by_side() {
             self.inset_caster = None;
             self.inset_build = None;
             return;
         }
+        let Some(shader) = self.session.program.as_ref().map(|p| p.shader.clone()) else {
+            return;
+        };
+        self.take_inset_build(&shader);
+        let (Some(gpu), Some(hierarchy)) = (&self.gpu, &self.session.hierarchy) else {
+            return;
+        };
         let generation = self.session.picture_generation;
-        let shader = &shader;
-        self.take_inset_build(shader);
         if let Some(inset) = &mut self.inset_caster
-            && Arc::ptr_eq(&inset.shader, shader)
+            && Arc::ptr_eq(&inset.shader, &shader)
         {
             if inset.generation != generation {
-                match inset.caster.set_hierarchy(&gpu, &hierarchy) {
+                match inset.caster.set_hierarchy(gpu, hierarchy) {
                     Ok(()) => inset.generation = generation,
                     Err(e) => {
                         self.message = Some(Notice::error(e.to_string()));
@@ -118,17 +117,18 @@ impl FourfoldApp {
         if self
             .inset_build
             .as_ref()
-            .is_some_and(|b| Arc::ptr_eq(&b.shader, shader))
+            .is_some_and(|b| Arc::ptr_eq(&b.shader, &shader))
         {
             return;
         }
         let projection = projection_beside(&self.session.scene);
         let plan = CasterPlan::new(shader.clone(), &projection, projection.render.brute_force);
+        let (gpu, hierarchy) = (gpu.clone(), hierarchy.clone());
         let work = platform::Background::start("fourfold inset", move || {
             plan.build(&gpu, &hierarchy, platform::warm_up)
         });
         self.inset_build = Some(InsetBuild {
-            shader: shader.clone(),
+            shader,
             generation,
             work,
         });

@@ -8,10 +8,9 @@
 //! - `CRITICAL_BOX_BUDGET` and `CriticalWork`: how long the slice slider's critical values
 //!   may search, and where (a thread, or slices of the window's frames);
 //! - `BuildWork`: where a build runs (a thread, or slices of the window's frames), and
-//!   `warm_up`, `pause`; `pipelines_beside` (a variant's pipelines on a thread, or none: a page's frame
-//!   makes what it lacks);
-//!   `INTERPRETS`: whether a new formula's first frames draw with the
-//!   interpreting shader while its own compiles;
+//!   `warm_up`, `pause`; `pipelines_beside`: a variant's pipelines built on a thread (or
+//!   none: a page's frame makes what it lacks); `INTERPRETS`: whether a new formula's first
+//!   frames draw with the interpreting shader while its own compiles;
 //! - `Thumbnails`: how the gallery's pictures are made (a thread and a device of their own,
 //!   or slices of the window's frames on its device);
 //! - `State`: the platform's own part of the app, with `file_actions`,
