@@ -386,9 +386,10 @@ fn plain_passes_blended_into_a_certified_picture_keep_what_it_proved() {
 
 /// The plain pencil sees what lies between its rays (the search in the observer plane,
 /// templates/raycast/seek.wgsl): on the ten unseen scenes and two examples at 96², a single
-/// plain frame with the scene's rays (16) draws few of the certified frame's proved hits as
-/// background, on the GPU and the CPU twin (the shares are printed; before the search, up to
-/// 26% of a thin tube's); and it draws nothing where the certified frame proved M absent.
+/// plain frame with the scene's rays (16) draws under 1% of the certified frame's proved
+/// hits as background (issue 34's bound for the fast frames), on the GPU and the CPU twin
+/// (the shares are printed; before the search, up to 26% of a thin tube's, and up to 2.8%
+/// with one start per box); and it draws nothing where the certified frame proved M absent.
 #[test]
 fn plain_frames_see_what_lies_between_their_rays() {
     let gpu = gpu();
@@ -439,7 +440,7 @@ fn plain_frames_see_what_lies_between_their_rays() {
             );
             assert!(proved > 50, "{name}: only {proved} proved hits");
             assert!(
-                share <= 0.05,
+                share < 0.01,
                 "{name}, {which}: the plain frame misses {:.2}% of the proved hits",
                 100.0 * share
             );

@@ -112,6 +112,10 @@ fn start_pixel(fl: Flat) -> Tracer {
     tr.hits.t = array<f32, 16>(inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf, inf);
     tr.hits.far = inf;
     tr.closest = vec3<f32>(0.0, 0.0, inf);
+    tr.start0 = vec3<f32>(0.0, 0.0, inf);
+    tr.start1 = tr.start0;
+    tr.start2 = tr.start0;
+    tr.start3 = tr.start0;
     return tr;
 }
 

@@ -25,9 +25,16 @@ struct Tracer {
     // plane (its sign change is then proved, or not, by certify), and whether there is one.
     bracket: vec4<f32>,
     bracketed: bool,
-    // The sample of the pixel's rays that M may be nearest (by |F| over |grad F| in the
-    // plane), as its (s, t) there and that ratio (+inf: none): where seek_in_plane starts.
+    // The sample of the ray being marched, over its span in the box, that M may be nearest
+    // (by |F| over |grad F| in the plane), as its (s, t) there and that ratio (+inf: none).
     closest: vec3<f32>,
+    // The closest samples of the spans marched, the nearest four (SEEK_STARTS), nearest
+    // first: where seek_in_plane starts. (Four fields, not an array: an array indexed in a
+    // loop put the whole Tracer in memory on llvmpipe, a tenth slower a frame.)
+    start0: vec3<f32>,
+    start1: vec3<f32>,
+    start2: vec3<f32>,
+    start3: vec3<f32>,
 }
 
 // F and dF/dt at o + t d, and |F| over |grad F| in the observer plane, how far M may be (for
@@ -46,6 +53,25 @@ fn sample(tr: ptr<function, Tracer>, d: vec4<f32>, t: f32) -> vec3<f32> {
 // so far (`away`: see sample; NaN is not).
 fn keep_closest(tr: ptr<function, Tracer>, st: vec2<f32>, away: f32) {
     (*tr).closest = select((*tr).closest, vec3<f32>(st, away), away < (*tr).closest.z);
+}
+
+// Keeps the closest sample of a ray's span among the starts of seek_in_plane, if it is
+// among the nearest (a new one goes after those as near).
+fn keep_start(tr: ptr<function, Tracer>) {
+    let c = (*tr).closest;
+    let s0 = (*tr).start0;
+    let s1 = (*tr).start1;
+    let s2 = (*tr).start2;
+    let s3 = (*tr).start3;
+    (*tr).start0 = select(s0, c, c.z < s0.z);
+    (*tr).start1 = select(s1, select(c, s0, c.z < s0.z), c.z < s1.z);
+    (*tr).start2 = select(s2, select(c, s1, c.z < s1.z), c.z < s2.z);
+    (*tr).start3 = select(s3, select(c, s2, c.z < s2.z), c.z < s3.z);
+}
+
+// The k-th start of seek_in_plane (k < SEEK_STARTS).
+fn nth_start(tr: ptr<function, Tracer>, k: u32) -> vec3<f32> {
+    return select(select(select((*tr).start3, (*tr).start2, k == 2u), (*tr).start1, k == 1u), (*tr).start0, k == 0u);
 }
 
 // Whether F keeps its sign from fa to fb. Signs compared, not multiplied: the product of
@@ -92,7 +118,8 @@ fn bisect(p: vec4<f32>, d: vec4<f32>, lo0: f32, hi0: f32, neg_lo: bool) -> f32 {
 // no bound), so none lies within |F| / slope of it; and `bend` bounds d2F/dt2 (see
 // bend_in_plane), so from the last sample's F and dF/dt, F stays between two parabolas, and
 // none lies before the nearest zero of the one on F's side of 0. That finds the sign
-// changes, and so the roots, of the plain march, with fewer samples of F.
+// changes, and so the roots, of the plain march, with fewer samples of F. The span's
+// closest sample is kept as a start of seek_in_plane.
 fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u32, slope: f32, bend: vec2<f32>) {
     let dt = (t1 - t0) / f32(steps);
     // Samples per unit of t, and per unit of |F| that are sure to keep its sign (with a
@@ -102,6 +129,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
     let along = vec2<f32>(dot(d, u.n1), dot(d, u.n2));
     var ta = t0;
     var fa = sample(tr, d, ta);
+    (*tr).closest = vec3<f32>(0.0, 0.0, ff_inf());
     keep_closest(tr, ta * along, fa.z);
     var s = 1u;
     loop {
@@ -161,6 +189,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         fa = fb;
         s = s + 1u;
     }
+    keep_start(tr);
 }
 
 // The angle of q (a sphere's centre projected on the observer plane, from o) and the half

@@ -2,9 +2,9 @@
 // the plane that the pencil's rays pass beside, or cross between two of their samples: the
 // pixel would show background where M is (issue 34 measured up to a quarter of a thin
 // tube's pixels). So a pixel whose rays found nothing searches each of its boxes again: a
-// few Newton steps on F within the plane, from the rays' sample where M may be nearest (or
-// a point of the plane in the box near its centre), look for a sign change inside the box;
-// its root, found by bisection, is a hit along the ray through it.
+// few Newton steps on F within the plane, from the rays' samples where M may be nearest (or
+// a point amid the plane's part in the box), look for a sign change inside the box; its
+// root, found by bisection, is a hit along the ray through it (docs/method.md §5.4).
 
 // A hit's ray with this bit was found by seek_in_plane: its low 24 bits hold the ray's
 // angle in the observer plane as a fraction of a turn (fourfold's `plane_ray`).
@@ -14,6 +14,11 @@ const PLANE_ROOT: u32 = 0x80000000u;
 // gives the sign change; 1 would only approach it).
 const SEEK_EVALS: u32 = 8u;
 const SEEK_REACH: f32 = 1.5;
+// How many of the rays' closest samples (one per ray and box, the nearest to M) the search
+// starts from: one left islands between the other rays unvisited.
+const SEEK_STARTS: u32 = 4u;
+// The corners tried of the plane's part in a box: two of its sides, of four axes' eight.
+const BOX_CORNERS: u32 = 24u;
 
 fn plane_ray(dir: vec2<f32>) -> u32 {
     let turn = fract(atan2(dir.y, dir.x) / TAU + 1.0);
@@ -34,6 +39,35 @@ fn in_box(p: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> bool {
     return all(p >= lo) && all(p <= hi);
 }
 
+// Corner i (of BOX_CORNERS tried) of the plane's part in the box [lo, hi] shrunk by a
+// thousandth, as (s, t, 1), or (0, 0, 0) if it is not one: where the plane meets two of the
+// box's sides (pair i / 4 of two axes, their bounds by i % 4) within the others, give or
+// take half that margin.
+fn box_corner(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, i: u32) -> vec3<f32> {
+    let m = 0.001 * (hi - lo);
+    let l = lo + m;
+    let h = hi - m;
+    // The pair's axes as one-hot vectors: components picked by a variable index (of a
+    // table of pairs, of o and n1) made llvmpipe's frames a tenth slower.
+    let pair = i / 4u;
+    let axes = vec4<u32>(0u, 1u, 2u, 3u);
+    let first = select(select(0u, 1u, pair >= 3u), 2u, pair >= 5u);
+    let second = select(select(1u, 2u, pair == 1u || pair == 3u), 3u, pair == 2u || pair >= 4u);
+    let ea = select(vec4<f32>(0.0), vec4<f32>(1.0), axes == vec4<u32>(first));
+    let eb = select(vec4<f32>(0.0), vec4<f32>(1.0), axes == vec4<u32>(second));
+    let n1a = dot(u.n1, ea);
+    let n2a = dot(u.n2, ea);
+    let n1b = dot(u.n1, eb);
+    let n2b = dot(u.n2, eb);
+    let det = n1a * n2b - n2a * n1b;
+    let ra = dot(select(l, h, i % 4u >= 2u) - (*tr).o, ea);
+    let rb = dot(select(l, h, i % 2u == 1u) - (*tr).o, eb);
+    let st = vec2<f32>((ra * n2b - n2a * rb) / det, (n1a * rb - ra * n1b) / det);
+    let p = in_plane(tr, st);
+    let corner = abs(det) >= 1e-12 && all(p >= l - 0.5 * m) && all(p <= h + 0.5 * m);
+    return select(vec3<f32>(0.0), vec3<f32>(st, 1.0), corner);
+}
+
 // (s, t) moved onto the slab lo <= o + s n1 + t n2 <= hi of one axis (its components o, n1
 // and n2 given), along the slab's normal in the plane.
 fn onto_slab(st: vec2<f32>, o: f32, n1: f32, n2: f32, lo: f32, hi: f32) -> vec2<f32> {
@@ -44,22 +78,31 @@ fn onto_slab(st: vec2<f32>, o: f32, n1: f32, n2: f32, lo: f32, hi: f32) -> vec2<
     return select(st, st + ((to - v) / aa) * a, aa > 1e-12);
 }
 
-// A point of the plane inside the box [lo, hi] (or near it, if the plane misses it), from
-// (s, t): alternate projections on its four slabs, each shrunk by a thousandth so that the
-// point lies within.
-fn point_in_box(tr: ptr<function, Tracer>, st: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
+// A point of the plane inside the box [lo, hi] as (s, t, 1), or (0, 0, 0) if the plane
+// misses it: from the box's centre, alternate projections on its four slabs, each shrunk by
+// a thousandth; where four rounds of them end outside (the plane cuts only a corner of the
+// box: they converge slowly there), the mean of the corners of the plane's part in the box.
+fn point_in_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> vec3<f32> {
     let o = (*tr).o;
     let m = 0.001 * (hi - lo);
     let l = lo + m;
     let h = hi - m;
-    var p = st;
+    let rel = 0.5 * (lo + hi) - o;
+    var p = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     for (var r = 0u; r < 4u; r = r + 1u) {
         p = onto_slab(p, o.x, u.n1.x, u.n2.x, l.x, h.x);
         p = onto_slab(p, o.y, u.n1.y, u.n2.y, l.y, h.y);
         p = onto_slab(p, o.z, u.n1.z, u.n2.z, l.z, h.z);
         p = onto_slab(p, o.w, u.n1.w, u.n2.w, l.w, h.w);
     }
-    return p;
+    if (in_box(in_plane(tr, p), lo, hi)) {
+        return vec3<f32>(p, 1.0);
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < BOX_CORNERS; i = i + 1u) {
+        sum = sum + box_corner(tr, lo, hi, i);
+    }
+    return select(vec3<f32>(0.0), vec3<f32>(sum.xy / sum.z, 1.0), sum.z > 0.0);
 }
 
 // The share of the step from (s, t) (inside the box) that stays in it, and the outward
@@ -90,6 +133,15 @@ fn within_box(tr: ptr<function, Tracer>, st: vec2<f32>, step: vec2<f32>, lo: vec
     return vec3<f32>(clamp(r, 0.0, 1.0), wall);
 }
 
+// How far from the sample at (s, t) M may be for the search to start there when it is not
+// the nearest start: an island the pencil passed beside lies within half the gap between
+// two rays, |st| pi / n, of one of them (and within half a step of one of its samples: a
+// margin of a thousandth of the domain's diagonal stands for it); four times that, as the
+// distance |F| / |grad F| is a first-order guess.
+fn between_rays(st: vec2<f32>) -> f32 {
+    return 2.0 * (length(st) * (TAU / f32(u.size.z)) + 0.002 * length(u.domain_hi - u.domain_lo));
+}
+
 // Whether (s, t) keeps to the slab, when there is one (as clip_to_slab: t along n2).
 fn in_slab(st: vec2<f32>) -> bool {
     return !slab_on() || (st.y >= u.root.z - u.root.w && st.y <= u.root.z + u.root.w);
@@ -118,14 +170,19 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
     // The outward normal of the box's side the search stands on (0: none): a step that
     // would leave through it goes along it instead.
     var wall = vec2<f32>(0.0);
+    // The normal of the valley's floor the search stands on (0: none): the steps go along
+    // the floor, not across it again.
+    var crease = vec2<f32>(0.0);
     // How far the next step goes, in Newton's steps.
     var gain = SEEK_REACH;
     var i = 0u;
     // (Tested at the end: see "The pixel's work".)
     loop {
-        // F's gradient in the plane, and along the side if the step would leave through it.
+        // F's gradient in the plane, along the valley's floor if on one, and along the side
+        // if the step would leave through it.
         let g = vec2<f32>(dot(fa.g, u.n1), dot(fa.g, u.n2));
-        let gw = select(g, g - dot(g, wall) * wall, dot(g, wall) * fa.f < 0.0);
+        let g_floor = g - dot(g, crease) * crease;
+        let gw = select(g_floor, g_floor - dot(g_floor, wall) * wall, dot(g_floor, wall) * fa.f < 0.0);
         var step = (-gain * fa.f / dot(gw, gw)) * gw;
         let len = length(step);
         // (A flat or undefined F gives a step that is not finite: the search ends.)
@@ -153,8 +210,9 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
             // again at b) zigzags: so the point where the tangents to F at a and b meet (a
             // kink's place, or near a smooth floor) is tried too, and kept if it is nearer 0.
             let taken = b - a;
+            let gb = vec2<f32>(dot(fgb.g, u.n1), dot(fgb.g, u.n2));
             let sa = dot(g, taken);
-            let sb = dot(vec2<f32>(dot(fgb.g, u.n1), dot(fgb.g, u.n2)), taken);
+            let sb = dot(gb, taken);
             if (sa * fa.f < 0.0 && sb * fa.f > 0.0) {
                 let m = a + clamp((fgb.f - fa.f - sb) / (sa - sb), 0.05, 0.95) * taken;
                 let fgm = ff_f_grad(in_plane(tr, m));
@@ -165,6 +223,10 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
                     break;
                 }
                 if (abs(fgm.f) < abs(fgb.f)) {
+                    // On the floor, whose normal is where the gradient turned from a to b.
+                    let turn = gb - g;
+                    let turned = length(turn);
+                    crease = select(vec2<f32>(0.0), turn / turned, turned > 0.0);
                     b = m;
                     fgb = fgm;
                 }
@@ -174,6 +236,9 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
                 a = b;
                 fa = fgb;
                 gain = SEEK_REACH;
+            } else if (any(crease != vec2<f32>(0.0))) {
+                // Along the floor took |F| up: the gradient's own step again.
+                crease = vec2<f32>(0.0);
             } else {
                 // Nothing nearer 0: a shorter step, to where the parabola through F(a), its
                 // slope and F(b) is nearest 0.
@@ -190,26 +255,49 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 }
 
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
-    // From the rays' closest sample if it lies in the box, then from a point near the box's
-    // centre: one call of seek_from, in a loop over the two starts (a compiler inlines each
-    // call, with its three evaluations of F and its gradient).
-    let near = (*tr).closest;
-    let rel = 0.5 * (lo + hi) - (*tr).o;
+    // From the rays' closest samples that lie in the box, then from a point amid the plane's
+    // part in the box, and where F is undefined there (ln, sqrt or a pole past the edge of
+    // its domain) from each corner of that part, a hundredth of the way in: F's domain within
+    // it is cut off by its edge, and where that is a line, a corner lies on the defined side.
+    // One call of seek_from, in a loop over the starts (a compiler inlines each call, with
+    // its three evaluations of F and its gradient).
     var s: Seek;
-    for (var k = 0u; k < 2u; k = k + 1u) {
-        var start = near.xy;
-        if (k == 0u) {
-            if (!(near.z < ff_inf())) {
+    var centre = vec2<f32>(0.0);
+    var undefined = false;
+    for (var k = 0u; k <= SEEK_STARTS + BOX_CORNERS; k = k + 1u) {
+        var start: vec2<f32>;
+        if (k < SEEK_STARTS) {
+            let near = nth_start(tr, k);
+            if (!(near.z < ff_inf()) || (k > 0u && near.z > between_rays(near.xy))) {
                 continue;
             }
+            start = near.xy;
+        } else if (k == SEEK_STARTS) {
+            let amid = point_in_box(tr, lo, hi);
+            if (amid.z == 0.0) {
+                break;
+            }
+            centre = amid.xy;
+            start = centre;
         } else {
-            start = point_in_box(tr, vec2<f32>(dot(rel, u.n1), dot(rel, u.n2)), lo, hi);
+            if (!undefined) {
+                break;
+            }
+            let corner = box_corner(tr, lo, hi, k - SEEK_STARTS - 1u);
+            if (corner.z == 0.0) {
+                continue;
+            }
+            start = corner.xy + 0.01 * (centre - corner.xy);
         }
-        // (Where the plane passes by the box, the centre's point is not in it.)
         if (in_box(in_plane(tr, start), lo, hi)) {
             s = seek_from(tr, start, lo, hi);
             if (s.found) {
                 break;
+            }
+            if (k == SEEK_STARTS) {
+                // (F at a start where it is undefined is NaN, and the search stays there; a
+                // compiler may take x != x to be false.)
+                undefined = !(abs(s.fa) <= ff_inf());
             }
         }
     }

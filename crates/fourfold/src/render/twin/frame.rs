@@ -9,7 +9,7 @@ use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
 use crate::tree::{Curvature, Hierarchy};
 
 use super::certify::Certifier;
-use super::pixel::{AIMED, Evaluators, Marched, Pixel};
+use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
@@ -151,6 +151,7 @@ fn render_pixel(
         plane,
         bracket: None,
         closest: ([0.0; 2], f32::INFINITY),
+        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;
     boxes_of(h[0], u, o, boxes);

@@ -16,6 +16,10 @@ use super::shading::{MARK_COLOR, V4, add, base_color, clip_to_slab, dot, rand01,
 /// `AIMED`).
 pub(super) const AIMED: u32 = u32::MAX;
 
+/// How many of the rays' closest samples the search between the rays starts from (the
+/// shader's SEEK_STARTS).
+pub(super) const SEEK_STARTS: usize = 4;
+
 /// The point evaluators of a row of pixels, one per tape so that each keeps its tape's
 /// uniform prefix from pixel to pixel.
 pub(super) struct Evaluators {
@@ -47,9 +51,13 @@ pub(super) struct Pixel<'a, 'e> {
     /// change a ray found as its two ends' (s, t) there (as the shader's `bracket`).
     pub(super) plane: V4,
     pub(super) bracket: Option<([f64; 2], [f64; 2])>,
-    /// The sample of the pixel's rays that M may be nearest: its (s, t) in the observer plane
-    /// and |F| over |∇F| there (the shader's `closest`: where the search starts).
+    /// The sample of the ray being marched, over its span in the box, that M may be nearest:
+    /// its (s, t) in the observer plane and |F| over |∇F| there (the shader's `closest`).
     pub(super) closest: ([f32; 2], f32),
+    /// The closest samples of the spans the rays marched, the nearest [`SEEK_STARTS`] by
+    /// |F| over |∇F|, nearest first (+∞: none): where the search between the rays starts
+    /// (the shader's `starts`).
+    pub(super) starts: [([f32; 2], f32); SEEK_STARTS],
 }
 
 /// A box the pixel marches, as `trace_box` takes it.
@@ -194,6 +202,17 @@ impl Pixel<'_, '_> {
         }
     }
 
+    /// Keeps the closest sample of a ray's span among the starts of the search, if it is
+    /// among the nearest (the shader's `keep_start`: a new one goes after those as near).
+    fn keep_start(&mut self) {
+        let mut start = self.closest;
+        for kept in &mut self.starts {
+            if start.1 < kept.1 {
+                std::mem::swap(kept, &mut start);
+            }
+        }
+    }
+
     /// The root of F on p + t d in [lo, hi], where F changes sign (F(lo) < 0 iff `neg_lo`),
     /// by at most `bisection_iters` bisections, as the shader's `bisect`: stopping at a
     /// tiny |F|, or once f32 cannot split the bracket (every further midpoint is this one).
@@ -227,9 +246,27 @@ impl Pixel<'_, '_> {
     /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
     /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
     /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
-    /// +∞ and (−∞, +∞) take every sample).
+    /// +∞ and (−∞, +∞) take every sample); the span's closest sample is a start of the search.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn find_roots(
+        &mut self,
+        o: V4,
+        d: V4,
+        span: (f32, f32),
+        steps: u32,
+        slope: f32,
+        bend: (f32, f32),
+        ray: u32,
+    ) {
+        self.closest = ([0.0; 2], f32::INFINITY);
+        self.march(o, d, span, steps, slope, bend, ray);
+        if self.keeps_closest() {
+            self.keep_start();
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn march(
         &mut self,
         o: V4,
         d: V4,

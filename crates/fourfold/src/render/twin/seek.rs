@@ -1,7 +1,7 @@
 //! The search between the pencil's rays, as the shader's `seek_in_plane`
 //! (templates/raycast/seek.wgsl): a pixel whose rays found nothing searches each of its
 //! boxes again, with a few Newton steps on F within its observer plane from the rays'
-//! closest sample or a point in the box, for a sign change inside it whose root is a hit.
+//! closest samples or a point in the box, for a sign change inside it whose root is a hit.
 
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLAB, plane_ray};
 
@@ -13,9 +13,26 @@ use super::shading::{V4, add, dot, scale, sub};
 /// and SEEK_REACH).
 const SEEK_EVALS: u32 = 8;
 const SEEK_REACH: f32 = 1.5;
+/// The corners tried of the plane's part in a box: two of its sides, of four axes' eight.
+const BOX_CORNERS: usize = 24;
 
 fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
     a[0] * b[0] + a[1] * b[1]
+}
+
+/// Where a search from one start ended: at a, with F(a) (NaN where F is undefined at the
+/// start: the search never moves from there), and the sign change from a to b it found.
+#[derive(Clone, Copy)]
+struct Seek {
+    a: [f32; 2],
+    fa: f32,
+    b: Option<[f32; 2]>,
+}
+
+impl Seek {
+    fn change(self) -> Option<([f32; 2], f32, [f32; 2])> {
+        self.b.map(|b| (self.a, self.fa, b))
+    }
 }
 
 impl Pixel<'_, '_> {
@@ -30,12 +47,41 @@ impl Pixel<'_, '_> {
                 && st[1] <= r.section_offset + r.section_half)
     }
 
-    /// A point of the plane through `o` inside the box (or near it, if the plane misses it)
-    /// from `st`: alternate projections on its four slabs shrunk by a thousandth (the
-    /// shader's `point_in_box`).
-    fn point_in_box(&self, o: V4, st: [f32; 2], lo: V4, hi: V4) -> [f32; 2] {
+    /// Corner `i` (of 24 tried) of the plane's part in the box [lo, hi] shrunk by a
+    /// thousandth, if it is one: where the plane meets two of the box's sides (pair `i / 4`
+    /// of two axes, their bounds by `i % 4`) within the others, give or take half that
+    /// margin (the shader's `box_corner`).
+    fn box_corner(&self, o: V4, lo: V4, hi: V4, i: usize) -> Option<[f32; 2]> {
+        const PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
         let (n1, n2) = (self.u.n1, self.u.n2);
-        let mut p = st;
+        let m: V4 = std::array::from_fn(|k| 0.001 * (hi[k] - lo[k]));
+        let (l, h) = (add(lo, m), sub(hi, m));
+        let (a, b) = PAIRS[i / 4];
+        let det = n1[a] * n2[b] - n2[a] * n1[b];
+        if det.abs() < 1e-12 {
+            return None;
+        }
+        let ra = if i % 4 >= 2 { h[a] } else { l[a] } - o[a];
+        let rb = if i % 2 == 1 { h[b] } else { l[b] } - o[b];
+        let st = [
+            (ra * n2[b] - n2[a] * rb) / det,
+            (n1[a] * rb - ra * n1[b]) / det,
+        ];
+        let p = self.in_plane(o, st);
+        (0..4)
+            .all(|k| p[k] >= l[k] - 0.5 * m[k] && p[k] <= h[k] + 0.5 * m[k])
+            .then_some(st)
+    }
+
+    /// A point of the plane through `o` inside the box [lo, hi], if the plane meets it (the
+    /// shader's `point_in_box`): from the box's centre, alternate projections on its four
+    /// slabs shrunk by a thousandth; where four rounds of them end outside (the plane cuts
+    /// only a corner of the box: they converge slowly there), the mean of the corners of the
+    /// plane's part in the box.
+    fn point_in_box(&self, o: V4, lo: V4, hi: V4) -> Option<[f32; 2]> {
+        let (n1, n2) = (self.u.n1, self.u.n2);
+        let rel = sub(scale(add(lo, hi), 0.5), o);
+        let mut p = [dot(rel, n1), dot(rel, n2)];
         for _ in 0..4 {
             for k in 0..4 {
                 let m = 0.001 * (hi[k] - lo[k]);
@@ -49,7 +95,16 @@ impl Pixel<'_, '_> {
                 }
             }
         }
-        p
+        let q = self.in_plane(o, p);
+        if (0..4).all(|k| q[k] >= lo[k] && q[k] <= hi[k]) {
+            return Some(p);
+        }
+        let (mut sum, mut count) = ([0.0f32; 2], 0);
+        for st in (0..BOX_CORNERS).filter_map(|i| self.box_corner(o, lo, hi, i)) {
+            sum = [sum[0] + st[0], sum[1] + st[1]];
+            count += 1;
+        }
+        (count > 0).then(|| [sum[0] / count as f32, sum[1] / count as f32])
     }
 
     /// The share of `step` from `st` (inside the box) that stays in it, and the outward
@@ -93,14 +148,8 @@ impl Pixel<'_, '_> {
     }
 
     /// Newton's steps from `start` (in the box [lo, hi]) towards a root of F in the plane
-    /// through `o`: a sign change between a and b, and F(a) (the shader's `seek_from`).
-    fn seek_from(
-        &mut self,
-        o: V4,
-        start: [f32; 2],
-        lo: V4,
-        hi: V4,
-    ) -> Option<([f32; 2], f32, [f32; 2])> {
+    /// through `o` (the shader's `seek_from`).
+    fn seek_from(&mut self, o: V4, start: [f32; 2], lo: V4, hi: V4) -> Seek {
         let half = sub(hi, lo);
         let reach = 0.5 * dot(half, half).sqrt();
         let mut a = start;
@@ -109,24 +158,29 @@ impl Pixel<'_, '_> {
         // there): no search (as the shader).
         let (gs, gt) = (dot(ga, self.u.n1), dot(ga, self.u.n2));
         if !(fa.abs() <= reach * (gs * gs + gt * gt).sqrt()) {
-            return None;
+            return Seek { a, fa, b: None };
         }
         let mut found = None;
         // The outward normal of the box's side the search stands on ([0, 0]: none).
         let mut wall = [0.0f32; 2];
+        // The normal of the valley's floor the search stands on ([0, 0]: none).
+        let mut crease = [0.0f32; 2];
         // How far the next step goes, in Newton's steps.
         let mut gain = SEEK_REACH;
         // (F's evaluations, the steps' and the floors'.)
         let mut evals = 0;
         while evals < SEEK_EVALS {
             evals += 1;
-            // ∇F in the plane, and along the side if the step would leave through it.
+            // ∇F in the plane, along the valley's floor if on one, and along the side if the
+            // step would leave through it.
             let g = [dot(ga, self.u.n1), dot(ga, self.u.n2)];
-            let out = dot2(g, wall);
+            let across = dot2(g, crease);
+            let g_floor = [g[0] - across * crease[0], g[1] - across * crease[1]];
+            let out = dot2(g_floor, wall);
             let gw = if out * fa < 0.0 {
-                [g[0] - out * wall[0], g[1] - out * wall[1]]
+                [g_floor[0] - out * wall[0], g_floor[1] - out * wall[1]]
             } else {
-                g
+                g_floor
             };
             let k = -gain * fa / dot2(gw, gw);
             let mut step = [k * gw[0], k * gw[1]];
@@ -155,8 +209,9 @@ impl Pixel<'_, '_> {
             }
             // Across a valley's floor: the point where the tangents at a and b meet, too.
             let taken = [b[0] - a[0], b[1] - a[1]];
+            let gb2 = [dot(gb, self.u.n1), dot(gb, self.u.n2)];
             let sa = dot2(g, taken);
-            let sb = dot2([dot(gb, self.u.n1), dot(gb, self.u.n2)], taken);
+            let sb = dot2(gb2, taken);
             if sa * fa < 0.0 && sb * fa > 0.0 {
                 let tau = ((fb - fa - sb) / (sa - sb)).clamp(0.05, 0.95);
                 let m = [a[0] + tau * taken[0], a[1] + tau * taken[1]];
@@ -167,6 +222,15 @@ impl Pixel<'_, '_> {
                     break;
                 }
                 if fm.abs() < fb.abs() {
+                    // On the floor: the next steps go along it (its normal is where the
+                    // gradient turned, from a to b), not across it again.
+                    let turn = [gb2[0] - g[0], gb2[1] - g[1]];
+                    let len = dot2(turn, turn).sqrt();
+                    crease = if len > 0.0 {
+                        [turn[0] / len, turn[1] / len]
+                    } else {
+                        [0.0; 2]
+                    };
                     (b, fb, gb) = (m, fm, gm);
                 }
             }
@@ -176,6 +240,9 @@ impl Pixel<'_, '_> {
                 }
                 (a, fa, ga) = (b, fb, gb);
                 gain = SEEK_REACH;
+            } else if crease != [0.0; 2] {
+                // Along the floor took |F| up: the gradient's own step again.
+                crease = [0.0; 2];
             } else {
                 // Nothing nearer 0: a shorter step (the parabola's point nearest 0).
                 let bend = fb - fa - sa;
@@ -187,25 +254,63 @@ impl Pixel<'_, '_> {
                 gain = gain * best * dot2(taken, taken).sqrt() / len;
             }
         }
-        found.map(|b| (a, fa, b))
+        Seek { a, fa, b: found }
+    }
+
+    /// How far from the sample at `st` (in the plane) M may be for the search to start there
+    /// when it is not the nearest start: an island the pencil passed beside lies within half
+    /// the gap between two rays, |st|·π/n, of one of them (and within half a step of one of
+    /// its samples: a margin of a thousandth of the domain's diagonal stands for it); four
+    /// times that, as `away` is a first-order guess (the shader's `between_rays`).
+    fn between_rays(&self, st: [f32; 2]) -> f32 {
+        let gap = std::f32::consts::TAU / self.u.size.rays as f32;
+        let extent = sub(self.u.domain_hi, self.u.domain_lo);
+        2.0 * (dot2(st, st).sqrt() * gap + 0.002 * dot(extent, extent).sqrt())
     }
 
     /// Seeks a root of F in the box `b`, within the plane through `o`, and keeps it as a hit.
     pub(super) fn seek_in_plane(&mut self, o: V4, b: &Marched) {
         let (lo, hi) = (b.lo, b.hi);
         let inside = |p: V4| (0..4).all(|k| p[k] >= lo[k] && p[k] <= hi[k]);
-        // From the rays' closest sample if it lies in the box, then from a point near the
-        // box's centre.
-        let (near, near_f) = self.closest;
+        // From the rays' closest samples that lie in the box, then from a point amid the
+        // plane's part in the box.
         let mut seek = None;
-        if near_f < f32::INFINITY && inside(self.in_plane(o, near)) {
-            seek = self.seek_from(o, near, lo, hi);
+        for (i, (near, away)) in self.starts.into_iter().enumerate() {
+            let plausible = away < f32::INFINITY && (i == 0 || away <= self.between_rays(near));
+            if plausible && inside(self.in_plane(o, near)) {
+                seek = self.seek_from(o, near, lo, hi).change();
+                if seek.is_some() {
+                    break;
+                }
+            }
         }
-        if seek.is_none() {
-            let rel = sub(scale(add(lo, hi), 0.5), o);
-            let centre = self.point_in_box(o, [dot(rel, self.u.n1), dot(rel, self.u.n2)], lo, hi);
-            if inside(self.in_plane(o, centre)) {
-                seek = self.seek_from(o, centre, lo, hi);
+        let amid = || {
+            self.point_in_box(o, lo, hi)
+                .filter(|&c| inside(self.in_plane(o, c)))
+        };
+        if let Some(centre) = seek.is_none().then(amid).flatten() {
+            let from_centre = self.seek_from(o, centre, lo, hi);
+            seek = from_centre.change();
+            // Where F is undefined there (ln, sqrt or a pole past the edge of its domain),
+            // from each corner, a hundredth of the way in: F's domain within the plane's part
+            // in the box is cut off by its edge, and where that is a line, a corner lies on
+            // the defined side.
+            if from_centre.fa.is_nan() {
+                for i in 0..BOX_CORNERS {
+                    let Some(corner) = self.box_corner(o, lo, hi, i) else {
+                        continue;
+                    };
+                    let start = [
+                        corner[0] + 0.01 * (centre[0] - corner[0]),
+                        corner[1] + 0.01 * (centre[1] - corner[1]),
+                    ];
+                    if inside(self.in_plane(o, start)) {
+                        seek = self.seek_from(o, start, lo, hi).change();
+                        if seek.is_some() {
+                            break;
+                        }
+                    }
+                }
             }
         }
         let Some((a, fa, b)) = seek else {
