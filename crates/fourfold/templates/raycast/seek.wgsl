@@ -78,11 +78,37 @@ fn onto_slab(st: vec2<f32>, o: f32, n1: f32, n2: f32, lo: f32, hi: f32) -> vec2<
     return select(st, st + ((to - v) / aa) * a, aa > 1e-12);
 }
 
+// Whether the plane meets the box [lo, hi] (give or take rounding): the box's shadow along
+// the plane on (v1, v2), a zonotope with a side along each axis's (v1_k, v2_k), holds the
+// plane's point; tested across each side, and along v1 and v2 (for a flat shadow). Many of
+// a pixel's boxes have only their sphere meet its plane.
+fn plane_meets_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> bool {
+    let rel = 0.5 * (lo + hi) - (*tr).o;
+    let half = 0.5 * (hi - lo);
+    let a = dot(rel, u.v1);
+    let b = dot(rel, u.v2);
+    // Across side k: |rel . w_k| within the shadow's reach along w_k = v1_k v2 - v2_k v1.
+    let across = abs(b * u.v1 - a * u.v2);
+    let reach = vec4<f32>(
+        dot(half, abs(u.v1.x * u.v2 - u.v2.x * u.v1)),
+        dot(half, abs(u.v1.y * u.v2 - u.v2.y * u.v1)),
+        dot(half, abs(u.v1.z * u.v2 - u.v2.z * u.v1)),
+        dot(half, abs(u.v1.w * u.v2 - u.v2.w * u.v1)),
+    );
+    let slack = 1e-5 * (abs(a) + abs(b) + length(half));
+    return all(across <= reach * 1.0001 + slack)
+        && abs(a) <= dot(half, abs(u.v1)) * 1.0001 + slack
+        && abs(b) <= dot(half, abs(u.v2)) * 1.0001 + slack;
+}
+
 // A point of the plane inside the box [lo, hi] as (s, t, 1), or (0, 0, 0) if the plane
 // misses it: from the box's centre, alternate projections on its four slabs, each shrunk by
 // a thousandth; where four rounds of them end outside (the plane cuts only a corner of the
 // box: they converge slowly there), the mean of the corners of the plane's part in the box.
 fn point_in_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> vec3<f32> {
+    if (!plane_meets_box(tr, lo, hi)) {
+        return vec3<f32>(0.0);
+    }
     let o = (*tr).o;
     let m = 0.001 * (hi - lo);
     let l = lo + m;
@@ -254,24 +280,37 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
     return Seek(a, b, fa.f, found);
 }
 
+// Ray start k as bit k if the search tries it in the box [lo, hi]: it lies in the box, and
+// beyond the first, within reach of an island between the rays (see between_rays).
+fn start_bit(tr: ptr<function, Tracer>, k: u32, lo: vec4<f32>, hi: vec4<f32>) -> u32 {
+    let near = nth_start(tr, k);
+    let plausible = near.z < ff_inf() && (k == 0u || near.z <= between_rays(near.xy));
+    return select(0u, 1u << k, plausible && in_box(in_plane(tr, near.xy), lo, hi));
+}
+
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     // From the rays' closest samples that lie in the box, then from a point amid the plane's
-    // part in the box, and where F is undefined there (ln, sqrt or a pole past the edge of
-    // its domain) from each corner of that part, a hundredth of the way in: F's domain within
-    // it is cut off by its edge, and where that is a line, a corner lies on the defined side.
+    // part in the box, and (but in a certified frame) where F is undefined there (ln, sqrt
+    // or a pole past the edge of its domain) from each corner of that part, a hundredth of
+    // the way in: F's domain within it is cut off by its edge, and where that is a line, a
+    // corner lies on the defined side.
     // One call of seek_from, in a loop over the starts (a compiler inlines each call, with
     // its three evaluations of F and its gradient).
+    // (The ray starts it tries as bits, so that the loop runs once for each: llvmpipe ends
+    // an invocation's loops after 65535 iterations in all, which a pixel with many boxes
+    // nears.)
+    let rays = start_bit(tr, 0u, lo, hi) | start_bit(tr, 1u, lo, hi) | start_bit(tr, 2u, lo, hi) | start_bit(tr, 3u, lo, hi);
     var s: Seek;
     var centre = vec2<f32>(0.0);
     var undefined = false;
-    for (var k = 0u; k <= SEEK_STARTS + BOX_CORNERS; k = k + 1u) {
+    // 0 to SEEK_STARTS - 1: a ray start; SEEK_STARTS: the point amid the box; after it, the
+    // corners.
+    var k = select(SEEK_STARTS, firstTrailingBit(rays), rays != 0u);
+    loop {
         var start: vec2<f32>;
+        var tried = true;
         if (k < SEEK_STARTS) {
-            let near = nth_start(tr, k);
-            if (!(near.z < ff_inf()) || (k > 0u && near.z > between_rays(near.xy))) {
-                continue;
-            }
-            start = near.xy;
+            start = nth_start(tr, k).xy;
         } else if (k == SEEK_STARTS) {
             let amid = point_in_box(tr, lo, hi);
             if (amid.z == 0.0) {
@@ -284,21 +323,26 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
                 break;
             }
             let corner = box_corner(tr, lo, hi, k - SEEK_STARTS - 1u);
-            if (corner.z == 0.0) {
-                continue;
-            }
+            tried = corner.z != 0.0;
             start = corner.xy + 0.01 * (centre - corner.xy);
         }
-        if (in_box(in_plane(tr, start), lo, hi)) {
+        if (tried && in_box(in_plane(tr, start), lo, hi)) {
             s = seek_from(tr, start, lo, hi);
             if (s.found) {
                 break;
             }
             if (k == SEEK_STARTS) {
                 // (F at a start where it is undefined is NaN, and the search stays there; a
-                // compiler may take x != x to be false.)
-                undefined = !(abs(s.fa) <= ff_inf());
+                // compiler may take x != x to be false. A certified frame proves what the
+                // corners would find and aims a ray at it: its loops, near llvmpipe's limit
+                // already, do not try them.)
+                undefined = CERTIFY == 0u && !(abs(s.fa) <= ff_inf());
             }
+        }
+        let later = rays & ~((2u << k) - 1u);
+        k = select(k + 1u, select(SEEK_STARTS, firstTrailingBit(later), later != 0u), k < SEEK_STARTS);
+        if (k > SEEK_STARTS + BOX_CORNERS) {
+            break;
         }
     }
     if (!s.found) {

@@ -73,12 +73,33 @@ impl Pixel<'_, '_> {
             .then_some(st)
     }
 
+    /// Whether the plane through `o` meets the box [lo, hi] (give or take rounding): the
+    /// box's shadow along the plane on (v1, v2), a zonotope with a side along each axis's
+    /// (v1_k, v2_k), holds the plane's point; tested across each side, and along v1 and v2
+    /// (the shader's `plane_meets_box`).
+    fn plane_meets_box(&self, o: V4, lo: V4, hi: V4) -> bool {
+        let (v1, v2) = (self.u.v1, self.u.v2);
+        let rel = sub(scale(add(lo, hi), 0.5), o);
+        let half = scale(sub(hi, lo), 0.5);
+        let (a, b) = (dot(rel, v1), dot(rel, v2));
+        let along = |w: V4| dot(half, w.map(f32::abs));
+        let slack = 1e-5 * (a.abs() + b.abs() + dot(half, half).sqrt());
+        (0..4).all(|k| {
+            let w = sub(scale(v2, v1[k]), scale(v1, v2[k]));
+            (b * v1[k] - a * v2[k]).abs() <= along(w) * 1.0001 + slack
+        }) && a.abs() <= along(v1) * 1.0001 + slack
+            && b.abs() <= along(v2) * 1.0001 + slack
+    }
+
     /// A point of the plane through `o` inside the box [lo, hi], if the plane meets it (the
     /// shader's `point_in_box`): from the box's centre, alternate projections on its four
     /// slabs shrunk by a thousandth; where four rounds of them end outside (the plane cuts
     /// only a corner of the box: they converge slowly there), the mean of the corners of the
     /// plane's part in the box.
     fn point_in_box(&self, o: V4, lo: V4, hi: V4) -> Option<[f32; 2]> {
+        if !self.plane_meets_box(o, lo, hi) {
+            return None;
+        }
         let (n1, n2) = (self.u.n1, self.u.n2);
         let rel = sub(scale(add(lo, hi), 0.5), o);
         let mut p = [dot(rel, n1), dot(rel, n2)];
@@ -294,8 +315,10 @@ impl Pixel<'_, '_> {
             // Where F is undefined there (ln, sqrt or a pole past the edge of its domain),
             // from each corner, a hundredth of the way in: F's domain within the plane's part
             // in the box is cut off by its edge, and where that is a line, a corner lies on
-            // the defined side.
-            if from_centre.fa.is_nan() {
+            // the defined side. (Not in a certified frame, as the shader: it proves what the
+            // corners would find, and aims a ray at it.)
+            let certified = self.u.control.flags & FLAG_CERTIFIED != 0;
+            if from_centre.fa.is_nan() && !certified {
                 for i in 0..BOX_CORNERS {
                     let Some(corner) = self.box_corner(o, lo, hi, i) else {
                         continue;
