@@ -205,11 +205,10 @@ impl Pixel<'_, '_> {
     /// Keeps the closest sample of a ray's span among the starts of the search, if it is
     /// among the nearest (the shader's `keep_start`: a new one goes after those as near).
     fn keep_start(&mut self) {
-        let mut start = self.closest;
-        for kept in &mut self.starts {
-            if start.1 < kept.1 {
-                std::mem::swap(kept, &mut start);
-            }
+        let start = self.closest;
+        if let Some(at) = self.starts.iter().position(|kept| start.1 < kept.1) {
+            self.starts.copy_within(at..SEEK_STARTS - 1, at + 1);
+            self.starts[at] = start;
         }
     }
 
