@@ -78,13 +78,12 @@ fn onto_slab(st: vec2<f32>, o: f32, n1: f32, n2: f32, lo: f32, hi: f32) -> vec2<
     return select(st, st + ((to - v) / aa) * a, aa > 1e-12);
 }
 
-// Whether the plane meets the box [lo, hi] (give or take rounding): the box's shadow along
+// Whether the plane meets the box whose centre lies at `rel` from the pixel's origin, with
+// half extents `half` (give or take rounding): the box's shadow along
 // the plane on (v1, v2), a zonotope with a side along each axis's (v1_k, v2_k), holds the
 // plane's point; tested across each side, and along v1 and v2 (for a flat shadow). Many of
 // a pixel's boxes have only their sphere meet its plane.
-fn plane_meets_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> bool {
-    let rel = 0.5 * (lo + hi) - (*tr).o;
-    let half = 0.5 * (hi - lo);
+fn plane_meets_box(rel: vec4<f32>, half: vec4<f32>) -> bool {
     let a = dot(rel, u.v1);
     let b = dot(rel, u.v2);
     // Across side k: |rel . w_k| within the shadow's reach along w_k = v1_k v2 - v2_k v1.
@@ -106,14 +105,14 @@ fn plane_meets_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> b
 // a thousandth; where four rounds of them end outside (the plane cuts only a corner of the
 // box: they converge slowly there), the mean of the corners of the plane's part in the box.
 fn point_in_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) -> vec3<f32> {
-    if (!plane_meets_box(tr, lo, hi)) {
+    let o = (*tr).o;
+    let rel = 0.5 * (lo + hi) - o;
+    if (!plane_meets_box(rel, 0.5 * (hi - lo))) {
         return vec3<f32>(0.0);
     }
-    let o = (*tr).o;
     let m = 0.001 * (hi - lo);
     let l = lo + m;
     let h = hi - m;
-    let rel = 0.5 * (lo + hi) - o;
     var p = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     for (var r = 0u; r < 4u; r = r + 1u) {
         p = onto_slab(p, o.x, u.n1.x, u.n2.x, l.x, h.x);
@@ -307,6 +306,7 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     // corners.
     var k = select(SEEK_STARTS, firstTrailingBit(rays), rays != 0u);
     loop {
+        // (A ray start's place in the box was tested by start_bit.)
         var start: vec2<f32>;
         var tried = true;
         if (k < SEEK_STARTS) {
@@ -318,15 +318,16 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
             }
             centre = amid.xy;
             start = centre;
+            tried = in_box(in_plane(tr, start), lo, hi);
         } else {
             if (!undefined) {
                 break;
             }
             let corner = box_corner(tr, lo, hi, k - SEEK_STARTS - 1u);
-            tried = corner.z != 0.0;
             start = corner.xy + 0.01 * (centre - corner.xy);
+            tried = corner.z != 0.0 && in_box(in_plane(tr, start), lo, hi);
         }
-        if (tried && in_box(in_plane(tr, start), lo, hi)) {
+        if (tried) {
             s = seek_from(tr, start, lo, hi);
             if (s.found) {
                 break;

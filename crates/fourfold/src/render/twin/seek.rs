@@ -20,6 +20,11 @@ fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
     a[0] * b[0] + a[1] * b[1]
 }
 
+/// Whether `p` lies in the box [lo, hi] (the shader's `in_box`).
+fn in_box(p: V4, lo: V4, hi: V4) -> bool {
+    (0..4).all(|k| p[k] >= lo[k] && p[k] <= hi[k])
+}
+
 /// Where a search from one start ended: at a, with F(a) (NaN where F is undefined at the
 /// start: the search never moves from there), and the sign change from a to b it found.
 #[derive(Clone, Copy)]
@@ -73,14 +78,12 @@ impl Pixel<'_, '_> {
             .then_some(st)
     }
 
-    /// Whether the plane through `o` meets the box [lo, hi] (give or take rounding): the
-    /// box's shadow along the plane on (v1, v2), a zonotope with a side along each axis's
-    /// (v1_k, v2_k), holds the plane's point; tested across each side, and along v1 and v2
-    /// (the shader's `plane_meets_box`).
-    fn plane_meets_box(&self, o: V4, lo: V4, hi: V4) -> bool {
+    /// Whether the plane meets the box whose centre lies at `rel` from the plane's origin,
+    /// with half extents `half` (give or take rounding): the box's shadow along the plane on
+    /// (v1, v2), a zonotope with a side along each axis's (v1_k, v2_k), holds the plane's
+    /// point; tested across each side, and along v1 and v2 (the shader's `plane_meets_box`).
+    fn plane_meets_box(&self, rel: V4, half: V4) -> bool {
         let (v1, v2) = (self.u.v1, self.u.v2);
-        let rel = sub(scale(add(lo, hi), 0.5), o);
-        let half = scale(sub(hi, lo), 0.5);
         let (a, b) = (dot(rel, v1), dot(rel, v2));
         let along = |w: V4| dot(half, w.map(f32::abs));
         let slack = 1e-5 * (a.abs() + b.abs() + dot(half, half).sqrt());
@@ -97,11 +100,11 @@ impl Pixel<'_, '_> {
     /// only a corner of the box: they converge slowly there), the mean of the corners of the
     /// plane's part in the box.
     fn point_in_box(&self, o: V4, lo: V4, hi: V4) -> Option<[f32; 2]> {
-        if !self.plane_meets_box(o, lo, hi) {
+        let rel = sub(scale(add(lo, hi), 0.5), o);
+        if !self.plane_meets_box(rel, scale(sub(hi, lo), 0.5)) {
             return None;
         }
         let (n1, n2) = (self.u.n1, self.u.n2);
-        let rel = sub(scale(add(lo, hi), 0.5), o);
         let mut p = [dot(rel, n1), dot(rel, n2)];
         for _ in 0..4 {
             for k in 0..4 {
@@ -116,8 +119,7 @@ impl Pixel<'_, '_> {
                 }
             }
         }
-        let q = self.in_plane(o, p);
-        if (0..4).all(|k| q[k] >= lo[k] && q[k] <= hi[k]) {
+        if in_box(self.in_plane(o, p), lo, hi) {
             return Some(p);
         }
         let (mut sum, mut count) = ([0.0f32; 2], 0);
@@ -292,7 +294,7 @@ impl Pixel<'_, '_> {
     /// Seeks a root of F in the box `b`, within the plane through `o`, and keeps it as a hit.
     pub(super) fn seek_in_plane(&mut self, o: V4, b: &Marched) {
         let (lo, hi) = (b.lo, b.hi);
-        let inside = |p: V4| (0..4).all(|k| p[k] >= lo[k] && p[k] <= hi[k]);
+        let inside = |p: V4| in_box(p, lo, hi);
         // From the rays' closest samples that lie in the box, then from a point amid the
         // plane's part in the box.
         let mut seek = None;
