@@ -45,7 +45,7 @@ fn time_frames(gpu: &Gpu, scene: &Scene, size: u32, runs: u32) -> Timed {
     let shader = shader::generate(&formula).expect("the shader validates");
     let mut caster = RayCaster::new(gpu, &shader, &prepared.hierarchy).expect("pipeline");
     let (camera, uniforms) = prepared.frame(scene, size, size, Default::default());
-    let certifying = uniforms.certified().then(|| prepared.certifying());
+    let certifying = uniforms.certified().then(|| prepared.certifying(&formula));
     let (mut best, mut best_gpu) = (f64::INFINITY, None::<f64>);
     let (mut last, mut verdicts) = (Vec::new(), Vec::new());
     for run in 0..=runs {

@@ -1347,7 +1347,7 @@ fn a_painter_builds_only_the_pipeline_its_pictures_draw_with_and_before_them() {
 fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
     use fourfold::render::{RayCaster, Target};
     let gpu = gpu();
-    let (_, shader, plain, prepared) = small_glome();
+    let (formula, shader, plain, prepared) = small_glome();
     let mut certified = plain.clone();
     certified.render.certified = true;
     let h = &prepared.hierarchy;
@@ -1371,7 +1371,7 @@ fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
     assert_eq!(caster.pipelines_built(), 2);
     let draw = |caster: &mut RayCaster| {
         let (camera, uniforms) = prepared.frame(&certified, 32, 24, Default::default());
-        let lists = Some(prepared.certifying());
+        let lists = Some(prepared.certifying(&formula));
         caster.bin_view(&gpu, h, lists, &camera, &uniforms);
         caster.render_rgba(&gpu, &uniforms).unwrap()
     };

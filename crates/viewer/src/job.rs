@@ -98,7 +98,11 @@ impl JobInputs {
             Ok(p) => {
                 // Made with every tree (about a tenth of its build, off the window's frames
                 // natively) so that the switch shows certified pixels at once.
-                let certifying = Arc::new(Hierarchy::for_certifying(&p.tree));
+                let certifying = Arc::new(Hierarchy::for_certifying(
+                    &p.tree,
+                    &self.program.formula,
+                    &p.params,
+                ));
                 let build_ms = p.build_ms;
                 let Prepared {
                     params,

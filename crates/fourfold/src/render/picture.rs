@@ -120,7 +120,7 @@ impl Prepared {
             formula,
             params: &self.params,
             hierarchy: &self.hierarchy,
-            certifying: certified.then(|| self.certifying()),
+            certifying: certified.then(|| self.certifying(formula)),
             tree: &self.tree.stats,
             build_ms: self.build_ms,
         }

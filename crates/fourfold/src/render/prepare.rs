@@ -69,10 +69,11 @@ impl Prepared {
         })
     }
 
-    /// The boxes certified pixels search: the tree's, finer than the ray caster's cut.
-    pub fn certifying(&self) -> &Hierarchy {
+    /// The boxes certified pixels search: the tree's, finer than the ray caster's cut
+    /// (`formula` is the one the tree was built for).
+    pub fn certifying(&self, formula: &CompiledFormula) -> &Hierarchy {
         self.certifying
-            .get_or_init(|| Hierarchy::for_certifying(&self.tree))
+            .get_or_init(|| Hierarchy::for_certifying(&self.tree, formula, &self.params))
     }
 
     /// The same preparation in steps of about `budget` each (see [`PrepareSteps`]).

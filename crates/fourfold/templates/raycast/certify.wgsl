@@ -126,9 +126,21 @@ fn narrow(range: vec2<f32>, n: vec4<f32>, m: vec4<f32>, other: vec2<f32>, lo: ve
     return vec2<f32>(max(range.x, max(max(low.x, low.y), max(low.z, low.w))), min(range.y, min(min(high.x, high.y), min(high.z, high.w))));
 }
 
+// Whether every bound of a plane curvature form is finite and below IV_LARGE (from the
+// bits: ±∞ marks a box without bounds, and a compiler may assume no infinity in floats).
+fn form_bounded(form: PlaneCurvature) -> bool {
+    let big = bitcast<u32>(IV_LARGE);
+    let ab = bitcast<vec4<u32>>(form.ab) & vec4<u32>(0x7fffffffu);
+    let c = bitcast<vec2<u32>>(form.c) & vec2<u32>(0x7fffffffu);
+    return all(ab < vec4<u32>(big)) && all(c < vec2<u32>(big));
+}
+
 // Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi]
-// and the domain, spending at most `cap` cells of the budget.
-fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>, cap: u32) {
+// and the domain, spending at most `cap` cells of the budget. `form` bounds F's second
+// derivatives along the plane over the box (its curvature bounds, Hierarchy::curvature:
+// d²F along s·n1 + t·n2 within s²·A + st·B + t²·C; unbounded where F may not be twice
+// continuously differentiable there).
+fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec4<f32>, cap: u32, form: PlaneCurvature) {
     // The budget this box may spend down to.
     let floor = select(0u, (*cert).budget - cap, (*cert).budget > cap);
     // The box within the domain (boxes are padded beyond it; both rounded outward).
@@ -163,6 +175,8 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
     let global = (u.control.z & 2048u) != 0u;
     let inner_lo = iv_up4(u.domain_lo);
     let inner_hi = iv_down4(u.domain_hi);
+    // (Unbounded, the form takes no part: Taylor's is never tried.)
+    let curved = form_bounded(form);
     var stack: array<vec4<f32>, CERT_STACK>;
     stack[0] = vec4<f32>(s, t);
     var top = 1u;
@@ -186,67 +200,99 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
             continue;
         }
         (*cert).budget = (*cert).budget - 1u;
-        iv_jump = false;
-        let fg = ff_f_grad_box(xlo, xhi);
-        let steady = !iv_jump;
-        if (excludes_zero(fg.f)) {
-            continue;
-        }
         let mid = vec2<f32>(0.5 * (c.x + c.y), 0.5 * (c.z + c.w));
+        let ds = iv_sub(c.xy, vec2<f32>(mid.x));
+        let dt = iv_sub(c.zw, vec2<f32>(mid.y));
+        // Half the second-order term of Taylor's form over the cell, d^T H d / 2 for d =
+        // s n1 + t n2 (s in ds, t in dt), H over the box.
+        let half_quad = iv_mul(vec2<f32>(0.5), iv_add(iv_add(iv_mul(form.ab.xy, iv_sqr(ds)), iv_mul(form.ab.zw, iv_mul(ds, dt))), iv_mul(form.c, iv_sqr(dt))));
         // F's slope along n1 and n2 over the cell, estimated (where bounded).
         var slope = vec2<f32>(0.0);
         var excluded = false;
         var guess = vec2<f32>(0.0);
         var guessing = false;
         var local: Cert;
-        // The samples, from one place (a compiler inlines F at each call): 0 the centre, 1
-        // where F more likely has the sign still missing (see below), 2 and 3 two corners
-        // (where F is continuous on this cell's box only, its own samples must show both
-        // signs). Each counts only where it surely lies in the box.
-        for (var k = 0u; k < 4u; k = k + 1u) {
-            let used = select(select(!global && steady, guessing, k == 1u), true, k == 0u);
-            if (!used) {
-                continue;
+        var fg: IvFGrad;
+        var steady = false;
+        // F at the centre, and its box, for Taylor's form.
+        var centre_f = vec2<f32>(0.0);
+        var centre: Box;
+        var taylor = false;
+        // The cell's enclosure of F and grad F, then (where Taylor's form may prove the cell)
+        // the centre's: one call site (a compiler inlines F and grad F at each).
+        for (var e = 0u; e < 2u; e = e + 1u) {
+            iv_jump = false;
+            let r = ff_f_grad_box(select(xlo, centre.lo, e == 1u), select(xhi, centre.hi, e == 1u));
+            if (e == 1u) {
+                // Taylor's form of second order, F(c) + grad F(c) . d + d^T H d / 2 with H
+                // over the box: its linear part exact at the centre, it proves the cells
+                // where the plane passes near M but F bends away from 0 (near silhouettes)
+                // and where F's enclosures overestimate (near the domain's walls). (The
+                // segment from the centre to any point of the cell in the box lies in both.)
+                let lin = iv_add(centre_f, iv_add(iv_mul(plane_slope(r, u.n1), ds), iv_mul(plane_slope(r, u.n2), dt)));
+                excluded = excludes_zero(iv_add(lin, half_quad));
+                break;
             }
-            let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), mid, k == 0u);
-            let x = plane_box(o, p.xx, p.yy);
-            if (any(x.lo < lo) || any(x.hi > hi)) {
-                continue;
+            fg = r;
+            steady = !iv_jump;
+            if (excludes_zero(fg.f)) {
+                excluded = true;
+                break;
             }
-            let f = ff_f_box(x.lo, x.hi);
-            let in_domain = all(x.lo >= inner_lo) && all(x.hi <= inner_hi);
-            let in_cell = all(x.lo >= xlo) && all(x.hi <= xhi);
-            if (k == 0u && steady) {
-                // The mean-value form over the cell, F(c) + grad F . (p - c) with p - c in
-                // the plane (the segment from the centre to any point of the cell in the
-                // box lies in both): far narrower than F's own enclosure near a root.
-                let g1 = plane_slope(fg, u.n1);
-                let g2 = plane_slope(fg, u.n2);
-                let ds = iv_sub(c.xy, vec2<f32>(mid.x));
-                let dt = iv_sub(c.zw, vec2<f32>(mid.y));
-                let mv = iv_add(f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
-                if (excludes_zero(iv_meet(fg.f, mv))) {
-                    excluded = true;
-                    break;
+            // The samples, from one place (a compiler inlines F at each call): 0 the centre,
+            // 1 where F more likely has the sign still missing (see below), 2 and 3 two
+            // corners (where F is continuous on this cell's box only, its own samples must
+            // show both signs). Each counts only where it surely lies in the box.
+            for (var k = 0u; k < 4u; k = k + 1u) {
+                let used = select(select(!global && steady, guessing, k == 1u), true, k == 0u);
+                if (!used) {
+                    continue;
                 }
-                let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
-                slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
+                let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), mid, k == 0u);
+                let x = plane_box(o, p.xx, p.yy);
+                if (any(x.lo < lo) || any(x.hi > hi)) {
+                    continue;
+                }
+                let f = ff_f_box(x.lo, x.hi);
+                let in_domain = all(x.lo >= inner_lo) && all(x.hi <= inner_hi);
+                let in_cell = all(x.lo >= xlo) && all(x.hi <= xhi);
+                if (k == 0u && steady) {
+                    // The mean-value form over the cell, F(c) + grad F . (p - c) with p - c
+                    // in the plane (the segment from the centre to any point of the cell in
+                    // the box lies in both): far narrower than F's own enclosure near a root.
+                    let g1 = plane_slope(fg, u.n1);
+                    let g2 = plane_slope(fg, u.n2);
+                    let mv = iv_add(f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
+                    if (excludes_zero(iv_meet(fg.f, mv))) {
+                        excluded = true;
+                        break;
+                    }
+                    // Taylor's form can exclude 0 only where F(c) + d^T H d / 2 does.
+                    taylor = curved && excludes_zero(iv_add(f, half_quad));
+                    centre_f = f;
+                    centre = x;
+                    let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
+                    slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
+                }
+                if (global && in_domain) {
+                    cert_note(cert, proved_sign(f), p);
+                }
+                if (!global && steady && k != 1u && in_cell) {
+                    cert_note(&local, proved_sign(f), p);
+                }
+                if (k == 0u && global && in_domain) {
+                    // Twice the Newton step of the linear model towards 0, within the cell,
+                    // towards the sign still missing (with neither found, the sign opposite
+                    // to F's at the centre).
+                    let v = 0.5 * (f.x + f.y);
+                    let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
+                    let norm = dot(slope, slope);
+                    guessing = !iv_is_empty(f) && want * v < 0.0 && norm > 0.0 && norm < IV_LARGE && abs(v) < IV_LARGE;
+                    guess = clamp(mid - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
+                }
             }
-            if (global && in_domain) {
-                cert_note(cert, proved_sign(f), p);
-            }
-            if (!global && steady && k != 1u && in_cell) {
-                cert_note(&local, proved_sign(f), p);
-            }
-            if (k == 0u && global && in_domain) {
-                // Twice the Newton step of the linear model towards 0, within the cell,
-                // towards the sign still missing (with neither found, the sign opposite to
-                // F's at the centre).
-                let v = 0.5 * (f.x + f.y);
-                let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
-                let norm = dot(slope, slope);
-                guessing = !iv_is_empty(f) && want * v < 0.0 && norm > 0.0 && norm < IV_LARGE && abs(v) < IV_LARGE;
-                guess = clamp(mid - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
+            if (excluded || !taylor || local.hit || (*cert).hit) {
+                break;
             }
         }
         if (excluded) {
@@ -338,6 +384,9 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
         }
         var lo = u.domain_lo;
         var hi = u.domain_hi;
+        var form: PlaneCurvature;
+        form.ab = vec4<f32>(IV_BIG);
+        form.c = vec2<f32>(IV_BIG);
         var search = MODE == 0u;
         var next = c + 1u;
         if (listed) {
@@ -348,6 +397,7 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
             search = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
             lo = cert_boxes[i].center - half;
             hi = cert_boxes[i].center + half;
+            form = cert_boxes[i].form;
         } else if (MODE != 0u) {
             let node = nodes[c];
             let center = vec4<f32>(node.cx, node.cy, node.cz, node.cw);
@@ -361,7 +411,7 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
             next = select(node.skip, c + 1u, meets && !boxed);
         }
         if (search) {
-            certify_box(cert, o, lo, hi, cap);
+            certify_box(cert, o, lo, hi, cap, form);
         }
         c = next;
     }

@@ -26,6 +26,25 @@ pub struct Outcome {
     pub bracket: Option<([f64; 2], [f64; 2])>,
 }
 
+/// A box the search covers, [lo, hi], with bounds on F's second derivatives along the
+/// plane over it ([`crate::tree::Curvature::in_plane`]: along s·n1 + t·n2, d²F within
+/// s²·A + st·B + t²·C, as A, B, C's lower and upper bounds; ±∞ where unbounded).
+#[derive(Debug, Clone, Copy)]
+pub struct SearchBox {
+    pub lo: [f32; 4],
+    pub hi: [f32; 4],
+    pub form: [f32; 6],
+}
+
+impl SearchBox {
+    /// The form in f64 where all its bounds are finite and below the shader's IV_LARGE (as
+    /// the shader's `form_bounded`).
+    fn bounded_form(&self) -> Option<[f64; 6]> {
+        let bounded = self.form.iter().all(|v| v.abs() < IV_LARGE);
+        bounded.then(|| self.form.map(f64::from))
+    }
+}
+
 /// The CPU's certifier for one frame (one per thread).
 pub struct Certifier<'a> {
     formula: &'a CompiledFormula,
@@ -48,13 +67,13 @@ impl<'a> Certifier<'a> {
     }
 
     /// Certifies the pixel whose plane has origin `o` (its observer plane's point on the
-    /// (v1, v2) plane through the domain's centre), within `boxes` ([lo, hi] each: boxes
-    /// that together hold every point of M in the domain that the plane may meet).
+    /// (v1, v2) plane through the domain's centre), within `boxes` (boxes that together
+    /// hold every point of M in the domain that the plane may meet).
     /// A ray's sign change, `bracket`'s two points (s, t), is tried first.
     pub fn pixel(
         &mut self,
         o: [f32; 4],
-        boxes: &[([f32; 4], [f32; 4])],
+        boxes: &[SearchBox],
         bracket: Option<([f64; 2], [f64; 2])>,
     ) -> Outcome {
         let mut search = Search {
@@ -84,11 +103,11 @@ impl<'a> Certifier<'a> {
             } else {
                 search.budget
             };
-            for &(lo, hi) in boxes {
+            for b in boxes {
                 if (search.budget == 0 && search.undecided) || search.hit().is_some() {
                     break;
                 }
-                self.certify_box(&mut search, o, lo, hi, cap);
+                self.certify_box(&mut search, o, b, cap);
             }
         }
         if let Some(bracket) = search.hit() {
@@ -159,20 +178,14 @@ impl<'a> Certifier<'a> {
 
     /// Certifies the part of the plane within the box [lo, hi] and the domain, spending at
     /// most `cap` cells of the budget (the shader's `certify_box`).
-    fn certify_box(
-        &mut self,
-        search: &mut Search,
-        o: [f32; 4],
-        lo: [f32; 4],
-        hi: [f32; 4],
-        cap: u32,
-    ) {
+    fn certify_box(&mut self, search: &mut Search, o: [f32; 4], b: &SearchBox, cap: u32) {
         let u = self.u;
         let floor = search.budget.saturating_sub(cap);
         let domain = self.domain();
-        let Some((bx, rel, (s, t))) = self.plane_cell(o, lo, hi) else {
+        let Some((bx, rel, (s, t))) = self.plane_cell(o, b.lo, b.hi) else {
             return;
         };
+        let form = b.bounded_form();
         // As the shader: cells are cut down to where the plane may meet the box.
         let reach = magnitude(s).max(magnitude(t));
         let global = u.control.flags & FLAG_CONTINUOUS != 0;
@@ -206,16 +219,22 @@ impl<'a> Certifier<'a> {
             // As the shader: at the centre, where it lies in the box, F's value and the
             // mean-value form over the cell.
             let cp = self.plane_box(o, Interval::point(mid[0]), Interval::point(mid[1]));
+            let ds = cs.sub(Interval::point(mid[0]));
+            let dt = ct.sub(Interval::point(mid[1]));
+            let half_quad = form.map(|form| half_second_order(form, ds, dt));
+            // Where Taylor's form may prove the cell: F at the centre (and its box).
+            let mut taylor = None;
             if inside(&cp, &bx) {
                 let fc = self.eval.eval(&self.formula.tape_f, &cp, self.params);
                 if smooth {
                     let (g1, g2) = (dot(&fg[1..], u.n1), dot(&fg[1..], u.n2));
-                    let ds = cs.sub(Interval::point(mid[0]));
-                    let dt = ct.sub(Interval::point(mid[1]));
                     let mv = fc.add(g1.mul(ds).add(g2.mul(dt)));
                     if !meet(fg[0], mv).contains_zero() {
                         continue;
                     }
+                    taylor = half_quad
+                        .filter(|&h| !fc.add(h).contains_zero())
+                        .map(|h| (fc, h));
                     slope =
                         [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
                 }
@@ -241,28 +260,35 @@ impl<'a> Certifier<'a> {
             if search.hit().is_some() {
                 return;
             }
-            // Split the longer side (a slice's cells are segments along n1).
-            let along_s = cs.width() >= ct.width();
-            let (side, cut) = if along_s { (cs, mid[0]) } else { (ct, mid[1]) };
-            if !(side.lo() < cut && cut < side.hi()) || stack.len() + 2 > CERT_STACK {
-                search.undecided = true;
+            if let Some((fc, half_quad)) = taylor
+                && self.taylor_excludes_zero(&cp, fc, half_quad, (ds, dt))
+            {
                 continue;
             }
-            // The half where F more likely has the sign still missing is searched first
-            // (pushed last).
-            let (mut a, mut b) = (Interval::new(side.lo(), cut), Interval::new(cut, side.hi()));
-            let g = if along_s { slope[0] } else { slope[1] };
-            if f64::from(search.wanted()) * g < 0.0 {
-                (a, b) = (b, a);
-            }
-            if along_s {
-                stack.push((a, ct));
-                stack.push((b, ct));
-            } else {
-                stack.push((cs, a));
-                stack.push((cs, b));
+            if !split((cs, ct), mid, slope, search.wanted(), &mut stack) {
+                search.undecided = true;
             }
         }
+    }
+
+    /// Whether Taylor's form of second order, F(c) + ∇F(c)·d + half_quad (the shader's),
+    /// excludes 0 over the cell's offsets (ds, dt) from its centre c (its box `cp`, where F
+    /// encloses to `fc`).
+    fn taylor_excludes_zero(
+        &mut self,
+        cp: &Box4,
+        fc: Interval,
+        half_quad: Interval,
+        (ds, dt): (Interval, Interval),
+    ) -> bool {
+        let mut fgc = [Interval::EMPTY; 5];
+        self.eval
+            .eval_into(&self.formula.tape_all, cp, self.params, &mut fgc);
+        let (c1, c2) = (dot(&fgc[1..], self.u.n1), dot(&fgc[1..], self.u.n2));
+        !fc.add(c1.mul(ds))
+            .add(c2.mul(dt))
+            .add(half_quad)
+            .contains_zero()
     }
 
     /// The part of the cell where o + s·n1 + t·n2 may lie in the box o + `rel`, bounded
@@ -373,6 +399,47 @@ impl Search {
     }
 }
 
+/// Half the second-order term of Taylor's form over a cell, dᵀHd / 2 for d = s·n1 + t·n2
+/// (s in `ds`, t in `dt`), H as the box's `form` bounds it (as the shader's `half_quad`).
+fn half_second_order([al, ah, bl, bh, cl, ch]: [f64; 6], ds: Interval, dt: Interval) -> Interval {
+    Interval::new(al, ah)
+        .mul(ds.square())
+        .add(Interval::new(bl, bh).mul(ds.mul(dt)))
+        .add(Interval::new(cl, ch).mul(dt.square()))
+        .mul(Interval::point(0.5))
+}
+
+/// Splits the cell across its longer side (a slice's cells are segments along n1) onto
+/// `stack`, the half where F more likely has the sign still missing (`wanted`, by the
+/// estimated `slope`) searched first (pushed last); false where f32 cannot split it or
+/// the stack is full (that part stays undecided).
+fn split(
+    (cs, ct): Cell,
+    mid: [f64; 2],
+    slope: [f64; 2],
+    wanted: i8,
+    stack: &mut Vec<Cell>,
+) -> bool {
+    let along_s = cs.width() >= ct.width();
+    let (side, cut) = if along_s { (cs, mid[0]) } else { (ct, mid[1]) };
+    if !(side.lo() < cut && cut < side.hi()) || stack.len() + 2 > CERT_STACK {
+        return false;
+    }
+    let (mut a, mut b) = (Interval::new(side.lo(), cut), Interval::new(cut, side.hi()));
+    let g = if along_s { slope[0] } else { slope[1] };
+    if f64::from(wanted) * g < 0.0 {
+        (a, b) = (b, a);
+    }
+    if along_s {
+        stack.push((a, ct));
+        stack.push((b, ct));
+    } else {
+        stack.push((cs, a));
+        stack.push((cs, b));
+    }
+    true
+}
+
 /// The range a takes where a·n_i + b·m_i (b in `other`) lies in `ranges[i]` for each i,
 /// intersected with `range` (the shader's `narrow`).
 fn narrow(
@@ -395,6 +462,9 @@ fn narrow(
     }
     r
 }
+
+/// The largest finite bound the shader's intervals keep (its IV_LARGE, 2^61).
+const IV_LARGE: f32 = 2_305_843_009_213_693_952.0;
 
 /// The sign an enclosure of F proves: 1, −1, or 0 (none).
 fn proved_sign(f: Interval) -> i8 {

@@ -8,7 +8,7 @@ use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
 use crate::tree::{Curvature, Hierarchy};
 
-use super::certify::Certifier;
+use super::certify::{Certifier, SearchBox};
 use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
 
@@ -168,7 +168,15 @@ fn render_pixel(
     if u.control.flags & FLAG_CERTIFIED != 0 {
         let mut covered = Vec::new();
         boxes_of(h[1], u, plane, &mut covered);
-        let bounds: Vec<(V4, V4)> = covered.iter().map(|b| (b.lo, b.hi)).collect();
+        let (n1, n2) = (u.n1.map(f64::from), u.n2.map(f64::from));
+        let bounds: Vec<SearchBox> = covered
+            .iter()
+            .map(|b| SearchBox {
+                lo: b.lo,
+                hi: b.hi,
+                form: b.curvature.in_plane(n1, n2),
+            })
+            .collect();
         let outcome = scratch.certifier.pixel(plane, &bounds, pixel.bracket);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {

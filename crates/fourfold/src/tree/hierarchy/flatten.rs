@@ -29,11 +29,15 @@ impl Hierarchy {
     /// The boxes certified pixels search (docs/method.md §5.9): `tree` flattened down to
     /// [`CERTIFY_LEVELS_ABOVE`] levels above the deepest level with at most [`MARCH_BOXES`]
     /// boxes, each box there (and each leaf above) searched whole. Finer than the ray
-    /// caster's cut, which is often the root box.
-    pub fn for_certifying(tree: &Tree16) -> Self {
+    /// caster's cut, which is often the root box. Each searched box gets its bounds on F's
+    /// second derivatives (`formula` with parameter values `params`, the tree's): with them
+    /// a cell's second-order Taylor form proves most cells near M (docs/method.md §5.9).
+    pub fn for_certifying(tree: &Tree16, formula: &CompiledFormula, params: &[f64]) -> Self {
         let deepest = tree.levels.len().saturating_sub(1);
         let level = deepest_within_budget(tree, deepest).saturating_sub(CERTIFY_LEVELS_ABOVE);
-        Self::flatten(tree, level as u32, None)
+        let mut hierarchy = Self::flatten(tree, level as u32, None);
+        hierarchy.bound_curvature(formula, params);
+        hierarchy
     }
 
     /// Flattens `tree` down to `march_level` (clamped to the finest level; the finest level
