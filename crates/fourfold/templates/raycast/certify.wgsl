@@ -126,6 +126,44 @@ fn narrow(range: vec2<f32>, n: vec4<f32>, m: vec4<f32>, other: vec2<f32>, lo: ve
     return vec2<f32>(max(range.x, max(max(low.x, low.y), max(low.z, low.w))), min(range.y, min(min(high.x, high.y), min(high.z, high.w))));
 }
 
+// A point of the plane within the cell c (s in c.xy, t in c.zw), in the box [lo, hi]
+// where three rounds find one: the cell's centre `mid`, or else its point clamped into
+// the box (shrunk by a thousandth) and projected back on the plane, kept in the cell. The
+// forms expand about it, and must expand about a point of the box (where the plane cuts
+// a box's corner, a cell's centre often lies outside it).
+fn cell_point(o: vec4<f32>, c: vec4<f32>, mid: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
+    let m = 1e-3 * (hi - lo);
+    var p = mid;
+    for (var round = 0u; round < 3u; round = round + 1u) {
+        let x = o + p.x * u.n1 + p.y * u.n2;
+        if (all(x > lo) && all(x < hi)) {
+            break;
+        }
+        let q = clamp(x, lo + m, hi - m) - o;
+        p = clamp(vec2<f32>(dot(q, u.n1), dot(q, u.n2)), c.xz, c.yw);
+    }
+    return p;
+}
+
+// Whether a + g1 s + g2 t + (A s^2 + B s t + C t^2) / 2 > 0 for every (s, t) and every
+// A >= al, C >= cl, B in b (a, g1, g2: enclosures). With q = B's middle / 2 and w half B's
+// width, the quadratic is at least (al - w) s^2 + 2q s t + (cl - w) t^2; where that is
+// positive definite (P), the least value of the whole is a - g^T P^-1 g / 2 =
+// a - num / (2 det) with num = r g1^2 - 2q g1 g2 + p g2^2 and det = pr - q^2.
+fn bowl_above_zero(a: vec2<f32>, g1: vec2<f32>, g2: vec2<f32>, al: f32, b: vec2<f32>, cl: f32) -> bool {
+    let q = 0.25 * (b.x + b.y);
+    let w = iv_up(max(iv_up(0.5 * b.y - q), iv_up(q - 0.5 * b.x)));
+    let p = vec2<f32>(iv_down(al - w));
+    let r = vec2<f32>(iv_down(cl - w));
+    let det = iv_sub(iv_mul(p, r), iv_sqr(vec2<f32>(q)));
+    if (iv_is_empty(a) || !(a.x > 0.0 && p.x > 0.0 && r.x > 0.0 && det.x > 0.0)) {
+        return false;
+    }
+    // (a - num / (2 det) > 0 as 2 a det > num: no division.)
+    let num = iv_add(iv_sub(iv_mul(r, iv_sqr(g1)), iv_mul(vec2<f32>(2.0 * q), iv_mul(g1, g2))), iv_mul(p, iv_sqr(g2)));
+    return 2.0 * iv_mul(a, det).x > num.y;
+}
+
 // Whether every bound of a plane curvature form is finite and below IV_LARGE (from the
 // bits: ±∞ marks a box without bounds, and a compiler may assume no infinity in floats).
 fn form_bounded(form: PlaneCurvature) -> bool {
@@ -201,8 +239,11 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         }
         (*cert).budget = (*cert).budget - 1u;
         let mid = vec2<f32>(0.5 * (c.x + c.y), 0.5 * (c.z + c.w));
-        let ds = iv_sub(c.xy, vec2<f32>(mid.x));
-        let dt = iv_sub(c.zw, vec2<f32>(mid.y));
+        // The point the forms expand about (in the box where it can be found), and the
+        // cell's offsets from it.
+        let c0 = cell_point(o, c, mid, lo, hi);
+        let ds = iv_sub(c.xy, vec2<f32>(c0.x));
+        let dt = iv_sub(c.zw, vec2<f32>(c0.y));
         // Half the second-order term of Taylor's form over the cell, d^T H d / 2 for d =
         // s n1 + t n2 (s in ds, t in dt), H over the box.
         let half_quad = iv_mul(vec2<f32>(0.5), iv_add(iv_add(iv_mul(form.ab.xy, iv_sqr(ds)), iv_mul(form.ab.zw, iv_mul(ds, dt))), iv_mul(form.c, iv_sqr(dt))));
@@ -229,8 +270,24 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 // where the plane passes near M but F bends away from 0 (near silhouettes)
                 // and where F's enclosures overestimate (near the domain's walls). (The
                 // segment from the centre to any point of the cell in the box lies in both.)
-                let lin = iv_add(centre_f, iv_add(iv_mul(plane_slope(r, u.n1), ds), iv_mul(plane_slope(r, u.n2), dt)));
+                // Where the form bounds a bowl (or a cap), its least (greatest) value over the
+                // whole plane proves it too: beside a convex M's silhouette the interval form
+                // still holds 0 over cells the bowl clears.
+                let g1 = plane_slope(r, u.n1);
+                let g2 = plane_slope(r, u.n2);
+                let lin = iv_add(centre_f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
                 excluded = excludes_zero(iv_add(lin, half_quad));
+                // (F < 0 at c: the cap is -F's bowl.)
+                let up = centre_f.x > 0.0;
+                let a = select(-form.ab.y, form.ab.x, up);
+                let cc = select(-form.c.y, form.c.x, up);
+                if (!excluded && a > 0.0 && cc > 0.0) {
+                    let b = select(iv_neg(form.ab.zw), form.ab.zw, up);
+                    let f = select(iv_neg(centre_f), centre_f, up);
+                    let h1 = select(iv_neg(g1), g1, up);
+                    let h2 = select(iv_neg(g2), g2, up);
+                    excluded = bowl_above_zero(f, h1, h2, a, b, cc);
+                }
                 break;
             }
             fg = r;
@@ -248,7 +305,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 if (!used) {
                     continue;
                 }
-                let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), mid, k == 0u);
+                let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), c0, k == 0u);
                 let x = plane_box(o, p.xx, p.yy);
                 if (any(x.lo < lo) || any(x.hi > hi)) {
                     continue;
@@ -268,7 +325,9 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                         break;
                     }
                     // Taylor's form can exclude 0 only where F(c) + d^T H d / 2 does.
-                    taylor = curved && excludes_zero(iv_add(f, half_quad));
+                    // (F is defined on a box with curvature bounds: an empty enclosure
+                    // would be a fault, and proves nothing.)
+                    taylor = curved && !iv_is_empty(f) && excludes_zero(iv_add(f, half_quad));
                     centre_f = f;
                     centre = x;
                     let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
@@ -288,7 +347,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                     let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
                     let norm = dot(slope, slope);
                     guessing = !iv_is_empty(f) && want * v < 0.0 && norm > 0.0 && norm < IV_LARGE && abs(v) < IV_LARGE;
-                    guess = clamp(mid - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
+                    guess = clamp(c0 - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
                 }
             }
             if (excluded || !taylor || local.hit || (*cert).hit) {

@@ -216,11 +216,14 @@ impl<'a> Certifier<'a> {
             let mid = [cs.midpoint(), ct.midpoint()];
             // F's slope along n1 and n2 over the cell, estimated (where bounded).
             let mut slope = [0.0; 2];
-            // As the shader: at the centre, where it lies in the box, F's value and the
-            // mean-value form over the cell.
-            let cp = self.plane_box(o, Interval::point(mid[0]), Interval::point(mid[1]));
-            let ds = cs.sub(Interval::point(mid[0]));
-            let dt = ct.sub(Interval::point(mid[1]));
+            // As the shader: at c0, where it lies in the box, F's value and the mean-value
+            // form over the cell.
+            // As the shader: the point the forms expand about, in the box where it can be
+            // found.
+            let c0 = self.cell_point(o, (cs, ct), mid, &bx);
+            let cp = self.plane_box(o, Interval::point(c0[0]), Interval::point(c0[1]));
+            let ds = cs.sub(Interval::point(c0[0]));
+            let dt = ct.sub(Interval::point(c0[1]));
             let half_quad = form.map(|form| half_second_order(form, ds, dt));
             // Where Taylor's form may prove the cell: F at the centre (and its box).
             let mut taylor = None;
@@ -233,14 +236,14 @@ impl<'a> Certifier<'a> {
                         continue;
                     }
                     taylor = half_quad
-                        .filter(|&h| !fc.add(h).contains_zero())
+                        .filter(|&h| !fc.is_empty() && !fc.add(h).contains_zero())
                         .map(|h| (fc, h));
                     slope =
                         [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
                 }
                 if global && inside(&cp, &domain) {
-                    search.note(proved_sign(fc), mid);
-                    if let Some(p) = search.guess(fc, mid, slope, (cs, ct)) {
+                    search.note(proved_sign(fc), c0);
+                    if let Some(p) = search.guess(fc, c0, slope, (cs, ct)) {
                         let sign = self.sign_at(o, p, &bx);
                         search.note(sign, p);
                     }
@@ -249,7 +252,7 @@ impl<'a> Certifier<'a> {
             if !global && smooth {
                 // F is continuous on this cell's box only: its own samples must differ.
                 let mut local = Search::default();
-                for p in [mid, [cs.lo(), ct.lo()], [cs.hi(), ct.hi()]] {
+                for p in [c0, [cs.lo(), ct.lo()], [cs.hi(), ct.hi()]] {
                     let sign = self.sign_at(o, p, &x);
                     local.note(sign, p);
                 }
@@ -261,7 +264,7 @@ impl<'a> Certifier<'a> {
                 return;
             }
             if let Some((fc, half_quad)) = taylor
-                && self.taylor_excludes_zero(&cp, fc, half_quad, (ds, dt))
+                && self.taylor_excludes_zero(&cp, fc, half_quad, (ds, dt), form.unwrap())
             {
                 continue;
             }
@@ -280,15 +283,42 @@ impl<'a> Certifier<'a> {
         fc: Interval,
         half_quad: Interval,
         (ds, dt): (Interval, Interval),
+        form: [f64; 6],
     ) -> bool {
         let mut fgc = [Interval::EMPTY; 5];
         self.eval
             .eval_into(&self.formula.tape_all, cp, self.params, &mut fgc);
         let (c1, c2) = (dot(&fgc[1..], self.u.n1), dot(&fgc[1..], self.u.n2));
+        let [al, ah, bl, bh, cl, ch] = form;
+        let b = Interval::new(bl, bh);
         !fc.add(c1.mul(ds))
             .add(c2.mul(dt))
             .add(half_quad)
             .contains_zero()
+            || bowl_above_zero(fc, c1, c2, al, b, cl)
+            || bowl_above_zero(fc.neg(), c1.neg(), c2.neg(), -ah, b.neg(), -ch)
+    }
+
+    /// A point of the plane within the cell, in the box `bx` where three rounds find one
+    /// (the shader's `cell_point`): the cell's centre `mid`, or else its point clamped into
+    /// the box (shrunk by a thousandth) and projected back on the plane, kept in the cell.
+    fn cell_point(&self, o: [f32; 4], (cs, ct): Cell, mid: [f64; 2], bx: &Box4) -> [f64; 2] {
+        let mut p = mid;
+        let (n1, n2) = (self.u.n1.map(f64::from), self.u.n2.map(f64::from));
+        let o = o.map(f64::from);
+        for _ in 0..3 {
+            let x: [f64; 4] = std::array::from_fn(|i| o[i] + p[0] * n1[i] + p[1] * n2[i]);
+            if (0..4).all(|i| x[i] > bx[i].lo() && x[i] < bx[i].hi()) {
+                break;
+            }
+            let q: [f64; 4] = std::array::from_fn(|i| {
+                let m = 1e-3 * (bx[i].hi() - bx[i].lo());
+                x[i].clamp(bx[i].lo() + m, bx[i].hi() - m) - o[i]
+            });
+            let d = |n: [f64; 4]| q[0] * n[0] + q[1] * n[1] + q[2] * n[2] + q[3] * n[3];
+            p = [d(n1).clamp(cs.lo(), cs.hi()), d(n2).clamp(ct.lo(), ct.hi())];
+        }
+        p
     }
 
     /// The part of the cell where o + s·n1 + t·n2 may lie in the box o + `rel`, bounded
@@ -463,6 +493,29 @@ fn narrow(
     r
 }
 
+/// Whether a + g1·s + g2·t + (A·s² + B·st + C·t²)/2 > 0 for every (s, t) and every
+/// A ≥ `al`, C ≥ `cl`, B in `b` (the shader's `bowl_above_zero`): with q = B's middle / 2
+/// and w half B's width, the quadratic is at least (al − w)s² + 2q·st + (cl − w)t²; where
+/// that is positive definite (P), the least value of the whole is a − gᵀP⁻¹g / 2 =
+/// a − num / (2 det), num = r·g1² − 2q·g1·g2 + p·g2², det = pr − q².
+fn bowl_above_zero(a: Interval, g1: Interval, g2: Interval, al: f64, b: Interval, cl: f64) -> bool {
+    let q = 0.25 * (b.lo() + b.hi());
+    let w = magnitude(b.mul(Interval::point(0.5)).sub(Interval::point(q)));
+    let p = Interval::point(al).sub(Interval::point(w)).lo();
+    let r = Interval::point(cl).sub(Interval::point(w)).lo();
+    let (p, qi, r) = (Interval::point(p), Interval::point(q), Interval::point(r));
+    let det = p.mul(r).sub(qi.square());
+    if a.is_empty() || !(a.lo() > 0.0 && p.lo() > 0.0 && r.lo() > 0.0 && det.lo() > 0.0) {
+        return false;
+    }
+    let num = r
+        .mul(g1.square())
+        .sub(Interval::point(2.0 * q).mul(g1.mul(g2)))
+        .add(p.mul(g2.square()));
+    // (As the shader: a − num / (2 det) > 0 as 2·a·det > num.)
+    2.0 * a.mul(det).lo() > num.hi()
+}
+
 /// The largest finite bound the shader's intervals keep (its IV_LARGE, 2^61).
 const IV_LARGE: f32 = 2_305_843_009_213_693_952.0;
 
@@ -510,4 +563,34 @@ fn within(x: Box4, b: &Box4) -> Option<Box4> {
         }
     }
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// F = 0.01 + 0.1·s + s² + t² (H = 2I) has its least value 0.0075 at s = −0.05: the
+    /// bowl proves F > 0 everywhere; with F(c) = 0.002 the least value is −0.0005 and it
+    /// must not. A cross term B as wide as A and C leaves no definite bound: no proof.
+    #[test]
+    fn a_bowl_proves_what_its_least_value_clears() {
+        let point = Interval::point;
+        let (g1, g2) = (Interval::new(0.0999, 0.1001), point(0.0));
+        assert!(bowl_above_zero(point(0.01), g1, g2, 2.0, point(0.0), 2.0));
+        assert!(!bowl_above_zero(point(0.002), g1, g2, 2.0, point(0.0), 2.0));
+        assert!(!bowl_above_zero(
+            point(0.01),
+            g1,
+            g2,
+            2.0,
+            Interval::new(-4.0, 4.0),
+            2.0
+        ));
+        // A saddle's (A < 0) or a value of the wrong sign: no proof.
+        assert!(!bowl_above_zero(point(0.01), g1, g2, -2.0, point(0.0), 2.0));
+        assert!(!bowl_above_zero(point(-0.01), g1, g2, 2.0, point(0.0), 2.0));
+        // The least value of 0.01 + 0.1 s + s² + s t + t² is 0.01 − 0.01/3 > 0.
+        assert!(bowl_above_zero(point(0.01), g1, g2, 2.0, point(2.0), 2.0));
+        assert!(!bowl_above_zero(point(0.003), g1, g2, 2.0, point(2.0), 2.0));
+    }
 }
