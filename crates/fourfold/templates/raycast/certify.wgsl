@@ -239,7 +239,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         }
         (*cert).budget = (*cert).budget - 1u;
         let mid = vec2<f32>(0.5 * (c.x + c.y), 0.5 * (c.z + c.w));
-        // The point the forms expand about (in the box where it can be found), and the
+        // The point c0 the forms expand about (in the box where it can be found), and the
         // cell's offsets from it.
         let c0 = cell_point(o, c, mid, lo, hi);
         let ds = iv_sub(c.xy, vec2<f32>(c0.x));
@@ -255,35 +255,35 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         var local: Cert;
         var fg: IvFGrad;
         var steady = false;
-        // F at the centre, and its box, for Taylor's form.
-        var centre_f = vec2<f32>(0.0);
-        var centre: Box;
+        // F at c0, and its box, for Taylor's form.
+        var c0_f = vec2<f32>(0.0);
+        var c0_box: Box;
         var taylor = false;
         // The cell's enclosure of F and grad F, then (where Taylor's form may prove the cell)
-        // the centre's: one call site (a compiler inlines F and grad F at each).
+        // c0's: one call site (a compiler inlines F and grad F at each).
         for (var e = 0u; e < 2u; e = e + 1u) {
             iv_jump = false;
-            let r = ff_f_grad_box(select(xlo, centre.lo, e == 1u), select(xhi, centre.hi, e == 1u));
+            let r = ff_f_grad_box(select(xlo, c0_box.lo, e == 1u), select(xhi, c0_box.hi, e == 1u));
             if (e == 1u) {
-                // Taylor's form of second order, F(c) + grad F(c) . d + d^T H d / 2 with H
-                // over the box: its linear part exact at the centre, it proves the cells
-                // where the plane passes near M but F bends away from 0 (near silhouettes)
-                // and where F's enclosures overestimate (near the domain's walls). (The
-                // segment from the centre to any point of the cell in the box lies in both.)
-                // Where the form bounds a bowl (or a cap), its least (greatest) value over the
-                // whole plane proves it too: beside a convex M's silhouette the interval form
-                // still holds 0 over cells the bowl clears.
+                // Taylor's form of second order, F(c0) + grad F(c0) . d + d^T H d / 2 with H
+                // over the box: its linear part taken at c0, it proves the cells where the
+                // plane passes near M but F bends away from 0 (near silhouettes) and where
+                // F's enclosures overestimate (near the domain's walls). (The segment from
+                // c0 to any point of the cell in the box lies in both.) Where the form bounds
+                // a bowl (or a cap), its least (greatest) value over the whole plane proves
+                // it too: beside a convex M's silhouette the interval form still holds 0
+                // over cells the bowl clears.
                 let g1 = plane_slope(r, u.n1);
                 let g2 = plane_slope(r, u.n2);
-                let lin = iv_add(centre_f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
+                let lin = iv_add(c0_f, iv_add(iv_mul(g1, ds), iv_mul(g2, dt)));
                 excluded = excludes_zero(iv_add(lin, half_quad));
-                // (F < 0 at c: the cap is -F's bowl.)
-                let up = centre_f.x > 0.0;
+                // (F < 0 at c0: the cap is -F's bowl.)
+                let up = c0_f.x > 0.0;
                 let a = select(-form.ab.y, form.ab.x, up);
                 let cc = select(-form.c.y, form.c.x, up);
                 if (!excluded && a > 0.0 && cc > 0.0) {
                     let b = select(iv_neg(form.ab.zw), form.ab.zw, up);
-                    let f = select(iv_neg(centre_f), centre_f, up);
+                    let f = select(iv_neg(c0_f), c0_f, up);
                     let h1 = select(iv_neg(g1), g1, up);
                     let h2 = select(iv_neg(g2), g2, up);
                     excluded = bowl_above_zero(f, h1, h2, a, b, cc);
@@ -296,8 +296,8 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 excluded = true;
                 break;
             }
-            // The samples, from one place (a compiler inlines F at each call): 0 the centre,
-            // 1 where F more likely has the sign still missing (see below), 2 and 3 two
+            // The samples, from one place (a compiler inlines F at each call): 0 at c0, 1
+            // where F more likely has the sign still missing (see below), 2 and 3 two
             // corners (where F is continuous on this cell's box only, its own samples must
             // show both signs). Each counts only where it surely lies in the box.
             for (var k = 0u; k < 4u; k = k + 1u) {
@@ -315,7 +315,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 let in_cell = all(x.lo >= xlo) && all(x.hi <= xhi);
                 if (k == 0u && steady) {
                     // The mean-value form over the cell, F(c) + grad F . (p - c) with p - c
-                    // in the plane (the segment from the centre to any point of the cell in
+                    // in the plane (the segment from c0 to any point of the cell in
                     // the box lies in both): far narrower than F's own enclosure near a root.
                     let g1 = plane_slope(fg, u.n1);
                     let g2 = plane_slope(fg, u.n2);
@@ -328,8 +328,8 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                     // (F is defined on a box with curvature bounds: an empty enclosure
                     // would be a fault, and proves nothing.)
                     taylor = curved && !iv_is_empty(f) && excludes_zero(iv_add(f, half_quad));
-                    centre_f = f;
-                    centre = x;
+                    c0_f = f;
+                    c0_box = x;
                     let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
                     slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
                 }
@@ -342,7 +342,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 if (k == 0u && global && in_domain) {
                     // Twice the Newton step of the linear model towards 0, within the cell,
                     // towards the sign still missing (with neither found, the sign opposite
-                    // to F's at the centre).
+                    // to F's at c0).
                     let v = 0.5 * (f.x + f.y);
                     let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
                     let norm = dot(slope, slope);
