@@ -216,16 +216,16 @@ impl<'a> Certifier<'a> {
             let mid = [cs.midpoint(), ct.midpoint()];
             // F's slope along n1 and n2 over the cell, estimated (where bounded).
             let mut slope = [0.0; 2];
-            // As the shader: at c0, where it lies in the box, F's value and the mean-value
-            // form over the cell.
-            // As the shader: the point the forms expand about, in the box where it can be
-            // found.
+            // As the shader: the point c0 the forms expand about (in the box where it can be
+            // found); where it lies in the box, F's value there and the mean-value form over
+            // the cell.
             let c0 = self.cell_point(o, (cs, ct), mid, &bx);
             let cp = self.plane_box(o, Interval::point(c0[0]), Interval::point(c0[1]));
             let ds = cs.sub(Interval::point(c0[0]));
             let dt = ct.sub(Interval::point(c0[1]));
             let half_quad = form.map(|form| half_second_order(form, ds, dt));
-            // Where Taylor's form may prove the cell: F at the centre (and its box).
+            // Where Taylor's form may prove the cell: F at c0, half its second-order term and
+            // the box's form.
             let mut taylor = None;
             if inside(&cp, &bx) {
                 let fc = self.eval.eval(&self.formula.tape_f, &cp, self.params);
@@ -236,8 +236,9 @@ impl<'a> Certifier<'a> {
                         continue;
                     }
                     taylor = half_quad
-                        .filter(|&h| !fc.is_empty() && !fc.add(h).contains_zero())
-                        .map(|h| (fc, h));
+                        .zip(form)
+                        .filter(|&(h, _)| !fc.is_empty() && !fc.add(h).contains_zero())
+                        .map(|(h, form)| (fc, h, form));
                     slope =
                         [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
                 }
@@ -263,8 +264,8 @@ impl<'a> Certifier<'a> {
             if search.hit().is_some() {
                 return;
             }
-            if let Some((fc, half_quad)) = taylor
-                && self.taylor_excludes_zero(&cp, fc, half_quad, (ds, dt), form.unwrap())
+            if let Some((fc, half_quad, form)) = taylor
+                && self.taylor_excludes_zero(&cp, fc, half_quad, (ds, dt), form)
             {
                 continue;
             }
@@ -274,9 +275,9 @@ impl<'a> Certifier<'a> {
         }
     }
 
-    /// Whether Taylor's form of second order, F(c) + ∇F(c)·d + half_quad (the shader's),
-    /// excludes 0 over the cell's offsets (ds, dt) from its centre c (its box `cp`, where F
-    /// encloses to `fc`).
+    /// Whether Taylor's form of second order, F(c0) + ∇F(c0)·d + half_quad (the shader's),
+    /// excludes 0 over the cell's offsets (ds, dt) from c0 (its box `cp`, where F encloses
+    /// to `fc`), or the bowl (or cap) the box's `form` bounds stays clear of 0 everywhere.
     fn taylor_excludes_zero(
         &mut self,
         cp: &Box4,
