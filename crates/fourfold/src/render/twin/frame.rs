@@ -22,6 +22,16 @@ pub fn render_rgba(
     u: &Uniforms,
 ) -> Vec<u8> {
     let certifying = certifying.unwrap_or(hierarchy);
+    // The certified search's forms of its boxes' curvature bounds in this view's plane (as
+    // the shader's box records), once per frame.
+    let forms: Vec<[f32; 6]> = if u.control.flags & FLAG_CERTIFIED != 0 {
+        let (n1, n2) = (u.n1.map(f64::from), u.n2.map(f64::from));
+        (0..certifying.nodes.len())
+            .map(|i| certifying.curvature(i).in_plane(n1, n2))
+            .collect()
+    } else {
+        Vec::new()
+    };
     let (width, height) = (u.size.width, u.size.height);
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
@@ -30,6 +40,9 @@ pub fn render_rgba(
                 certifier: Certifier::new(formula, params, u),
                 evals: Evaluators::new(),
                 boxes: Vec::new(),
+                forms: &forms,
+                covered: Vec::new(),
+                bounds: Vec::new(),
             };
             let mut row = Vec::with_capacity(width as usize * 4);
             for px in 0..width {
@@ -51,12 +64,27 @@ pub fn render_rgba(
     rows.concat()
 }
 
+/// The form of a box without curvature bounds (brute force's domain).
+const UNBOUNDED: [f32; 6] = [
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+];
+
 /// What a row's pixels reuse from one to the next.
 struct Scratch<'a> {
     certifier: Certifier<'a>,
     evals: Evaluators,
     /// The boxes of the pixel's rays.
     boxes: Vec<Marched>,
+    /// The certifying hierarchy's forms, by node (see `render_rgba`).
+    forms: &'a [[f32; 6]],
+    /// The boxes of the pixel's certified search, walked and then with their forms.
+    covered: Vec<Marched>,
+    bounds: Vec<SearchBox>,
 }
 
 /// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
@@ -71,6 +99,7 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, boxes: &mut Vec<Marched>) {
             steps: u.counts.brute_steps,
             slope: [f32::INFINITY; 4],
             curvature: Curvature::NONE,
+            node: None,
         });
         return;
     }
@@ -96,6 +125,7 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, boxes: &mut Vec<Marched>) {
                 },
                 slope: h.slope(i),
                 curvature: h.curvature(i),
+                node: Some(i),
             });
             i = node.skip as usize;
             continue;
@@ -166,18 +196,19 @@ fn render_pixel(
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        let mut covered = Vec::new();
-        boxes_of(h[1], u, plane, &mut covered);
-        let (n1, n2) = (u.n1.map(f64::from), u.n2.map(f64::from));
-        let bounds: Vec<SearchBox> = covered
-            .iter()
-            .map(|b| SearchBox {
+        boxes_of(h[1], u, plane, &mut scratch.covered);
+        let forms = scratch.forms;
+        scratch.bounds.clear();
+        scratch
+            .bounds
+            .extend(scratch.covered.iter().map(|b| SearchBox {
                 lo: b.lo,
                 hi: b.hi,
-                form: b.curvature.in_plane(n1, n2),
-            })
-            .collect();
-        let outcome = scratch.certifier.pixel(plane, &bounds, pixel.bracket);
+                form: b.node.map_or(UNBOUNDED, |i| forms[i]),
+            }));
+        let outcome = scratch
+            .certifier
+            .pixel(plane, &scratch.bounds, pixel.bracket);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.

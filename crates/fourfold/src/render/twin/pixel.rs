@@ -68,6 +68,8 @@ pub(super) struct Marched {
     pub(super) steps: u32,
     pub(super) slope: V4,
     pub(super) curvature: Curvature,
+    /// Its node in the hierarchy walked (None: brute force's domain).
+    pub(super) node: Option<usize>,
 }
 
 impl Pixel<'_, '_> {
@@ -333,6 +335,7 @@ impl Pixel<'_, '_> {
             steps,
             slope,
             curvature,
+            ..
         } = *b;
         let d = self.direction(k);
         let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
