@@ -246,7 +246,11 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         let dt = iv_sub(c.zw, vec2<f32>(c0.y));
         // Half the second-order term of Taylor's form over the cell, d^T H d / 2 for d =
         // s n1 + t n2 (s in ds, t in dt), H over the box.
-        let half_quad = iv_mul(vec2<f32>(0.5), iv_add(iv_add(iv_mul(form.ab.xy, iv_sqr(ds)), iv_mul(form.ab.zw, iv_mul(ds, dt))), iv_mul(form.c, iv_sqr(dt))));
+        // (Only where the box has bounds: Taylor's form is tried nowhere else.)
+        var half_quad = vec2<f32>(0.0);
+        if (curved) {
+            half_quad = iv_mul(vec2<f32>(0.5), iv_add(iv_add(iv_mul(form.ab.xy, iv_sqr(ds)), iv_mul(form.ab.zw, iv_mul(ds, dt))), iv_mul(form.c, iv_sqr(dt))));
+        }
         // F's slope along n1 and n2 over the cell, estimated (where bounded).
         var slope = vec2<f32>(0.0);
         var excluded = false;

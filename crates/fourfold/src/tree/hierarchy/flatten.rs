@@ -31,7 +31,8 @@ impl Hierarchy {
     /// boxes, each box there (and each leaf above) searched whole. Finer than the ray
     /// caster's cut, which is often the root box. Each searched box gets its bounds on F's
     /// second derivatives (`formula` with parameter values `params`, the tree's): with them
-    /// a cell's second-order Taylor form proves most cells near M (docs/method.md §5.9).
+    /// the second-order forms prove cells near M that the mean-value form would split
+    /// (docs/method.md §5.9).
     pub fn for_certifying(tree: &Tree16, formula: &CompiledFormula, params: &[f64]) -> Self {
         let deepest = tree.levels.len().saturating_sub(1);
         let level = deepest_within_budget(tree, deepest).saturating_sub(CERTIFY_LEVELS_ABOVE);
