@@ -251,8 +251,10 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         if (curved) {
             half_quad = iv_mul(vec2<f32>(0.5), iv_add(iv_add(iv_mul(form.ab.xy, iv_sqr(ds)), iv_mul(form.ab.zw, iv_mul(ds, dt))), iv_mul(form.c, iv_sqr(dt))));
         }
-        // F's slope along n1 and n2 over the cell, estimated (where bounded).
+        // F's slope along n1 and n2 over the cell, estimated (where bounded), and the
+        // most it may be (1, 1 where unknown: then the longer side is split).
         var slope = vec2<f32>(0.0);
+        var smear = vec2<f32>(1.0);
         var excluded = false;
         var guess = vec2<f32>(0.0);
         var guessing = false;
@@ -334,6 +336,8 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                     taylor = curved && !iv_is_empty(f) && excludes_zero(iv_add(f, half_quad));
                     c0_f = f;
                     c0_box = x;
+                    let most = vec2<f32>(max(abs(g1.x), abs(g1.y)), max(abs(g2.x), abs(g2.y)));
+                    smear = select(smear, most, all(most < vec2<f32>(IV_LARGE)) && most.x + most.y > 0.0);
                     let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
                     slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
                 }
@@ -369,11 +373,14 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         if ((*cert).hit) {
             break;
         }
-        // Split the longer side (a slice's cells are segments along n1).
-        let along_s = c.y - c.x >= c.w - c.z;
+        // Split the side along which F may change the most (its slope's bound times its
+        // length: the mean-value form's width falls the most), or the other where f32 cannot
+        // split that one (a slice's cells are segments along n1).
+        let split_s = (mid.x > c.x) && (mid.x < c.y);
+        let split_t = (mid.y > c.z) && (mid.y < c.w);
+        let along_s = split_s && (!split_t || (c.y - c.x) * smear.x >= (c.w - c.z) * smear.y);
         let cut = select(mid.y, mid.x, along_s);
-        let ends = select(c.zw, c.xy, along_s);
-        if (cut <= ends.x || cut >= ends.y || top + 2u > CERT_STACK) {
+        if (!(split_s || split_t) || top + 2u > CERT_STACK) {
             // Too small for f32 to split, or too deep: this part stays undecided.
             (*cert).undecided = true;
             continue;

@@ -14,6 +14,8 @@ use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLAB, FLAG_SLICE, Uniforms};
 
+use super::forms::{bowl_above_zero, half_second_order, magnitude};
+
 /// Cells a pixel may have waiting (the shader's CERT_STACK); a cell that would go deeper
 /// stays undecided.
 pub const CERT_STACK: usize = 24;
@@ -214,8 +216,10 @@ impl<'a> Certifier<'a> {
                 continue;
             }
             let mid = [cs.midpoint(), ct.midpoint()];
-            // F's slope along n1 and n2 over the cell, estimated (where bounded).
+            // F's slope along n1 and n2 over the cell, estimated (where bounded), and the
+            // most it may be (where unknown, the longer side is split).
             let mut slope = [0.0; 2];
+            let mut smear = [1.0; 2];
             // As the shader: the point c0 the forms expand about (in the box where it can be
             // found); where it lies in the box, F's value there and the mean-value form over
             // the cell.
@@ -241,6 +245,10 @@ impl<'a> Certifier<'a> {
                         .map(|(h, form)| (fc, h, form));
                     slope =
                         [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
+                    let most = [magnitude(g1), magnitude(g2)];
+                    if most.iter().all(|&m| m < f64::from(IV_LARGE)) && most[0] + most[1] > 0.0 {
+                        smear = most;
+                    }
                 }
                 if global && inside(&cp, &domain) {
                     search.note(proved_sign(fc), c0);
@@ -269,7 +277,7 @@ impl<'a> Certifier<'a> {
             {
                 continue;
             }
-            if !split((cs, ct), mid, slope, search.wanted(), &mut stack) {
+            if !split((cs, ct), mid, (slope, smear), search.wanted(), &mut stack) {
                 search.undecided = true;
             }
         }
@@ -430,30 +438,24 @@ impl Search {
     }
 }
 
-/// Half the second-order term of Taylor's form over a cell, dᵀHd / 2 for d = s·n1 + t·n2
-/// (s in `ds`, t in `dt`), H as the box's `form` bounds it (as the shader's `half_quad`).
-fn half_second_order([al, ah, bl, bh, cl, ch]: [f64; 6], ds: Interval, dt: Interval) -> Interval {
-    Interval::new(al, ah)
-        .mul(ds.square())
-        .add(Interval::new(bl, bh).mul(ds.mul(dt)))
-        .add(Interval::new(cl, ch).mul(dt.square()))
-        .mul(Interval::point(0.5))
-}
-
-/// Splits the cell across its longer side (a slice's cells are segments along n1) onto
-/// `stack`, the half where F more likely has the sign still missing (`wanted`, by the
-/// estimated `slope`) searched first (pushed last); false where f32 cannot split it or
-/// the stack is full (that part stays undecided).
+/// Splits the cell across the side along which F may change the most (`smear`, the most
+/// |F|'s slope along n1 and n2 may be, times the side's length), or the other where f32
+/// cannot split that one (a slice's cells are segments along n1), onto `stack`: the half
+/// where F more likely has the sign still missing (`wanted`, by the estimated `slope`)
+/// searched first (pushed last); false where neither side splits or the stack is full
+/// (that part stays undecided).
 fn split(
     (cs, ct): Cell,
     mid: [f64; 2],
-    slope: [f64; 2],
+    (slope, smear): ([f64; 2], [f64; 2]),
     wanted: i8,
     stack: &mut Vec<Cell>,
 ) -> bool {
-    let along_s = cs.width() >= ct.width();
+    let splits = |side: Interval, cut: f64| side.lo() < cut && cut < side.hi();
+    let (split_s, split_t) = (splits(cs, mid[0]), splits(ct, mid[1]));
+    let along_s = split_s && (!split_t || cs.width() * smear[0] >= ct.width() * smear[1]);
     let (side, cut) = if along_s { (cs, mid[0]) } else { (ct, mid[1]) };
-    if !(side.lo() < cut && cut < side.hi()) || stack.len() + 2 > CERT_STACK {
+    if !(split_s || split_t) || stack.len() + 2 > CERT_STACK {
         return false;
     }
     let (mut a, mut b) = (Interval::new(side.lo(), cut), Interval::new(cut, side.hi()));
@@ -494,29 +496,6 @@ fn narrow(
     r
 }
 
-/// Whether a + g1·s + g2·t + (A·s² + B·st + C·t²)/2 > 0 for every (s, t) and every
-/// A ≥ `al`, C ≥ `cl`, B in `b` (the shader's `bowl_above_zero`): with q = B's middle / 2
-/// and w half B's width, the quadratic is at least (al − w)s² + 2q·st + (cl − w)t²; where
-/// that is positive definite (P), the least value of the whole is a − gᵀP⁻¹g / 2 =
-/// a − num / (2 det), num = r·g1² − 2q·g1·g2 + p·g2², det = pr − q².
-fn bowl_above_zero(a: Interval, g1: Interval, g2: Interval, al: f64, b: Interval, cl: f64) -> bool {
-    let q = 0.25 * (b.lo() + b.hi());
-    let w = magnitude(b.mul(Interval::point(0.5)).sub(Interval::point(q)));
-    let p = Interval::point(al).sub(Interval::point(w)).lo();
-    let r = Interval::point(cl).sub(Interval::point(w)).lo();
-    let (p, qi, r) = (Interval::point(p), Interval::point(q), Interval::point(r));
-    let det = p.mul(r).sub(qi.square());
-    if a.is_empty() || !(a.lo() > 0.0 && p.lo() > 0.0 && r.lo() > 0.0 && det.lo() > 0.0) {
-        return false;
-    }
-    let num = r
-        .mul(g1.square())
-        .sub(Interval::point(2.0 * q).mul(g1.mul(g2)))
-        .add(p.mul(g2.square()));
-    // (As the shader: a − num / (2 det) > 0 as 2·a·det > num.)
-    2.0 * a.mul(det).lo() > num.hi()
-}
-
 /// The largest finite bound the shader's intervals keep (its IV_LARGE, 2^61).
 const IV_LARGE: f32 = 2_305_843_009_213_693_952.0;
 
@@ -550,10 +529,6 @@ fn dot(x: &[Interval], n: [f32; 4]) -> Interval {
     })
 }
 
-fn magnitude(a: Interval) -> f64 {
-    a.lo().abs().max(a.hi().abs())
-}
-
 /// The part of box `x` within box `b`, if any.
 fn within(x: Box4, b: &Box4) -> Option<Box4> {
     let mut out = x;
@@ -564,34 +539,4 @@ fn within(x: Box4, b: &Box4) -> Option<Box4> {
         }
     }
     Some(out)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// F = 0.01 + 0.1·s + s² + t² (H = 2I) has its least value 0.0075 at s = −0.05: the
-    /// bowl proves F > 0 everywhere; with F(c) = 0.002 the least value is −0.0005 and it
-    /// must not. A cross term B as wide as A and C leaves no definite bound: no proof.
-    #[test]
-    fn a_bowl_proves_what_its_least_value_clears() {
-        let point = Interval::point;
-        let (g1, g2) = (Interval::new(0.0999, 0.1001), point(0.0));
-        assert!(bowl_above_zero(point(0.01), g1, g2, 2.0, point(0.0), 2.0));
-        assert!(!bowl_above_zero(point(0.002), g1, g2, 2.0, point(0.0), 2.0));
-        assert!(!bowl_above_zero(
-            point(0.01),
-            g1,
-            g2,
-            2.0,
-            Interval::new(-4.0, 4.0),
-            2.0
-        ));
-        // A saddle's (A < 0) or a value of the wrong sign: no proof.
-        assert!(!bowl_above_zero(point(0.01), g1, g2, -2.0, point(0.0), 2.0));
-        assert!(!bowl_above_zero(point(-0.01), g1, g2, 2.0, point(0.0), 2.0));
-        // The least value of 0.01 + 0.1 s + s² + s t + t² is 0.01 − 0.01/3 > 0.
-        assert!(bowl_above_zero(point(0.01), g1, g2, 2.0, point(2.0), 2.0));
-        assert!(!bowl_above_zero(point(0.003), g1, g2, 2.0, point(2.0), 2.0));
-    }
 }

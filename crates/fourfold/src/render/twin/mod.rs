@@ -4,6 +4,7 @@
 //! same hash and sampling, so GPU and CPU pictures can be compared pixel for pixel.
 
 mod certify;
+mod forms;
 mod frame;
 mod pixel;
 mod seek;
