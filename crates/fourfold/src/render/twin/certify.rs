@@ -540,3 +540,48 @@ fn within(x: Box4, b: &Box4) -> Option<Box4> {
     }
     Some(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The side split is the one along which F may change the most (its length times the
+    /// slope's bound), not the longer one; with no bound, the longer; where f32 cannot halve
+    /// the chosen side, the other.
+    #[test]
+    fn cells_split_where_f_changes_the_most() {
+        let split_of = |cell: Cell, smear: [f64; 2]| {
+            let mut stack = Vec::new();
+            let mid = [cell.0.midpoint(), cell.1.midpoint()];
+            assert!(split(cell, mid, ([0.0; 2], smear), 0, &mut stack));
+            stack
+        };
+        let wide_t = (Interval::new(0.0, 1.0), Interval::new(0.0, 2.0));
+        // F changes 100 along s and 1 along t (the chapter's graph seen with n2 = w).
+        let halves = split_of(wide_t, [100.0, 1.0]);
+        assert_eq!(halves.len(), 2);
+        assert!(
+            halves
+                .iter()
+                .all(|&(s, t)| s.width() == 0.5 && t == wide_t.1)
+        );
+        // Unknown slopes: the longer side.
+        let halves = split_of(wide_t, [1.0, 1.0]);
+        assert!(
+            halves
+                .iter()
+                .all(|&(s, t)| s == wide_t.0 && t.width() == 1.0)
+        );
+        // s too narrow for f32 to halve: t, whatever the slopes.
+        let thin_s = (
+            Interval::new(1.0, 1.0 + f64::EPSILON),
+            Interval::new(0.0, 2.0),
+        );
+        let halves = split_of(thin_s, [100.0, 1.0]);
+        assert!(
+            halves
+                .iter()
+                .all(|&(s, t)| s == thin_s.0 && t.width() == 1.0)
+        );
+    }
+}
