@@ -6,7 +6,7 @@
 //!    each with its tree at level 6: by the wall clock (binning, upload, pass and read-back)
 //!    and, in brackets, the GPU's pass alone, best of FOURFOLD_BENCH_RUNS (default 3) after a
 //!    warm-up frame (which compiles the pipeline);
-//! 2. for every example scene with its own settings, and the ten scenes of
+//! 2. for every example scene with its own settings, and the scenes of
 //!    tests/data/unseen, the verdicts of a certified frame at SIZE² and the default budget:
 //!    the share of undecided pixels among those that may show M (hit or undecided); and the
 //!    plain frame's time (after a warm-up frame) and recall: the share of the proved hits
