@@ -213,7 +213,8 @@ fn assert_sound_and_decided(gpu: &Gpu, name: &str, scene: &Scene, side: u32, str
                 let px = (i as u32 % side, i as u32 / side);
                 let (x, y) = (i64::from(px.0), i64::from(px.1));
                 let near = (-2..=2).any(|dy| (-2..=2).any(|dx| covered(x + dx, y + dy)));
-                let looked_at = near || (px.0 % stride == 0 && px.1 % stride == 0);
+                let looked_at =
+                    near || (px.0.is_multiple_of(stride) && px.1.is_multiple_of(stride));
                 let grid = if near { near_grid } else { 32 };
                 (v[i] == Verdict::Empty
                     && looked_at
