@@ -90,7 +90,7 @@ struct Scratch<'a> {
 /// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
 /// covers), into `boxes`: a walk of the hierarchy's marched boxes whose sphere meets its
 /// observer plane (the shader's MODE 2), or the domain for brute force. With a `band` of
-/// n2 coordinates from `o` (a slice's or slab's, see `section_band`), a box that cannot
+/// n2 coordinates from `o` (a slice's or slab's, see `Band::of`), a box that cannot
 /// meet it is left out with its subtree, as the shader's tile lists leave it out.
 fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<Band>, boxes: &mut Vec<Marched>) {
     boxes.clear();
