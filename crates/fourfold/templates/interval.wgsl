@@ -322,8 +322,8 @@ fn iv_step(a: vec2<f32>) -> vec2<f32> {
 fn iv_sinh(a: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(a);
     let b = iv_or_one(a, none);
-    let lo = iv_mul(iv_sub(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))), vec2<f32>(0.5));
-    let hi = iv_mul(iv_sub(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))), vec2<f32>(0.5));
+    let lo = iv_half(iv_sub(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))));
+    let hi = iv_half(iv_sub(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))));
     return select(vec2<f32>(lo.x, hi.y), IV_EMPTY, none);
 }
 
@@ -331,9 +331,18 @@ fn iv_cosh(a: vec2<f32>) -> vec2<f32> {
     let m = iv_abs(a);
     let none = iv_is_empty(m);
     let b = iv_or_one(m, none);
-    let lo = iv_mul(iv_add(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))), vec2<f32>(0.5));
-    let hi = iv_mul(iv_add(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))), vec2<f32>(0.5));
+    let lo = iv_half(iv_add(iv_exp(vec2<f32>(b.x)), iv_exp(vec2<f32>(-b.x))));
+    let hi = iv_half(iv_add(iv_exp(vec2<f32>(b.y)), iv_exp(vec2<f32>(-b.y))));
     return select(vec2<f32>(max(lo.x, 1.0), hi.y), IV_EMPTY, none);
+}
+
+// a / 2: exact but for subnormals (each bound stepped outward), ±inf (±IV_BIG) kept. (As
+// iv_mul by 0.5, an unbounded operand would give the whole line: sinh and cosh beyond 42,
+// where e^x has no upper bound, lost their sign, and sinh(1000 y) = 0 its EMPTY pixels.)
+fn iv_half(a: vec2<f32>) -> vec2<f32> {
+    let lo = select(iv_down(0.5 * a.x), -IV_BIG, a.x <= -IV_BIG);
+    let hi = select(iv_up(0.5 * a.y), IV_BIG, a.y >= IV_BIG);
+    return select(vec2<f32>(lo, hi), IV_EMPTY, iv_is_empty(a));
 }
 
 fn iv_tanh(a: vec2<f32>) -> vec2<f32> {

@@ -331,6 +331,34 @@ fn gpu_quotients_by_a_divisor_from_zero_are_half_lines() {
     }
 }
 
+/// sinh and cosh keep their sign on the GPU where e^x has no f32 upper bound (|x| beyond
+/// 42): there they were the whole line, and a fuzzed formula, sinh(1000 y) = 0, had pixels
+/// left undecided that the CPU twin proved empty.
+#[test]
+fn gpu_sinh_and_cosh_keep_their_sign_beyond_e_s_range() {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let zero = Interval::new(0.0, 0.0);
+    let cases = [
+        ("sinh(x)", (50.0, 60.0), 1.0),
+        ("sinh(x)", (-60.0, -50.0), -1.0),
+        ("sinh(1000 x)", (0.05, 0.2), 1.0),
+        ("sinh(x)", (30.0, 300.0), 1.0),
+        ("cosh(x) - 2", (50.0, 60.0), 1.0),
+        ("cosh(1000 x) - 2", (-0.2, -0.05), 1.0),
+    ];
+    for (text, (lo, hi), sign) in cases {
+        let formula = CompiledFormula::compile(text).unwrap();
+        let bx = [Interval::new(lo, hi), zero, zero, zero];
+        let mut out = [Interval::EMPTY];
+        GpuEnclosures::new(&gpu, &formula)
+            .evaluate(&formula.tape_f, &[bx], &[], &mut out)
+            .unwrap();
+        let got = out[0];
+        let kept = if sign > 0.0 { got.lo() > 0.0 } else { got.hi() < 0.0 };
+        assert!(kept, "{text} over x in [{lo}, {hi}]: {got} lost its sign");
+    }
+}
+
 /// The GPU's sin and cos are tight as well as sound: over a point (an f32 x) the enclosure
 /// is within 1e-5 + 4e-7 |x| of the value on each side (a few ulps of x: cos adds pi/2
 /// first), for |x| up to 100 (WGSL's own sin promises only 2^-11, which left
