@@ -354,7 +354,11 @@ fn gpu_sinh_and_cosh_keep_their_sign_beyond_e_s_range() {
             .evaluate(&formula.tape_f, &[bx], &[], &mut out)
             .unwrap();
         let got = out[0];
-        let kept = if sign > 0.0 { got.lo() > 0.0 } else { got.hi() < 0.0 };
+        let kept = if sign > 0.0 {
+            got.lo() > 0.0
+        } else {
+            got.hi() < 0.0
+        };
         assert!(kept, "{text} over x in [{lo}, {hi}]: {got} lost its sign");
     }
 }

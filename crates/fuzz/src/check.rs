@@ -28,15 +28,22 @@ const RAW_MARKERS: &[&str] = &[
 /// pixel's edge, where a formula has thin parts or a huge slope.
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
-/// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`], or
-/// pixels the driver cut short.
+/// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`],
+/// values beyond [`GPU_RANGE_BOUND`], or pixels the driver cut short.
 pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
+pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range";
 pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
 
 /// Beyond this, the GPU's sin, cos and tan are not the twin's to compare: WGSL bounds their
 /// error on [−π, π] only, and each implementation reduces a larger argument with its own
 /// precision (`cos(1e30 xyz)` is noise on either, a different noise).
 pub const TRIG_ARGUMENT_BOUND: f64 = 1e4;
+
+/// Beyond this (2^61), a bound of the GPU's f32 intervals stands for ±∞, and a product with
+/// such an operand is the whole line (docs/method.md, the GPU's intervals): where F or
+/// ∇F gets there (`1e300 z`, `y exp(100 x)`), the GPU may leave undecided what the twin's
+/// f64 intervals prove.
+pub const GPU_RANGE_BOUND: f64 = 2305843009213693952.0;
 
 /// What a case did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -158,7 +165,12 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
             if precision_unspecified(case) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_TRIG));
             }
-            compare(&gpu_png, &cpu_png)?;
+            if let Err(why) = compare(&gpu_png, &cpu_png) {
+                if beyond_gpu_range(case) {
+                    return Ok(Verdict::DrewUncompared(UNCOMPARED_RANGE));
+                }
+                return Err(why);
+            }
         }
     }
     Ok(if cpu == 0 {
@@ -256,52 +268,79 @@ fn interpreter_program(text: &str) -> Result<(), String> {
     }
 }
 
-/// Whether the GPU's picture of `case` is not the twin's to compare: a sin, cos or tan
-/// whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over
-/// the whole domain, so a formula may be left uncompared that never gets there).
-fn precision_unspecified(case: &FormulaCase) -> bool {
-    use fourfold::eval::{IntervalEvaluator, Tape};
-    use fourfold::expr::{Node, UnaryOp};
+/// The scene and compiled formula `case` renders, as the command line reads them.
+fn scene_of(case: &FormulaCase) -> Option<(fourfold::scene::Scene, fourfold::CompiledFormula)> {
     let args = case.render_args(Path::new("unused.png"), true);
     let argv = std::iter::once("fourfold".to_string()).chain(args);
     let Ok(Cli {
         command: Some(fourfold_cli::Command::Render(render)),
     }) = Cli::try_parse_from(argv)
     else {
-        return false;
+        return None;
     };
-    let Ok(scene) = fourfold_cli::render_scene_of(&render) else {
-        return false;
-    };
-    let Ok(formula) = fourfold::CompiledFormula::compile(&scene.formula) else {
-        return false;
-    };
+    let scene = fourfold_cli::render_scene_of(&render).ok()?;
+    let formula = fourfold::CompiledFormula::compile(&scene.formula).ok()?;
+    Some((scene, formula))
+}
+
+/// The nodes of F and ∇F, and the most |v| each of `of` may reach over the domain (an
+/// interval enclosure over the whole domain), among all its bounds or its finite ones.
+fn reach(
+    (scene, formula): &(fourfold::scene::Scene, fourfold::CompiledFormula),
+    of: impl Fn(usize, &fourfold::expr::Node) -> Option<fourfold::expr::NodeId>,
+    finite_only: bool,
+) -> f64 {
+    use fourfold::eval::{IntervalEvaluator, Tape};
     let graph = &formula.graph;
     let mut roots = vec![formula.f];
     roots.extend(formula.gradient);
     let reached = graph.reachable(&roots);
-    let arguments: Vec<_> = graph
+    let nodes: Vec<_> = graph
         .nodes()
         .iter()
+        .enumerate()
         .zip(reached)
-        .filter_map(|(node, reached)| match *node {
-            Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) if reached => Some(a),
-            _ => None,
-        })
+        .filter(|&(_, reached)| reached)
+        .filter_map(|((i, node), _)| of(i, node))
         .collect();
-    if arguments.is_empty() {
-        return false;
+    if nodes.is_empty() {
+        return 0.0;
     }
-    let tape = Tape::new(graph, &arguments);
+    let tape = Tape::new(graph, &nodes);
     let params = scene.param_values(&formula.param_names());
-    let mut out = vec![fourfold::interval::Interval::EMPTY; arguments.len()];
+    let mut out = vec![fourfold::interval::Interval::EMPTY; nodes.len()];
     IntervalEvaluator::new().eval_into(&tape, &scene.domain.to_box(), &params, &mut out);
-    let reach = out
-        .iter()
+    out.iter()
         .filter(|v| !v.is_empty())
-        .map(|v| v.lo().abs().max(v.hi().abs()))
-        .fold(0.0, f64::max);
-    reach > TRIG_ARGUMENT_BOUND
+        .flat_map(|v| [v.lo(), v.hi()])
+        .filter(|b| !finite_only || b.is_finite())
+        .map(f64::abs)
+        .fold(0.0, f64::max)
+}
+
+/// Whether the GPU's picture of `case` is not the twin's to compare: a sin, cos or tan
+/// whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over
+/// the whole domain, so a formula may be left uncompared that never gets there).
+fn precision_unspecified(case: &FormulaCase) -> bool {
+    use fourfold::expr::{Node, UnaryOp};
+    scene_of(case).is_some_and(|compiled| {
+        let argument = |_, node: &Node| match *node {
+            Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) => Some(a),
+            _ => None,
+        };
+        reach(&compiled, argument, false) > TRIG_ARGUMENT_BOUND
+    })
+}
+
+/// Whether a difference between the GPU's picture of `case` and the twin's may be the
+/// GPU's intervals' range: a finite value of F or ∇F beyond ±[`GPU_RANGE_BOUND`] over the
+/// domain (a pole's infinite bound is ±∞ to both). Asked only of pictures that differ, so
+/// that every other one is still compared.
+fn beyond_gpu_range(case: &FormulaCase) -> bool {
+    scene_of(case).is_some_and(|compiled| {
+        let index = |i: usize, _: &_| Some(fourfold::expr::NodeId(i as u32));
+        reach(&compiled, index, true) > GPU_RANGE_BOUND
+    })
 }
 
 /// The GPU's picture and the CPU twin's cover the same pixels, but for a few.

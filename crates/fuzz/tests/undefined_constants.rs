@@ -7,7 +7,7 @@
 use fourfold::CompiledFormula;
 use fourfold::ops::{BINARY, UNARY};
 use fourfold_fuzz::cases::{FormulaCase, Mode};
-use fourfold_fuzz::check::{UNCOMPARED_TRIG, Verdict, check_formula};
+use fourfold_fuzz::check::{UNCOMPARED_RANGE, UNCOMPARED_TRIG, Verdict, check_formula};
 use fourfold_fuzz::formulas::{Formula, Term};
 
 #[path = "../../fourfold/tests/support/undefined_constants.rs"]
@@ -144,4 +144,33 @@ fn huge_trigonometry_draws_on_the_gpu_but_is_not_compared_with_the_twin() {
         check_formula(&on_gpu("sin(40x) - y"), &dir),
         Ok(Verdict::Drew)
     );
+}
+
+#[test]
+fn values_beyond_the_gpu_s_range_draw_but_are_not_compared_with_the_twin() {
+    // Found by a long run (seed 77): 1e300 is beyond f32, and a product with an interval
+    // the GPU cannot bound is the whole line there, so the GPU left undecided (magenta)
+    // pixels the twin's f64 proves. It must still draw cleanly on both; where the pictures
+    // differ they are not compared, and the run counts it. Pictures that agree are still
+    // compared, values beyond f32 or not.
+    let dir = std::env::temp_dir().join("fourfold-beyond-f32");
+    std::fs::create_dir_all(&dir).unwrap();
+    let found = FormulaCase {
+        gpu: true,
+        size: [7, 5],
+        angles: [3.0401, 0.8213, -3.4069, 1.5021, -2.4956, 2.4999],
+        mode: Mode::Slice(0.085),
+        ..case("((1e300 z))")
+    };
+    let verdict = check_formula(&found, &dir);
+    assert!(
+        verdict == Ok(Verdict::DrewUncompared(UNCOMPARED_RANGE)),
+        "{verdict:?}"
+    );
+    let agreeing = FormulaCase {
+        gpu: true,
+        size: [12, 10],
+        ..case("1e300 z")
+    };
+    assert_eq!(check_formula(&agreeing, &dir), Ok(Verdict::Drew));
 }
