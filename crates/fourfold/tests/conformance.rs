@@ -295,6 +295,18 @@ fn gpu_enclosures_hold_the_point_values() {
     }
 }
 
+/// The GPU's enclosure of the formula `text` of x over x in [lo, hi] (y, z, w at 0).
+fn gpu_enclosure_over_x(gpu: &Gpu, text: &str, lo: f64, hi: f64) -> Interval {
+    let formula = CompiledFormula::compile(text).unwrap();
+    let zero = Interval::new(0.0, 0.0);
+    let bx = [Interval::new(lo, hi), zero, zero, zero];
+    let mut out = [Interval::EMPTY];
+    GpuEnclosures::new(gpu, &formula)
+        .evaluate(&formula.tape_f, &[bx], &[], &mut out)
+        .unwrap();
+    out[0]
+}
+
 /// Over a box where a divisor reaches 0 at one end (|x|, x^2, sqrt(x)), the GPU's quotient
 /// is the half-line that the CPU's intervals give, not the whole line: 1 / sqrt(y) is
 /// proved positive (a fuzzed scene's pixels were left undecided by the GPU, proved empty
@@ -302,7 +314,6 @@ fn gpu_enclosures_hold_the_point_values() {
 #[test]
 fn gpu_quotients_by_a_divisor_from_zero_are_half_lines() {
     let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let zero = Interval::new(0.0, 0.0);
     let cases = [
         ("1 / sqrt(x)", (0.0, 4.0), (0.5, f64::INFINITY)),
         ("1 / x^2", (-1.0, 1.0), (1.0, f64::INFINITY)),
@@ -316,13 +327,7 @@ fn gpu_quotients_by_a_divisor_from_zero_are_half_lines() {
         ("2 / (1 + 1 / x^2)", (-1.0, 1.0), (0.0, 1.0)),
     ];
     for (text, (lo, hi), (want_lo, want_hi)) in cases {
-        let formula = CompiledFormula::compile(text).unwrap();
-        let bx = [Interval::new(lo, hi), zero, zero, zero];
-        let mut out = [Interval::EMPTY];
-        GpuEnclosures::new(&gpu, &formula)
-            .evaluate(&formula.tape_f, &[bx], &[], &mut out)
-            .unwrap();
-        let got = out[0];
+        let got = gpu_enclosure_over_x(&gpu, text, lo, hi);
         let near = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-5 * b.abs().max(1e-30);
         assert!(
             near(got.lo(), want_lo) && near(got.hi(), want_hi),
@@ -337,7 +342,6 @@ fn gpu_quotients_by_a_divisor_from_zero_are_half_lines() {
 #[test]
 fn gpu_sinh_and_cosh_keep_their_sign_beyond_e_s_range() {
     let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let zero = Interval::new(0.0, 0.0);
     let cases = [
         ("sinh(x)", (50.0, 60.0), 1.0),
         ("sinh(x)", (-60.0, -50.0), -1.0),
@@ -347,13 +351,7 @@ fn gpu_sinh_and_cosh_keep_their_sign_beyond_e_s_range() {
         ("cosh(1000 x) - 2", (-0.2, -0.05), 1.0),
     ];
     for (text, (lo, hi), sign) in cases {
-        let formula = CompiledFormula::compile(text).unwrap();
-        let bx = [Interval::new(lo, hi), zero, zero, zero];
-        let mut out = [Interval::EMPTY];
-        GpuEnclosures::new(&gpu, &formula)
-            .evaluate(&formula.tape_f, &[bx], &[], &mut out)
-            .unwrap();
-        let got = out[0];
+        let got = gpu_enclosure_over_x(&gpu, text, lo, hi);
         let kept = if sign > 0.0 {
             got.lo() > 0.0
         } else {
