@@ -5,11 +5,12 @@ use rayon::prelude::*;
 
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
-use crate::render::view::{FLAG_CERTIFIED, FLAG_SLAB, FLAG_SLICE, Uniforms, march_steps};
+use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
 use crate::tree::{Curvature, Hierarchy};
 
 use super::certify::{Certifier, SearchBox};
 use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
+use super::section::Band;
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
@@ -32,6 +33,8 @@ pub fn render_rgba(
     } else {
         Vec::new()
     };
+    // The section's bands from the rays' origin and from the plane's, once per frame.
+    let bands = [Band::of(u, true), Band::of(u, false)];
     let (width, height) = (u.size.width, u.size.height);
     let rows: Vec<Vec<u8>> = (0..height)
         .into_par_iter()
@@ -41,6 +44,7 @@ pub fn render_rgba(
                 evals: Evaluators::new(),
                 boxes: Vec::new(),
                 forms: &forms,
+                bands: &bands,
                 covered: Vec::new(),
                 bounds: Vec::new(),
             };
@@ -82,6 +86,8 @@ struct Scratch<'a> {
     boxes: Vec<Marched>,
     /// The certifying hierarchy's forms, by node (see `render_rgba`).
     forms: &'a [[f32; 6]],
+    /// The section's band from the rays' origin and from the plane's (see `render_rgba`).
+    bands: &'a [Option<Band>; 2],
     /// The boxes of the pixel's certified search, walked and then with their forms.
     covered: Vec<Marched>,
     bounds: Vec<SearchBox>,
@@ -89,10 +95,10 @@ struct Scratch<'a> {
 
 /// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
 /// covers), into `boxes`: a walk of the hierarchy's marched boxes whose sphere meets its
-/// observer plane (the shader's MODE 2), or the domain for brute force. With a `band` of
-/// n2 coordinates from `o` (a slice's or slab's, see `Band::of`), a box that cannot
-/// meet it is left out with its subtree, as the shader's tile lists leave it out.
-fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<Band>, boxes: &mut Vec<Marched>) {
+/// observer plane (the shader's MODE 2), or the domain for brute force. With a `band` (a
+/// slice's or slab's, from `o`), a box that cannot meet it is left out with its subtree,
+/// as the shader's tile lists leave it out.
+fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<&Band>, boxes: &mut Vec<Marched>) {
     boxes.clear();
     if u.brute_force() {
         boxes.push(Marched {
@@ -112,7 +118,7 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<Band>, boxes: &mut 
         let rel = sub(node.center, o);
         let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
         if a * a + b * b > level.radius * level.radius
-            || band.is_some_and(|band| !band.meets(rel, level.half, u))
+            || band.is_some_and(|band| !band.meets(rel, node.level() as usize))
         {
             i = node.skip as usize;
             continue;
@@ -135,52 +141,6 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<Band>, boxes: &mut 
             continue;
         }
         i += 1;
-    }
-}
-
-/// A range of n2 coordinates from a pixel's origin: where its slice or slab lies.
-#[derive(Debug, Clone, Copy)]
-struct Band {
-    lo: f64,
-    hi: f64,
-}
-
-impl Band {
-    /// The section's band from the pixel's plane origin (`plane`) or, for a slice, from its
-    /// line's start (`line`, which lies in the slice's hyperplane); None for a whole plane.
-    fn of(u: &Uniforms, line: bool) -> Option<Self> {
-        let (offset, half) = (
-            f64::from(u.root.section_offset),
-            f64::from(u.root.section_half),
-        );
-        if u.control.flags & FLAG_SLICE != 0 {
-            let at = if line { 0.0 } else { offset };
-            Some(Self { lo: at, hi: at })
-        } else if u.control.flags & FLAG_SLAB != 0 {
-            Some(Self {
-                lo: offset - half,
-                hi: offset + half,
-            })
-        } else {
-            None
-        }
-    }
-
-    /// Whether the box `rel` ± `half` (its centre from the origin) may meet the band: its
-    /// range along n2, widened far beyond the f32 rounding of the origin and of n1, n2 and
-    /// beyond the certified search's own widening of it (1e-5 of the ranges along n1 and
-    /// n2), so that no box is left out that a ray or the search could use.
-    fn meets(self, rel: V4, half: V4, u: &Uniforms) -> bool {
-        let along = |n: V4| -> (f64, f64) {
-            let q: f64 = (0..4).map(|i| f64::from(rel[i]) * f64::from(n[i])).sum();
-            let r: f64 = (0..4)
-                .map(|i| f64::from(half[i]) * f64::from(n[i]).abs())
-                .sum();
-            (q, r)
-        };
-        let ((q1, r1), (q2, r2)) = (along(u.n1), along(u.n2));
-        let slack = 1e-4 * (q1.abs() + r1 + q2.abs() + r2 + self.lo.abs() + self.hi.abs()) + 1e-6;
-        q2 - r2 <= self.hi + slack && q2 + r2 >= self.lo - slack
     }
 }
 
@@ -234,7 +194,7 @@ fn render_pixel(
         starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;
-    boxes_of(h[0], u, o, Band::of(u, true), boxes);
+    boxes_of(h[0], u, o, scratch.bands[0].as_ref(), boxes);
     for b in boxes.iter() {
         pixel.trace_box(o, b);
     }
@@ -246,7 +206,13 @@ fn render_pixel(
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        boxes_of(h[1], u, plane, Band::of(u, false), &mut scratch.covered);
+        boxes_of(
+            h[1],
+            u,
+            plane,
+            scratch.bands[1].as_ref(),
+            &mut scratch.covered,
+        );
         let forms = scratch.forms;
         scratch.bounds.clear();
         scratch
@@ -302,35 +268,4 @@ fn render_pixel(
         };
     }
     (color, verdict)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use bytemuck::Zeroable;
-
-    /// A slice's band keeps every box whose range along n2 reaches the slice, and leaves
-    /// out those beyond it; from the slice's line (in its hyperplane) the band is 0.
-    #[test]
-    fn a_section_s_band_leaves_out_only_boxes_that_cannot_meet_it() {
-        let mut u = Uniforms::zeroed();
-        u.n1 = [0.6, 0.8, 0.0, 0.0];
-        u.n2 = [0.0, 0.0, 0.6, 0.8];
-        u.control.flags = FLAG_SLICE;
-        u.root.section_offset = 0.5;
-        let band = Band::of(&u, false).expect("a slice has a band");
-        // A box's range along n2 is its centre's ± 0.14 (0.1 · (0.6 + 0.8)).
-        let half = [0.1; 4];
-        let at = |q2: f32| [0.0, 0.0, 0.6 * q2, 0.8 * q2];
-        for q2 in [0.36, 0.5, 0.64] {
-            assert!(band.meets(at(q2), half, &u), "{q2}");
-        }
-        for q2 in [0.3, 0.7, -0.5] {
-            assert!(!band.meets(at(q2), half, &u), "{q2}");
-        }
-        let line = Band::of(&u, true).expect("a slice has a band");
-        assert!(line.meets(at(0.1), half, &u) && !line.meets(at(0.2), half, &u));
-        u.control.flags = 0;
-        assert!(Band::of(&u, false).is_none());
-    }
 }

@@ -7,6 +7,7 @@ mod certify;
 mod forms;
 mod frame;
 mod pixel;
+mod section;
 mod seek;
 mod shading;
 
