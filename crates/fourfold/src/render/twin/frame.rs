@@ -98,7 +98,7 @@ struct Scratch<'a> {
 /// observer plane (the shader's MODE 2), or the domain for brute force. With a `band` (a
 /// slice's or slab's, from `o`), a box that cannot meet it is left out with its subtree,
 /// as the shader's tile lists leave it out.
-fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<&Band>, boxes: &mut Vec<Marched>) {
+fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: &Option<Band>, boxes: &mut Vec<Marched>) {
     boxes.clear();
     if u.brute_force() {
         boxes.push(Marched {
@@ -118,7 +118,9 @@ fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: Option<&Band>, boxes: &mut
         let rel = sub(node.center, o);
         let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
         if a * a + b * b > level.radius * level.radius
-            || band.is_some_and(|band| !band.meets(rel, node.level() as usize))
+            || band
+                .as_ref()
+                .is_some_and(|b| !b.meets(rel, node.level() as usize))
         {
             i = node.skip as usize;
             continue;
@@ -194,7 +196,7 @@ fn render_pixel(
         starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;
-    boxes_of(h[0], u, o, scratch.bands[0].as_ref(), boxes);
+    boxes_of(h[0], u, o, &scratch.bands[0], boxes);
     for b in boxes.iter() {
         pixel.trace_box(o, b);
     }
@@ -206,13 +208,7 @@ fn render_pixel(
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        boxes_of(
-            h[1],
-            u,
-            plane,
-            scratch.bands[1].as_ref(),
-            &mut scratch.covered,
-        );
+        boxes_of(h[1], u, plane, &scratch.bands[1], &mut scratch.covered);
         let forms = scratch.forms;
         scratch.bounds.clear();
         scratch
