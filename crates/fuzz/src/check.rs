@@ -162,11 +162,12 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
             if gpu_said.contains(fourfold_cli::CUT_WARNING) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_CUT));
             }
-            if precision_unspecified(case) {
+            let compiled = scene_of(case);
+            if compiled.as_ref().is_some_and(precision_unspecified) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_TRIG));
             }
             if let Err(why) = compare(&gpu_png, &cpu_png) {
-                if beyond_gpu_range(case) {
+                if compiled.as_ref().is_some_and(beyond_gpu_range) {
                     return Ok(Verdict::DrewUncompared(UNCOMPARED_RANGE));
                 }
                 return Err(why);
@@ -268,8 +269,11 @@ fn interpreter_program(text: &str) -> Result<(), String> {
     }
 }
 
+/// A case's scene and its compiled formula.
+type Compiled = (fourfold::scene::Scene, fourfold::CompiledFormula);
+
 /// The scene and compiled formula `case` renders, as the command line reads them.
-fn scene_of(case: &FormulaCase) -> Option<(fourfold::scene::Scene, fourfold::CompiledFormula)> {
+fn scene_of(case: &FormulaCase) -> Option<Compiled> {
     let args = case.render_args(Path::new("unused.png"), true);
     let argv = std::iter::once("fourfold".to_string()).chain(args);
     let Ok(Cli {
@@ -286,7 +290,7 @@ fn scene_of(case: &FormulaCase) -> Option<(fourfold::scene::Scene, fourfold::Com
 /// The nodes of F and ∇F, and the most |v| each of `of` may reach over the domain (an
 /// interval enclosure over the whole domain), among all its bounds or its finite ones.
 fn reach(
-    (scene, formula): &(fourfold::scene::Scene, fourfold::CompiledFormula),
+    (scene, formula): &Compiled,
     of: impl Fn(usize, &fourfold::expr::Node) -> Option<fourfold::expr::NodeId>,
     finite_only: bool,
 ) -> f64 {
@@ -318,29 +322,26 @@ fn reach(
         .fold(0.0, f64::max)
 }
 
-/// Whether the GPU's picture of `case` is not the twin's to compare: a sin, cos or tan
-/// whose argument reaches beyond ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over
-/// the whole domain, so a formula may be left uncompared that never gets there).
-fn precision_unspecified(case: &FormulaCase) -> bool {
+/// Whether the GPU's picture of a case (its `compiled` scene and formula) is not the
+/// twin's to compare: a sin, cos or tan whose argument reaches beyond
+/// ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over the whole domain, so a formula
+/// may be left uncompared that never gets there).
+fn precision_unspecified(compiled: &Compiled) -> bool {
     use fourfold::expr::{Node, UnaryOp};
-    scene_of(case).is_some_and(|compiled| {
-        let argument = |_, node: &Node| match *node {
-            Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) => Some(a),
-            _ => None,
-        };
-        reach(&compiled, argument, false) > TRIG_ARGUMENT_BOUND
-    })
+    let argument = |_, node: &Node| match *node {
+        Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) => Some(a),
+        _ => None,
+    };
+    reach(compiled, argument, false) > TRIG_ARGUMENT_BOUND
 }
 
-/// Whether a difference between the GPU's picture of `case` and the twin's may be the
-/// GPU's intervals' range: a finite value of F or ∇F beyond ±[`GPU_RANGE_BOUND`] over the
-/// domain (a pole's infinite bound is ±∞ to both). Asked only of pictures that differ, so
-/// that every other one is still compared.
-fn beyond_gpu_range(case: &FormulaCase) -> bool {
-    scene_of(case).is_some_and(|compiled| {
-        let index = |i: usize, _: &_| Some(fourfold::expr::NodeId(i as u32));
-        reach(&compiled, index, true) > GPU_RANGE_BOUND
-    })
+/// Whether a difference between the GPU's picture of a case (its `compiled` scene and
+/// formula) and the twin's may be the GPU's intervals' range: a finite value of F or ∇F
+/// beyond ±[`GPU_RANGE_BOUND`] over the domain (a pole's infinite bound is ±∞ to both).
+/// Asked only of pictures that differ, so that every other one is still compared.
+fn beyond_gpu_range(compiled: &Compiled) -> bool {
+    let every = |i: usize, _: &_| Some(fourfold::expr::NodeId(i as u32));
+    reach(compiled, every, true) > GPU_RANGE_BOUND
 }
 
 /// The GPU's picture and the CPU twin's cover the same pixels, but for a few.
