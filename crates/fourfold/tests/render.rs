@@ -168,6 +168,23 @@ fn wgsl_snapshots_of_small_formulas() {
     }
 }
 
+/// The undefined flags of F's point functions join with `|`: `||` short-circuits, a branch
+/// in naga's and the browsers' output for every flag of every copy of F, and SwiftShader's
+/// compile time grows superlinearly with branches (docs/benchmarks.md).
+#[test]
+fn undefined_flags_join_without_branches() {
+    let f = CompiledFormula::compile("sqrt(x) / ln(y) + sqrt(z - w) - 1").unwrap();
+    let shader = shader::generate(&f).unwrap();
+    let start = shader.source.find("fn ff_f").unwrap();
+    let library = shader
+        .source
+        .find("// fourfold's rigorous interval")
+        .unwrap();
+    let point = &shader.source[start..library];
+    assert!(point.contains(" | ff_undefined("), "{point}");
+    assert!(!point.contains("||"), "{point}");
+}
+
 #[test]
 fn rotation_rows_are_orthonormal_and_identity_at_zero() {
     let a = Rotation4::from_angles([0.0; 6]);

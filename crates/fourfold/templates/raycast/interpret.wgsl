@@ -58,7 +58,7 @@ fn ff_step(i: u32, end: u32, p: vec4<f32>) {
             }
             case 4u: {
                 v = select(1.0 / a, ff_nan(), b == 0.0);
-                n = na || nb;
+                n = na | nb;
             }
 //@FOURFOLD_OPS@
             default: {

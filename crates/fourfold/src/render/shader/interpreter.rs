@@ -61,14 +61,14 @@ pub fn interpreter() -> Result<Shader, CodegenError> {
     for spec in &UNARY {
         let flag = match spec.op {
             UnaryOp::Neg => "na",
-            _ => "na || ff_undefined(a)",
+            _ => "na | ff_undefined(a)",
         };
         case(UNARY_CODE + spec.op as u32, (spec.wgsl)("a"), flag);
     }
     for spec in &BINARY {
         let flag = match spec.op {
-            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul => "na || nb",
-            _ => "na || nb || ff_undefined(a) || ff_undefined(b)",
+            BinaryOp::Add | BinaryOp::Sub | BinaryOp::Mul => "na | nb",
+            _ => "na | nb | ff_undefined(a) | ff_undefined(b)",
         };
         case(BINARY_CODE + spec.op as u32, (spec.wgsl)("a", "b"), flag);
     }
