@@ -156,16 +156,18 @@ fn wgsl_snapshots_of_small_formulas() {
         let f = CompiledFormula::compile(text).unwrap();
         let shader = shader::generate(&f).unwrap();
         // The point functions, then (after the interval library) the interval ones.
-        let start = shader.source.find("fn ff_f").unwrap();
-        let library = shader
-            .source
-            .find("// fourfold's rigorous interval")
-            .unwrap();
-        insta::assert_snapshot!(shader.source[start..library].trim().to_string());
+        insta::assert_snapshot!(point_functions(&shader.source).trim().to_string());
         let boxed = shader.source.find("fn ff_f_box").unwrap();
         let end = shader.source.find("fn pcg").unwrap();
         insta::assert_snapshot!(shader.source[boxed..end].trim().to_string());
     }
+}
+
+/// The shader's point functions of F and ∇F: from `ff_f` to the interval library.
+fn point_functions(source: &str) -> &str {
+    let start = source.find("fn ff_f").unwrap();
+    let library = source.find("// fourfold's rigorous interval").unwrap();
+    &source[start..library]
 }
 
 /// The undefined flags of F's point functions join with `|`: `||` short-circuits, a branch
@@ -175,12 +177,7 @@ fn wgsl_snapshots_of_small_formulas() {
 fn undefined_flags_join_without_branches() {
     let f = CompiledFormula::compile("sqrt(x) / ln(y) + sqrt(z - w) - 1").unwrap();
     let shader = shader::generate(&f).unwrap();
-    let start = shader.source.find("fn ff_f").unwrap();
-    let library = shader
-        .source
-        .find("// fourfold's rigorous interval")
-        .unwrap();
-    let point = &shader.source[start..library];
+    let point = point_functions(&shader.source);
     assert!(point.contains(" | ff_undefined("), "{point}");
     assert!(!point.contains("||"), "{point}");
 }
