@@ -101,7 +101,7 @@ impl Flags {
     /// The flag of value `a` OR'd with a test of its bits: what an operation on it inherits.
     /// The flags join with `|`, not `||`: a short-circuit or is a branch in naga's and the
     /// browsers' output, and SwiftShader's compile time grows superlinearly with branches (the
-    /// tiger's first frame there took 4.5 s with `||`, 0.3 s with `|`).
+    /// tiger's first frame there took 4.5–4.8 s with `||`, 0.3 s with `|`).
     fn of_input(&self, a: u32, test_bits: bool) -> Option<String> {
         let mut parts = Vec::new();
         if self.flagged[a as usize] {
