@@ -47,7 +47,7 @@ fn plane_range(n: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> vec2<f32> {
 
 // Whether an enclosure of F proves F != 0 (an empty one: F is undefined there).
 fn excludes_zero(f: vec2<f32>) -> bool {
-    return iv_is_empty(f) || f.x > 0.0 || f.y < 0.0;
+    return iv_is_empty(f) | (f.x > 0.0) | (f.y < 0.0);
 }
 
 // The sign an enclosure of F proves: 1, -1, or 0 (none).
@@ -62,7 +62,7 @@ fn proved_sign(f: vec2<f32>) -> i32 {
 // point may lie outside [lo, hi].
 fn cert_sign(o: vec4<f32>, p: vec2<f32>, lo: vec4<f32>, hi: vec4<f32>) -> i32 {
     let x = plane_box(o, p.xx, p.yy);
-    if (any(x.lo < lo) || any(x.hi > hi)) {
+    if (any(x.lo < lo) | any(x.hi > hi)) {
         return 0;
     }
     return proved_sign(ff_f_box(x.lo, x.hi));
@@ -77,20 +77,20 @@ fn plane_slope(fg: IvFGrad, n: vec4<f32>) -> vec2<f32> {
 
 // The sign still missing: 1, -1, or 0 (both, or neither, missing).
 fn cert_wanted(cert: Cert) -> i32 {
-    return select(select(0, -1, cert.pos && !cert.neg), 1, cert.neg && !cert.pos);
+    return select(select(0, -1, cert.pos & !cert.neg), 1, cert.neg & !cert.pos);
 }
 
 // Records a proved sign at p; a pair of opposite signs is a hit.
 fn cert_note(cert: ptr<function, Cert>, sign: i32, p: vec2<f32>) {
-    if (sign > 0 && !(*cert).pos) {
+    if ((sign > 0) & !(*cert).pos) {
         (*cert).pos = true;
         (*cert).a = p;
     }
-    if (sign < 0 && !(*cert).neg) {
+    if ((sign < 0) & !(*cert).neg) {
         (*cert).neg = true;
         (*cert).b = p;
     }
-    (*cert).hit = (*cert).pos && (*cert).neg;
+    (*cert).hit = (*cert).pos & (*cert).neg;
 }
 
 // The part of the cell (s in c.xy, t in c.zw) where o + s n1 + t n2 may lie in the box
@@ -136,7 +136,7 @@ fn cell_point(o: vec4<f32>, c: vec4<f32>, mid: vec2<f32>, lo: vec4<f32>, hi: vec
     var p = mid;
     for (var round = 0u; round < 3u; round = round + 1u) {
         let x = o + p.x * u.n1 + p.y * u.n2;
-        if (all(x > lo) && all(x < hi)) {
+        if (all(x > lo) & all(x < hi)) {
             break;
         }
         let q = clamp(x, lo + m, hi - m) - o;
@@ -156,7 +156,7 @@ fn bowl_above_zero(a: vec2<f32>, g1: vec2<f32>, g2: vec2<f32>, al: f32, b: vec2<
     let p = vec2<f32>(iv_down(al - w));
     let r = vec2<f32>(iv_down(cl - w));
     let det = iv_sub(iv_mul(p, r), iv_sqr(vec2<f32>(q)));
-    if (iv_is_empty(a) || !(a.x > 0.0 && p.x > 0.0 && r.x > 0.0 && det.x > 0.0)) {
+    if (iv_is_empty(a) | !((a.x > 0.0) & (p.x > 0.0) & (r.x > 0.0) & (det.x > 0.0))) {
         return false;
     }
     // (a - num / (2 det) > 0 as 2 a det > num: no division.)
@@ -170,7 +170,7 @@ fn form_bounded(form: PlaneCurvature) -> bool {
     let big = bitcast<u32>(IV_LARGE);
     let ab = bitcast<vec4<u32>>(form.ab) & vec4<u32>(0x7fffffffu);
     let c = bitcast<vec2<u32>>(form.c) & vec2<u32>(0x7fffffffu);
-    return all(ab < vec4<u32>(big)) && all(c < vec2<u32>(big));
+    return all(ab < vec4<u32>(big)) & all(c < vec2<u32>(big));
 }
 
 // Certifies the part of the pixel's observer plane (origin o) within the box [blo, bhi]
@@ -196,7 +196,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
     s = s + vec2<f32>(-m, m);
     t = t + vec2<f32>(-m, m);
     if (slice_on()) {
-        if (u.root.z < t.x || u.root.z > t.y) {
+        if ((u.root.z < t.x) | (u.root.z > t.y)) {
             return;
         }
         t = vec2<f32>(u.root.z);
@@ -219,12 +219,12 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
     stack[0] = vec4<f32>(s, t);
     var top = 1u;
     loop {
-        if (top == 0u || (*cert).hit) {
+        if ((top == 0u) | (*cert).hit) {
             break;
         }
         top = top - 1u;
         let c = shrink_cell(stack[top], rel_lo, rel_hi, reach);
-        if (c.x > c.y || c.z > c.w) {
+        if ((c.x > c.y) | (c.z > c.w)) {
             continue;
         }
         if ((*cert).budget == floor) {
@@ -287,7 +287,7 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                 let up = c0_f.x > 0.0;
                 let a = select(-form.ab.y, form.ab.x, up);
                 let cc = select(-form.c.y, form.c.x, up);
-                if (!excluded && a > 0.0 && cc > 0.0) {
+                if (!excluded & (a > 0.0) & (cc > 0.0)) {
                     let b = select(iv_neg(form.ab.zw), form.ab.zw, up);
                     let f = select(iv_neg(c0_f), c0_f, up);
                     let h1 = select(iv_neg(g1), g1, up);
@@ -307,19 +307,19 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
             // corners (where F is continuous on this cell's box only, its own samples must
             // show both signs). Each counts only where it surely lies in the box.
             for (var k = 0u; k < 4u; k = k + 1u) {
-                let used = select(select(!global && steady, guessing, k == 1u), true, k == 0u);
+                let used = select(select(!global & steady, guessing, k == 1u), true, k == 0u);
                 if (!used) {
                     continue;
                 }
                 let p = select(select(select(c.yw, c.xz, k == 2u), guess, k == 1u), c0, k == 0u);
                 let x = plane_box(o, p.xx, p.yy);
-                if (any(x.lo < lo) || any(x.hi > hi)) {
+                if (any(x.lo < lo) | any(x.hi > hi)) {
                     continue;
                 }
                 let f = ff_f_box(x.lo, x.hi);
-                let in_domain = all(x.lo >= inner_lo) && all(x.hi <= inner_hi);
-                let in_cell = all(x.lo >= xlo) && all(x.hi <= xhi);
-                if (k == 0u && steady) {
+                let in_domain = all(x.lo >= inner_lo) & all(x.hi <= inner_hi);
+                let in_cell = all(x.lo >= xlo) & all(x.hi <= xhi);
+                if ((k == 0u) & steady) {
                     // The mean-value form over the cell, F(c) + grad F . (p - c) with p - c
                     // in the plane (the segment from c0 to any point of the cell in
                     // the box lies in both): far narrower than F's own enclosure near a root.
@@ -333,32 +333,32 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
                     // Taylor's form can exclude 0 only where F(c) + d^T H d / 2 does.
                     // (F is defined on a box with curvature bounds: an empty enclosure
                     // would be a fault, and proves nothing.)
-                    taylor = curved && !iv_is_empty(f) && excludes_zero(iv_add(f, half_quad));
+                    taylor = curved & !iv_is_empty(f) & excludes_zero(iv_add(f, half_quad));
                     c0_f = f;
                     c0_box = x;
                     let most = vec2<f32>(max(abs(g1.x), abs(g1.y)), max(abs(g2.x), abs(g2.y)));
-                    smear = select(smear, most, all(most < vec2<f32>(IV_LARGE)) && most.x + most.y > 0.0);
+                    smear = select(smear, most, all(most < vec2<f32>(IV_LARGE)) & (most.x + most.y > 0.0));
                     let estimate = 0.5 * vec2<f32>(g1.x + g1.y, g2.x + g2.y);
                     slope = select(vec2<f32>(0.0), estimate, abs(estimate) < vec2<f32>(IV_LARGE));
                 }
-                if (global && in_domain) {
+                if (global & in_domain) {
                     cert_note(cert, proved_sign(f), p);
                 }
-                if (!global && steady && k != 1u && in_cell) {
+                if (!global & steady & (k != 1u) & in_cell) {
                     cert_note(&local, proved_sign(f), p);
                 }
-                if (k == 0u && global && in_domain) {
+                if ((k == 0u) & global & in_domain) {
                     // Twice the Newton step of the linear model towards 0, within the cell,
                     // towards the sign still missing (with neither found, the sign opposite
                     // to F's at c0).
                     let v = 0.5 * (f.x + f.y);
-                    let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos && !(*cert).neg);
+                    let want = select(f32(cert_wanted(*cert)), -sign(v), !(*cert).pos & !(*cert).neg);
                     let norm = dot(slope, slope);
-                    guessing = !iv_is_empty(f) && want * v < 0.0 && norm > 0.0 && norm < IV_LARGE && abs(v) < IV_LARGE;
+                    guessing = !iv_is_empty(f) & (want * v < 0.0) & (norm > 0.0) & (norm < IV_LARGE) & (abs(v) < IV_LARGE);
                     guess = clamp(c0 - (2.0 * v / max(norm, 1e-30)) * slope, c.xz, c.yw);
                 }
             }
-            if (excluded || !taylor || local.hit || (*cert).hit) {
+            if (excluded | !taylor | local.hit | (*cert).hit) {
                 break;
             }
         }
@@ -376,11 +376,11 @@ fn certify_box(cert: ptr<function, Cert>, o: vec4<f32>, blo: vec4<f32>, bhi: vec
         // Split the side along which F may change the most (its slope's bound times its
         // length: the mean-value form's width falls the most), or the other where f32 cannot
         // split that one (a slice's cells are segments along n1).
-        let split_s = (mid.x > c.x) && (mid.x < c.y);
-        let split_t = (mid.y > c.z) && (mid.y < c.w);
-        let along_s = split_s && (!split_t || (c.y - c.x) * smear.x >= (c.w - c.z) * smear.y);
+        let split_s = (mid.x > c.x) & (mid.x < c.y);
+        let split_t = (mid.y > c.z) & (mid.y < c.w);
+        let along_s = split_s & (!split_t | ((c.y - c.x) * smear.x >= (c.w - c.z) * smear.y));
         let cut = select(mid.y, mid.x, along_s);
-        if (!(split_s || split_t) || top + 2u > CERT_STACK) {
+        if (!(split_s | split_t) | (top + 2u > CERT_STACK)) {
             // Too small for f32 to split, or too deep: this part stays undecided.
             (*cert).undecided = true;
             continue;
@@ -421,12 +421,12 @@ fn bracket_continuous(o: vec4<f32>, ab: vec4<f32>, inner_lo: vec4<f32>, inner_hi
         return true;
     }
     let x = plane_box(o, vec2<f32>(min(ab.x, ab.z), max(ab.x, ab.z)), vec2<f32>(min(ab.y, ab.w), max(ab.y, ab.w)));
-    if (any(x.lo < inner_lo) || any(x.hi > inner_hi)) {
+    if (any(x.lo < inner_lo) | any(x.hi > inner_hi)) {
         return false;
     }
     iv_jump = false;
     let f = ff_f_box(x.lo, x.hi);
-    return !iv_jump && !iv_is_empty(f);
+    return !iv_jump & !iv_is_empty(f);
 }
 
 // Searches the pixel's boxes, each with at most `cap` cells (stopping at once after a
@@ -437,7 +437,7 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
     // The boxes are the certifying list's entries c..end, the hierarchy's nodes from c
     // (skipping subtrees), or for brute force the domain once: one loop, and one call of
     // certify_box for all three (a compiler inlines it, and F, at each call).
-    let listed = MODE == 1u && u.cert_tiling.z != 0u;
+    let listed = (MODE == 1u) & (u.cert_tiling.z != 0u);
     var c = 0u;
     var end = 1u;
     if (listed) {
@@ -449,7 +449,7 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
         end = u.counts.x;
     }
     loop {
-        if (c >= end || (*cert).hit || ((*cert).budget == 0u && (*cert).undecided)) {
+        if ((c >= end) | (*cert).hit | (((*cert).budget == 0u) & (*cert).undecided)) {
             break;
         }
         var lo = u.domain_lo;
@@ -475,10 +475,10 @@ fn search_boxes(tr: ptr<function, Tracer>, cert: ptr<function, Cert>, px: vec2<u
             let rel = center - o;
             let meets = meets_plane(dot(rel, u.v1), dot(rel, u.v2), half, sphere_radius(half));
             let boxed = (node.info & MARCHED) != 0u;
-            search = meets && boxed;
+            search = meets & boxed;
             lo = center - half;
             hi = center + half;
-            next = select(node.skip, c + 1u, meets && !boxed);
+            next = select(node.skip, c + 1u, meets & !boxed);
         }
         if (search) {
             certify_box(cert, o, lo, hi, cap, form);
@@ -510,11 +510,11 @@ fn certify(tr: ptr<function, Tracer>, px: vec2<u32>) -> u32 {
     // later one shows the root; what stays undecided is searched again, whole, with what
     // is left (brute force's one box is searched whole at once).
     for (var round = 0u; round < 2u; round = round + 1u) {
-        if (round == 1u && (MODE == 0u || cert.hit || !cert.undecided || cert.budget == 0u)) {
+        if ((round == 1u) & ((MODE == 0u) | cert.hit | !cert.undecided | (cert.budget == 0u))) {
             break;
         }
         cert.undecided = false;
-        let cap = select(cert.budget, max(u.march.y / 8u, 1u), round == 0u && MODE != 0u);
+        let cap = select(cert.budget, max(u.march.y / 8u, 1u), (round == 0u) & (MODE != 0u));
         search_boxes(tr, &cert, px, cap);
     }
     if (!cert.hit) {

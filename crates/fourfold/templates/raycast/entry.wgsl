@@ -153,11 +153,11 @@ fn cast_tiles(tr: ptr<function, Tracer>, px: vec2<u32>) {
     for (var round = 0u; round < rounds; round = round + 1u) {
         let seeking = round == 1u;
         var c = tiles[t];
-        if (c < end && (*tr).hits.count == 0u) {
+        if ((c < end) & ((*tr).hits.count == 0u)) {
             loop {
                 let near = visit_box(tr, tiles[u.tiling.w + c], seeking);
                 c = c + 1u;
-                if (!near || c >= end) {
+                if (!near | (c >= end)) {
                     break;
                 }
             }
@@ -182,7 +182,7 @@ fn cast_walk(tr: ptr<function, Tracer>) {
             let node = nodes[i];
             let v = visit(tr, i, seeking);
             let boxed = (node.info & MARCHED) != 0u;
-            i = select(node.skip, i + 1u, v.x && v.y && !boxed);
+            i = select(node.skip, i + 1u, v.x & v.y & !boxed);
         }
         if ((*tr).hits.count > 0u) {
             break;
@@ -204,7 +204,7 @@ const UNDECIDED_COLOR = vec3<f32>(1.0, 0.0, 1.0);
 fn undecided_color(px: vec2<u32>) -> vec3<f32> {
     let stripe = ((px.x + px.y) / 3u) % 2u == 0u;
     let hatch = (u.control.z & 1024u) != 0u;
-    return select(UNDECIDED_COLOR, u.background.rgb, hatch && !stripe);
+    return select(UNDECIDED_COLOR, u.background.rgb, hatch & !stripe);
 }
 
 // The pixel's colour from its hits, with its certified verdict (CERT_EMPTY where not
@@ -224,7 +224,7 @@ fn pixel_color(tr: Tracer, px: vec2<u32>, verdict: u32) -> vec4<f32> {
     }
     let alpha = f32(255u - 2u * verdict - select(1u, 0u, probe >= rounds)) / 255.0;
     let count = tr.hits.count;
-    if (count == 0u && (u.control.z & 4096u) != 0u) {
+    if ((count == 0u) & ((u.control.z & 4096u) != 0u)) {
         // A pass blended into a certified picture keeps what it proved here (FLAG_KEEP_MISSES).
         discard;
     }

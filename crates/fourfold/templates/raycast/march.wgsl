@@ -77,7 +77,7 @@ fn nth_start(tr: ptr<function, Tracer>, k: u32) -> vec3<f32> {
 // Whether F keeps its sign from fa to fb. Signs compared, not multiplied: the product of
 // two tiny values of one sign is below f32's normals, which a GPU may flush to 0.
 fn same_side(fa: f32, fb: f32) -> bool {
-    return !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0));
+    return !((((fa <= 0.0) & (fb >= 0.0)) | ((fa >= 0.0) & (fb <= 0.0))) & !((fa == 0.0) & (fb == 0.0)));
 }
 
 // The root of F on p + t d between lo and hi, where F changes sign (F(lo) < 0 iff neg_lo),
@@ -96,14 +96,14 @@ fn bisect(p: vec4<f32>, d: vec4<f32>, lo0: f32, hi0: f32, neg_lo: bool) -> f32 {
     if (iters > 0u) {
         loop {
             tm = 0.5 * (lo + hi);
-            let split = tm != lo && tm != hi;
+            let split = (tm != lo) & (tm != hi);
             let fm = ff_f(p + tm * d);
-            let go = split && !(abs(fm) < u.root.x);
+            let go = split & !(abs(fm) < u.root.x);
             let keep_lo = (fm < 0.0) == neg_lo;
-            lo = select(lo, tm, go && keep_lo);
-            hi = select(hi, tm, go && !keep_lo);
+            lo = select(lo, tm, go & keep_lo);
+            hi = select(hi, tm, go & !keep_lo);
             it = it + 1u;
-            if (!go || it >= iters) {
+            if (!go | (it >= iters)) {
                 break;
             }
         }
@@ -151,8 +151,8 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
                 let c = select(bend.y, -bend.x, fa.x > 0.0);
                 let disc = g * g + 2.0 * c * f;
                 let root = sqrt(max(disc, 0.0));
-                let finite = abs(f) < ff_inf() && abs(g) < ff_inf() && abs(c) < ff_inf();
-                let zero = select(0.0, select(ff_inf(), 2.0 * f / (root - g), disc >= 0.0 && root > g), finite);
+                let finite = (abs(f) < ff_inf()) & (abs(g) < ff_inf()) & (abs(c) < ff_inf());
+                let zero = select(0.0, select(ff_inf(), 2.0 * f / (root - g), (disc >= 0.0) & (root > g)), finite);
                 let m1 = f * reach;
                 let m2 = zero * per_t;
                 let m = select(m1, max(m1, m2), m2 == m2);
@@ -160,7 +160,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
                 s = s + j;
                 ta = select(ta, t0 + f32(s - 1u) * dt, j > 0u);
             }
-            if (s > steps || ta >= (*tr).hits.far) {
+            if ((s > steps) | (ta >= (*tr).hits.far)) {
                 break;
             }
             tb = t0 + f32(s) * dt;
@@ -177,7 +177,7 @@ fn march_ray(tr: ptr<function, Tracer>, d: vec4<f32>, t0: f32, t1: f32, steps: u
         if (!found) {
             break;
         }
-        if (CERTIFY == 1u && !(*tr).bracketed) {
+        if ((CERTIFY == 1u) & !(*tr).bracketed) {
             let pa = (*tr).o + ta * d - (*tr).plane;
             let pb = (*tr).o + tb * d - (*tr).plane;
             (*tr).bracket = vec4<f32>(dot(pa, u.n1), dot(pa, u.n2), dot(pb, u.n1), dot(pb, u.n2));
@@ -249,7 +249,7 @@ fn bend_in_plane(f: PlaneCurvature, dir: vec2<f32>) -> vec2<f32> {
     let margin = mag * 1e-5 + 1e-30;
     let b = vec2<f32>(lo - margin, hi + margin);
     // 0 * inf (an unbounded box, a ray along n1 or n2) is NaN: no bound.
-    return select(vec2<f32>(-ff_inf(), ff_inf()), b, b.x == b.x && b.y == b.y);
+    return select(vec2<f32>(-ff_inf(), ff_inf()), b, (b.x == b.x) & (b.y == b.y));
 }
 
 // Marches ray k, along dir in (n1, n2), over its span in the box [lo, hi] (and the slab).
@@ -259,7 +259,7 @@ fn march_through(tr: ptr<function, Tracer>, k: u32, dir: vec2<f32>, lo: vec4<f32
     if (slab_on()) {
         span = clip_to_slab(span, dir.y);
     }
-    if (span.x < span.y && span.x < (*tr).hits.far) {
+    if ((span.x < span.y) & (span.x < (*tr).hits.far)) {
         (*tr).k = k;
         march_ray(tr, d, span.x, span.y, steps, dot(abs(d), slope), bend_in_plane(form, dir));
     }
@@ -274,7 +274,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
     if (slice_on()) {
         // One ray, along n1 from behind the domain (see start_pixel).
         let span = clip_to_box((*tr).o, u.n1, lo, hi);
-        if (span.x < span.y && span.x < (*tr).hits.far) {
+        if ((span.x < span.y) & (span.x < (*tr).hits.far)) {
             (*tr).k = 0u;
             march_ray(tr, u.n1, span.x, span.y, max(steps, 1u), dot(abs(u.n1), slope), bend_in_plane(form, vec2<f32>(1.0, 0.0)));
         }
@@ -284,7 +284,7 @@ fn trace_box(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, ang: vec2<
     let ni = i32(n);
     // Stratified rays are at angles TAU (k + offset) / n: only the k within the sphere's
     // span are tried. Random rays (or o inside the sphere): all n, each clipped to the box.
-    let stratified = !random_rays() && ang.y >= 0.0;
+    let stratified = !random_rays() & (ang.y >= 0.0);
     let scale = f32(n) / TAU;
     let k0 = i32(ceil((ang.x - ang.y) * scale - (*tr).offset));
     let k1 = i32(floor((ang.x + ang.y) * scale - (*tr).offset));
@@ -327,7 +327,7 @@ fn sphere_radius(half: vec4<f32>) -> f32 {
 // also reach the pixel along v1 and along v2 (its support).
 fn meets_plane(a: f32, b: f32, half: vec4<f32>, r: f32) -> bool {
     let support = vec2<f32>(dot(half, abs(u.v1)), dot(half, abs(u.v2))) * 1.00001;
-    return a * a + b * b <= r * r && abs(a) <= support.x && abs(b) <= support.y;
+    return (a * a + b * b <= r * r) & (abs(a) <= support.x) & (abs(b) <= support.y);
 }
 
 // The step count for a box: a leaf's (the chapter's m per span), or for a coarser box the
@@ -353,7 +353,7 @@ fn visit(tr: ptr<function, Tracer>, i: u32, seeking: bool) -> vec2<bool> {
     let q = vec2<f32>(dot(rel, u.n1), dot(rel, u.n2));
     let near = length(q) - r < (*tr).hits.far;
     let boxed = (node.info & MARCHED) != 0u;
-    if (meets && near && boxed) {
+    if (meets & near & boxed) {
         if (seeking) {
             seek_in_plane(tr, c - half, c + half);
         } else {
@@ -373,7 +373,7 @@ fn visit_box(tr: ptr<function, Tracer>, i: u32, seeking: bool) -> bool {
     let meets = meets_plane(view.x - (*tr).shift.x, view.y - (*tr).shift.y, half, sphere_radius(half));
     // (For a slice, view.z bounds where its ray enters the box: see tiles/section.rs.)
     let near = view.z < (*tr).hits.far;
-    if (meets && near) {
+    if (meets & near) {
         let c = boxes[i].center;
         if (seeking) {
             seek_in_plane(tr, c - half, c + half);

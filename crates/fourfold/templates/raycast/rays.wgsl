@@ -38,7 +38,7 @@ fn clip_to_slab(span: vec2<f32>, b: f32) -> vec2<f32> {
     let lo = u.root.z - u.root.w;
     let hi = u.root.z + u.root.w;
     if (abs(b) < 1e-30) {
-        return select(vec2<f32>(1.0, 0.0), span, lo <= 0.0 && 0.0 <= hi);
+        return select(vec2<f32>(1.0, 0.0), span, (lo <= 0.0) & (0.0 <= hi));
     }
     let ta = lo / b;
     let tb = hi / b;

@@ -36,7 +36,7 @@ fn in_plane(tr: ptr<function, Tracer>, st: vec2<f32>) -> vec4<f32> {
 }
 
 fn in_box(p: vec4<f32>, lo: vec4<f32>, hi: vec4<f32>) -> bool {
-    return all(p >= lo) && all(p <= hi);
+    return all(p >= lo) & all(p <= hi);
 }
 
 // Corner i (of BOX_CORNERS tried) of the plane's part in the box [lo, hi] shrunk by a
@@ -52,7 +52,7 @@ fn box_corner(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, i: u32) -
     let pair = i / 4u;
     let axes = vec4<u32>(0u, 1u, 2u, 3u);
     let first = select(select(0u, 1u, pair >= 3u), 2u, pair >= 5u);
-    let second = select(select(1u, 2u, pair == 1u || pair == 3u), 3u, pair == 2u || pair >= 4u);
+    let second = select(select(1u, 2u, (pair == 1u) | (pair == 3u)), 3u, (pair == 2u) | (pair >= 4u));
     let ea = select(vec4<f32>(0.0), vec4<f32>(1.0), axes == vec4<u32>(first));
     let eb = select(vec4<f32>(0.0), vec4<f32>(1.0), axes == vec4<u32>(second));
     let n1a = dot(u.n1, ea);
@@ -64,7 +64,7 @@ fn box_corner(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>, i: u32) -
     let rb = dot(select(l, h, i % 2u == 1u) - (*tr).o, eb);
     let st = vec2<f32>((ra * n2b - n2a * rb) / det, (n1a * rb - ra * n1b) / det);
     let p = in_plane(tr, st);
-    let corner = abs(det) >= 1e-12 && all(p >= l - 0.5 * m) && all(p <= h + 0.5 * m);
+    let corner = (abs(det) >= 1e-12) & all(p >= l - 0.5 * m) & all(p <= h + 0.5 * m);
     return select(vec3<f32>(0.0), vec3<f32>(st, 1.0), corner);
 }
 
@@ -96,8 +96,8 @@ fn plane_meets_box(rel: vec4<f32>, half: vec4<f32>) -> bool {
     );
     let slack = 1e-5 * (abs(a) + abs(b) + length(half));
     return all(across <= reach * 1.0001 + slack)
-        && abs(a) <= dot(half, abs(u.v1)) * 1.0001 + slack
-        && abs(b) <= dot(half, abs(u.v2)) * 1.0001 + slack;
+        & (abs(a) <= dot(half, abs(u.v1)) * 1.0001 + slack)
+        & (abs(b) <= dot(half, abs(u.v2)) * 1.0001 + slack);
 }
 
 // A point of the plane inside the box [lo, hi] as (s, t, 1), or (0, 0, 0) if the plane
@@ -154,7 +154,7 @@ fn within_box(tr: ptr<function, Tracer>, st: vec2<f32>, step: vec2<f32>, lo: vec
     }
     let a = vec2<f32>(u.n1[k], u.n2[k]) * sign(d[k]);
     let len = length(a);
-    let wall = select(vec2<f32>(0.0), a / len, len > 1e-6 && r < 1.0);
+    let wall = select(vec2<f32>(0.0), a / len, (len > 1e-6) & (r < 1.0));
     return vec3<f32>(clamp(r, 0.0, 1.0), wall);
 }
 
@@ -169,7 +169,7 @@ fn between_rays(st: vec2<f32>) -> f32 {
 
 // Whether (s, t) keeps to the slab, when there is one (as clip_to_slab: t along n2).
 fn in_slab(st: vec2<f32>) -> bool {
-    return !slab_on() || (st.y >= u.root.z - u.root.w && st.y <= u.root.z + u.root.w);
+    return !slab_on() | ((st.y >= u.root.z - u.root.w) & (st.y <= u.root.z + u.root.w));
 }
 
 // Newton's steps from `start` (in the box [lo, hi]) towards a root of F in the plane: a
@@ -221,7 +221,7 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
         b = a + select(stay.x, stay.x * 0.999, stay.x < 1.0) * step;
         if (stay.x < 1e-3) {
             // Stuck: at a second side (a corner), or already along the first.
-            if (any(wall != vec2<f32>(0.0)) || all(stay.yz == vec2<f32>(0.0))) {
+            if (any(wall != vec2<f32>(0.0)) | all(stay.yz == vec2<f32>(0.0))) {
                 break;
             }
             wall = stay.yz;
@@ -238,7 +238,7 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
             let gb = vec2<f32>(dot(fgb.g, u.n1), dot(fgb.g, u.n2));
             let sa = dot(g, taken);
             let sb = dot(gb, taken);
-            if (sa * fa.f < 0.0 && sb * fa.f > 0.0) {
+            if ((sa * fa.f < 0.0) & (sb * fa.f > 0.0)) {
                 let m = a + clamp((fgb.f - fa.f - sb) / (sa - sb), 0.05, 0.95) * taken;
                 let fgm = ff_f_grad(in_plane(tr, m));
                 i = i + 1u;
@@ -283,8 +283,8 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
 // beyond the first, within reach of an island between the rays (see between_rays).
 fn start_bit(tr: ptr<function, Tracer>, k: u32, lo: vec4<f32>, hi: vec4<f32>) -> u32 {
     let near = nth_start(tr, k);
-    let plausible = near.z < ff_inf() && (k == 0u || near.z <= between_rays(near.xy));
-    return select(0u, 1u << k, plausible && in_box(in_plane(tr, near.xy), lo, hi));
+    let plausible = (near.z < ff_inf()) & ((k == 0u) | (near.z <= between_rays(near.xy)));
+    return select(0u, 1u << k, plausible & in_box(in_plane(tr, near.xy), lo, hi));
 }
 
 fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
@@ -325,7 +325,7 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
             }
             let corner = box_corner(tr, lo, hi, k - SEEK_STARTS - 1u);
             start = corner.xy + 0.01 * (centre - corner.xy);
-            tried = corner.z != 0.0 && in_box(in_plane(tr, start), lo, hi);
+            tried = (corner.z != 0.0) & in_box(in_plane(tr, start), lo, hi);
         }
         if (tried) {
             s = seek_from(tr, start, lo, hi);
@@ -337,7 +337,7 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
                 // compiler may take x != x to be false. A certified frame proves what the
                 // corners would find and aims a ray at it: its loops, near llvmpipe's limit
                 // already, do not try them.)
-                undefined = CERTIFY == 0u && !(abs(s.fa) <= ff_inf());
+                undefined = (CERTIFY == 0u) & !(abs(s.fa) <= ff_inf());
             }
         }
         let later = rays & ~((2u << k) - 1u);
@@ -349,7 +349,7 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     if (!s.found) {
         return;
     }
-    if (CERTIFY == 1u && !(*tr).bracketed && in_slab(s.a) && in_slab(s.b)) {
+    if ((CERTIFY == 1u) & !(*tr).bracketed & in_slab(s.a) & in_slab(s.b)) {
         // (The pixel's origin is its plane's: a slice seeks nothing. Outside a slab, a sign
         // change is not the pixel's to prove.)
         (*tr).bracket = vec4<f32>(s.a, s.b);
@@ -359,7 +359,7 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     let ab = s.b - s.a;
     let m = s.a + bisect(in_plane(tr, s.a), ab.x * u.n1 + ab.y * u.n2, 0.0, 1.0, s.fa < 0.0) * ab;
     let t = length(m);
-    if (t > 0.0 && t < (*tr).hits.far && in_box(in_plane(tr, m), lo, hi) && in_slab(m)) {
+    if ((t > 0.0) & (t < (*tr).hits.far) & in_box(in_plane(tr, m), lo, hi) & in_slab(m)) {
         (*tr).k = plane_ray(m / t);
         insert_hit(tr, t);
     }

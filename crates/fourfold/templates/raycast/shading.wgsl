@@ -32,9 +32,9 @@ fn shade(p: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
     }
     let glen = length(g);
     let flags = u.control.z;
-    if ((flags & 2u) != 0u && glen > 0.0) {
+    if (((flags & 2u) != 0u) & (glen > 0.0)) {
         let gu = g / glen;
-        if (abs(dot(gu, u.n1)) < u.misc.z && abs(dot(gu, u.n2)) < u.misc.z) {
+        if ((abs(dot(gu, u.n1)) < u.misc.z) & (abs(dot(gu, u.n2)) < u.misc.z)) {
             return u.silhouette_color.rgb;
         }
     }
