@@ -28,12 +28,17 @@ const PAGE_RUN_SQUARES: u32 = 256;
 /// frame or more later, a second one keeps the GPU busy meanwhile.
 const RUNS_IN_FLIGHT: usize = if platform::WAITS_FOR_GPU { 1 } else { 2 };
 
+/// The milliseconds of plain runs that set the measured throughput (`rays_per_ms`).
+const MEASURED_MS: f64 = 20.0;
+
 /// A run of squares on its way through the GPU: timed from its submission to the queue's
 /// word that it is done (at once natively, where the window waits for it; a frame or more
 /// later in a page).
 struct Run {
     squares: u32,
     rays: f64,
+    /// Certified pixels (a certified pass costs several plain ones a ray).
+    certified: bool,
     /// The milliseconds it was sized to take.
     planned_ms: f64,
     submitted: Instant,
@@ -75,8 +80,14 @@ pub struct Progressive {
     /// whether the user was interacting); a different one restarts. Plans made so far.
     key: Option<(ViewKey, u64, bool)>,
     plans: u64,
-    /// Measured throughput (rays per millisecond), for sizing previews and tiles.
+    /// Measured throughput (rays per millisecond), for sizing previews: the plain runs' rays
+    /// over their milliseconds, sky and M alike, as a preview over the whole picture spends
+    /// them. (Taken run by run, it followed the cheapest runs, squares of sky in the last
+    /// passes, and planned the next formula's preview at full size: seconds on a software
+    /// adapter.)
     rays_per_ms: f64,
+    /// The plain runs' rays and milliseconds since `rays_per_ms` was last set.
+    measured: [f64; 2],
     stage_started: Option<Instant>,
     /// Wall time of the last complete full-resolution stage, and of the last preview.
     pub full_ms: Option<f64>,
@@ -115,6 +126,7 @@ impl Default for Progressive {
             key: None,
             plans: 0,
             rays_per_ms: 50.0,
+            measured: [0.0; 2],
             stage_started: None,
             full_ms: None,
             preview_ms: None,
@@ -205,6 +217,13 @@ impl Progressive {
 
     fn plan(&mut self, scene: &Scene, interacting: bool) {
         self.plans += 1;
+        // (Runs of a few milliseconds in all are mostly the wait for the GPU's word: they
+        // add up over the plans until they say more.)
+        let [rays, ms] = self.measured;
+        if ms >= MEASURED_MS {
+            self.rays_per_ms = rays / ms;
+            self.measured = [0.0; 2];
+        }
         self.verdict_read = None;
         self.verdicts = None;
         self.stages = stages::plan(self.size, scene.render.rays, self.rays_per_ms, interacting);
@@ -439,6 +458,7 @@ impl Progressive {
         self.in_flight.push_back(Run {
             squares,
             rays: f64::from(w) * f64::from(h) * f64::from(stage.rays),
+            certified: uniforms.certified(),
             planned_ms: left_ms,
             submitted,
             done,
@@ -485,13 +505,9 @@ impl Progressive {
             };
             run.planned_ms / f64::from(next)
         });
-        if run_ms > 0.05 {
-            let measured = run.rays / run_ms;
-            self.rays_per_ms = if measured < self.rays_per_ms {
-                measured
-            } else {
-                0.9 * self.rays_per_ms + 0.1 * measured
-            };
+        if !run.certified {
+            self.measured[0] += run.rays;
+            self.measured[1] += run_ms;
         }
     }
 
