@@ -82,9 +82,7 @@ pub struct Progressive {
     plans: u64,
     /// Measured throughput (rays per millisecond), for sizing previews: the plain runs' rays
     /// over their milliseconds, sky and M alike, as a preview over the whole picture spends
-    /// them. (Taken run by run, it followed the cheapest runs, squares of sky in the last
-    /// passes, and planned the next formula's preview at full size: seconds on a software
-    /// adapter.)
+    /// them (one run's speed is anywhere from a square of sky's to a square on M's).
     rays_per_ms: f64,
     /// The plain runs' rays and milliseconds since `rays_per_ms` was last set.
     measured: [f64; 2],
@@ -217,13 +215,7 @@ impl Progressive {
 
     fn plan(&mut self, scene: &Scene, interacting: bool) {
         self.plans += 1;
-        // (Runs of a few milliseconds in all are mostly the wait for the GPU's word: they
-        // add up over the plans until they say more.)
-        let [rays, ms] = self.measured;
-        if ms >= MEASURED_MS {
-            self.rays_per_ms = rays / ms;
-            self.measured = [0.0; 2];
-        }
+        self.take_throughput();
         self.verdict_read = None;
         self.verdicts = None;
         self.stages = stages::plan(self.size, scene.render.rays, self.rays_per_ms, interacting);
@@ -232,6 +224,17 @@ impl Progressive {
         self.next_tile = 0;
         self.stage_started = None;
         self.plan_tile();
+    }
+
+    /// Sets the throughput from the plain runs measured since it was last set. (Runs of a
+    /// few milliseconds in all are mostly the wait for the GPU's word: they add up over the
+    /// plans until they say more.)
+    fn take_throughput(&mut self) {
+        let [rays, ms] = self.measured;
+        if ms >= MEASURED_MS {
+            self.rays_per_ms = rays / ms;
+            self.measured = [0.0; 2];
+        }
     }
 
     /// Tile side for the current stage: about 20 ms of rays, at least 8 pixels.
@@ -521,5 +524,62 @@ impl Progressive {
             next_tile: self.next_tile,
             tile: self.tile,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use web_time::Duration;
+
+    /// A plain run of `rays` that took `ms`, the one before it done at `after`.
+    fn landed(progressive: &mut Progressive, after: Instant, rays: f64, ms: u64) -> Instant {
+        let done = after + Duration::from_millis(ms);
+        let run = Run {
+            squares: 1,
+            rays,
+            certified: false,
+            planned_ms: 1.0,
+            submitted: after,
+            done: Arc::new(OnceLock::new()),
+        };
+        progressive.land(&run, done);
+        done
+    }
+
+    #[test]
+    fn previews_are_sized_by_the_whole_picture_s_throughput_not_the_fastest_runs() {
+        let mut progressive = Progressive::default();
+        // One run of squares on M, then fifty of sky, a hundred times faster a ray.
+        let mut at = landed(&mut progressive, Instant::now(), 1000.0, 100);
+        for _ in 0..50 {
+            at = landed(&mut progressive, at, 1000.0, 1);
+        }
+        // A certified run is not a preview's cost.
+        let run = Run {
+            squares: 1,
+            rays: 1.0,
+            certified: true,
+            planned_ms: 1.0,
+            submitted: at,
+            done: Arc::new(OnceLock::new()),
+        };
+        progressive.land(&run, at + Duration::from_millis(500));
+        progressive.take_throughput();
+        let whole = 51_000.0 / 150.0;
+        assert!(
+            (progressive.throughput() - whole).abs() < 1e-6 * whole,
+            "{} rays/ms, the picture's {whole}",
+            progressive.throughput()
+        );
+    }
+
+    #[test]
+    fn a_few_milliseconds_of_runs_leave_the_throughput_as_it_was() {
+        let mut progressive = Progressive::default();
+        let before = progressive.throughput();
+        landed(&mut progressive, Instant::now(), 1e6, 5);
+        progressive.take_throughput();
+        assert_eq!(progressive.throughput(), before);
     }
 }
