@@ -532,13 +532,18 @@ mod tests {
     use super::*;
     use web_time::Duration;
 
-    /// A plain run of `rays` that took `ms`, the one before it done at `after`.
-    fn landed(progressive: &mut Progressive, after: Instant, rays: f64, ms: u64) -> Instant {
+    /// A run of `rays` that took `ms`, the one before it done at `after`; when it is done.
+    fn landed(
+        progressive: &mut Progressive,
+        after: Instant,
+        (rays, ms): (f64, u64),
+        certified: bool,
+    ) -> Instant {
         let done = after + Duration::from_millis(ms);
         let run = Run {
             squares: 1,
             rays,
-            certified: false,
+            certified,
             planned_ms: 1.0,
             submitted: after,
             done: Arc::new(OnceLock::new()),
@@ -551,20 +556,12 @@ mod tests {
     fn previews_are_sized_by_the_whole_picture_s_throughput_not_the_fastest_runs() {
         let mut progressive = Progressive::default();
         // One run of squares on M, then fifty of sky, a hundred times faster a ray.
-        let mut at = landed(&mut progressive, Instant::now(), 1000.0, 100);
+        let mut at = landed(&mut progressive, Instant::now(), (1000.0, 100), false);
         for _ in 0..50 {
-            at = landed(&mut progressive, at, 1000.0, 1);
+            at = landed(&mut progressive, at, (1000.0, 1), false);
         }
         // A certified run is not a preview's cost.
-        let run = Run {
-            squares: 1,
-            rays: 1.0,
-            certified: true,
-            planned_ms: 1.0,
-            submitted: at,
-            done: Arc::new(OnceLock::new()),
-        };
-        progressive.land(&run, at + Duration::from_millis(500));
+        landed(&mut progressive, at, (1.0, 500), true);
         progressive.take_throughput();
         let whole = 51_000.0 / 150.0;
         assert!(
@@ -578,7 +575,7 @@ mod tests {
     fn a_few_milliseconds_of_runs_leave_the_throughput_as_it_was() {
         let mut progressive = Progressive::default();
         let before = progressive.throughput();
-        landed(&mut progressive, Instant::now(), 1e6, 5);
+        landed(&mut progressive, Instant::now(), (1e6, 5), false);
         progressive.take_throughput();
         assert_eq!(progressive.throughput(), before);
     }
