@@ -1,7 +1,8 @@
 //! Constant folding in the expression graph: total (no node applies an operation to
 //! constants alone, whatever its value: NaN for undefined, ±∞ for an overflow), with the
 //! language's meaning; a formula that folds to an undefined constant is refused with the
-//! operation that made it undefined underlined.
+//! operation that made it undefined underlined, and one that folds to 0 as having no
+//! 3-manifold to draw.
 
 use fourfold::CompiledFormula;
 use fourfold::expr::graph::operands;
@@ -62,6 +63,27 @@ fn an_undefined_constant_is_refused_with_its_culprit() {
             shown.contains(&"^".repeat(culprit.chars().count())),
             "{shown}"
         );
+    }
+}
+
+#[test]
+fn a_formula_that_folds_to_zero_is_refused() {
+    for (text, label) in [
+        ("0", "this is 0"),
+        ("x - x", "this is 0"),
+        ("(sin(x) - sin(x))*y + 0/z", "this is 0"),
+        ("x^2 + y = y + x*x", "the two sides are equal"),
+    ] {
+        let error = CompiledFormula::compile(text).expect_err(text);
+        assert_eq!(error.message, "F is 0 everywhere", "{text}");
+        assert_eq!(error.span, 0..text.len(), "{text}");
+        assert!(error.label.starts_with(label), "{text}: {}", error.label);
+        assert!(error.render("formula", text).contains("nothing to draw"));
+    }
+    // A constant that is not 0 has no surface, and one that is 0 only for some parameter
+    // values is drawn: neither is refused.
+    for text in ["1", "x - x + 1", "a - a*a", "a*(x - x) + y"] {
+        CompiledFormula::compile(text).unwrap_or_else(|e| panic!("{text}: {e:?}"));
     }
 }
 

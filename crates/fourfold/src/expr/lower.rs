@@ -25,7 +25,8 @@ pub struct ParamSpans(pub Vec<Span>);
 
 /// Lowers a parsed formula to `lhs − rhs` in `graph`; returns the root and parameter spans.
 /// A formula that folds to an undefined constant is refused, pointing at the operation that
-/// first made a defined value undefined.
+/// first made a defined value undefined; so is one that folds to 0 (M would be the whole
+/// domain).
 pub fn lower(
     formula: &Formula,
     graph: &mut ExprGraph,
@@ -61,6 +62,18 @@ pub fn lower(
                  point: change this part",
             ),
         );
+    }
+    if lowering.graph.const_value(root) == Some(0.0) {
+        let why = if formula.rhs.is_some() {
+            "the two sides are equal at every point"
+        } else {
+            "this is 0 at every point"
+        };
+        return Err(SourceError::new("F is 0 everywhere", whole, why).with_hint(
+            "every point of the domain would be on M, a solid and not a 3-manifold, so there \
+             is nothing to draw: write F so that it is 0 only on M (the glome: x^2 + y^2 + \
+             z^2 + w^2 = 1)",
+        ));
     }
     Ok((root, lowering.spans))
 }
