@@ -205,6 +205,8 @@ pub fn status() -> String {
                 "square": app.progressive.position().1,
                 "fraction": app.progressive.fraction(),
                 "rays_per_ms": app.progressive.throughput(),
+                "preview_ms": app.progressive.preview_ms,
+                "cpu_previews": app.progressive.cpu_previews.drawn,
             },
             "editor": rect(app.editor_rect),
             "controls": rect(app.controls_rect),

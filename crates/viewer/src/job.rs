@@ -36,6 +36,9 @@ pub struct JobInputs {
     pub gpu: Option<Gpu>,
     /// Make the ray caster too (the shader is new, or brute force changes).
     pub make_pipeline: bool,
+    /// Make it without pipelines: frames build those they draw with (see
+    /// `Session::previews_on_cpu`).
+    pub pipeline_at_first_draw: bool,
     /// The brute-force setting the pipeline is warmed up for.
     pub brute_force: bool,
     /// The interpreting shader's caster, once built (`build_interpreter`): a new shader's
@@ -126,6 +129,10 @@ impl JobInputs {
                 let shader = &self.program.shader;
                 Some(match self.interpreted(gpu, hierarchy, &first) {
                     Some(caster) => Ok(caster),
+                    None if self.pipeline_at_first_draw => {
+                        RayCaster::without_pipelines(gpu, shader, hierarchy, VIEW_TARGET)
+                            .map_err(|e| e.to_string())
+                    }
                     None => RayCaster::for_scene(gpu, shader, hierarchy, VIEW_TARGET, &first)
                         .map_err(|e| e.to_string())
                         .and_then(|mut caster| {

@@ -114,6 +114,10 @@ pub struct Session {
     /// A variant's pipelines built beside the window failed for this caster: frames build
     /// what they lack themselves (and the GPU's error is said).
     beside_failed: bool,
+    /// New formulas' casters build their pipelines when frames first draw with them, and
+    /// their first preview is drawn on the CPU meanwhile (`progressive::cpu_preview`): a
+    /// page's choice (`platform::CPU_PREVIEWS`), or a test's.
+    pub previews_on_cpu: bool,
 }
 
 /// The interpreting shader's caster (`job::build_interpreter`): the first frames of a new
@@ -155,6 +159,7 @@ impl Session {
             interpreter: Interpreter::Unstarted,
             interpret: None,
             beside_failed: false,
+            previews_on_cpu: platform::CPU_PREVIEWS,
         }
     }
 
@@ -203,6 +208,11 @@ impl Session {
         else {
             return true;
         };
+        if self.previews_on_cpu {
+            // (The preview is drawn on the CPU; the GPU's stages after it build the
+            // pipelines they lack.)
+            return true;
+        }
         let first = crate::job::first_frames(&self.scene, self.scene.render.brute_force);
         let plain = caster.has_pipeline_for(&first, hierarchy);
         if caster.interprets() {
@@ -442,6 +452,7 @@ impl Session {
             scene: self.scene.clone(),
             gpu: gpu.cloned(),
             make_pipeline: makes_pipeline,
+            pipeline_at_first_draw: self.previews_on_cpu,
             brute_force: self
                 .pending_brute_force
                 .unwrap_or(self.scene.render.brute_force),

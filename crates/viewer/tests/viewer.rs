@@ -397,6 +397,7 @@ fn a_build_makes_the_certified_pipeline_beside_the_window_after_the_caster() {
             scene: scene.clone(),
             gpu: Some(gpu.clone()),
             make_pipeline: true,
+            pipeline_at_first_draw: false,
             brute_force: false,
             interpreter: None,
         };
@@ -525,6 +526,7 @@ fn the_interpreter_gains_the_pipeline_of_a_mode_it_lacked() {
             scene: sliced.clone(),
             gpu: Some(gpu.clone()),
             make_pipeline: true,
+            pipeline_at_first_draw: false,
             brute_force: false,
             interpreter: Some(interpreter.clone()),
         };
@@ -962,4 +964,76 @@ fn the_embed_code_is_an_iframe_of_the_scene_on_screen() {
             && copied.ends_with("></iframe>"),
         "{copied}"
     );
+}
+
+/// Where new formulas preview on the CPU (the page's way), a new formula's caster comes
+/// without pipelines, and its first picture on screen is the twin's, drawn in the texture
+/// of its stage, before the GPU has compiled anything; the GPU's stages follow, and the
+/// settled picture is certified.
+#[test]
+fn a_new_formula_previews_on_the_cpu_while_its_pipeline_is_not_built() {
+    let mut h = harness(small_scene());
+    settle_without_error(&mut h, "the first picture");
+    h.state_mut().session.previews_on_cpu = true;
+    let drawn = h.state().progressive.cpu_previews.drawn;
+    replace_formula(&mut h, "x^2 + 2y^2 + z^2 + w^2 = 0.7");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let app = h.state();
+        let generation = app.session.picture_generation;
+        if !app.session.building() && app.progressive.first_frame_of == Some(generation) {
+            break;
+        }
+        h.step();
+        assert!(Instant::now() < deadline, "no first frame in 120 s");
+    }
+    let app = h.state();
+    let session = &app.session;
+    assert!(session.error.is_none(), "{:?}", session.error);
+    let caster = session.caster.as_ref().unwrap();
+    assert_eq!(caster.pipelines_built(), 0, "the GPU compiled first");
+    let progressive = &app.progressive;
+    assert!(progressive.preview_from_cpu);
+    assert_eq!(progressive.cpu_previews.drawn, drawn + 1);
+    // The texture holds the twin's picture of the preview's frame, byte for byte.
+    let (div, _) = progressive.cpu_previews.last.unwrap();
+    let texture = progressive.texture_of(div).unwrap();
+    let gpu = app.gpu().unwrap();
+    let read = fourfold::render::gpu::start_texture_read(gpu, &texture.texture);
+    let shown = loop {
+        if let Some(rgba) = read.poll(gpu) {
+            break rgba.unwrap();
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let mut scene = session.scene.clone();
+    scene.render.certified = false;
+    let hierarchy = session.hierarchy.as_ref().unwrap();
+    let options = fourfold::render::FrameOptions {
+        rays: Some(scene.render.rays.min(4)),
+        ..Default::default()
+    };
+    let size = [texture.width, texture.height];
+    let params = &session.tree_params;
+    let (_, uniforms) = fourfold::render::view::frame(&scene, hierarchy, params, size, options);
+    let formula = &session.program.as_ref().unwrap().formula;
+    let twin = fourfold::render::twin::render_rgba(formula, params, hierarchy, None, &uniforms);
+    assert_eq!(shown.len(), twin.len());
+    assert!(
+        shown == twin,
+        "the preview on screen is not the twin's picture"
+    );
+    assert!(
+        twin.chunks(4).any(|p| p[..3] != twin[..3]),
+        "the preview shows nothing but background"
+    );
+    // Then the GPU's stages, with the pipelines their frames build.
+    converge(&mut h);
+    let app = h.state();
+    assert!(app.session.caster.as_ref().unwrap().pipelines_built() > 0);
+    let c = app
+        .progressive
+        .verdicts
+        .expect("the settled picture is certified");
+    assert!(c.hit > 0 && c.empty > 0, "{c:?}");
 }

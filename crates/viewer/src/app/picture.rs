@@ -306,6 +306,9 @@ impl FourfoldApp {
                 return false;
             };
             let certifier_pending = s.certified_pipeline_pending();
+            let cpu_previewed = (s.program.as_ref())
+                .filter(|_| s.previews_on_cpu)
+                .map(|p| p.formula.as_ref());
             if let Some(caster) = s.caster.as_mut().filter(|_| ready) {
                 let subject = Subject {
                     caster,
@@ -313,6 +316,7 @@ impl FourfoldApp {
                     certifying: s.certifying.as_ref(),
                     certifier_pending,
                     params: &s.tree_params,
+                    formula: cpu_previewed,
                     scene: &s.scene,
                     generation: s.picture_generation,
                 };
@@ -334,6 +338,7 @@ impl FourfoldApp {
                     certifying: s.certifying.as_ref(),
                     certifier_pending: false,
                     params: &s.tree_params,
+                    formula: cpu_previewed,
                     scene: &scene,
                     generation: s.picture_generation,
                 };

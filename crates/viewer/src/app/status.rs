@@ -144,6 +144,9 @@ impl FourfoldApp {
             let mut frame = String::new();
             if let Some(ms) = p.preview_ms {
                 frame.push_str(&format!("preview {ms:.0} ms"));
+                if p.preview_from_cpu {
+                    frame.push_str(" on the CPU");
+                }
             }
             if let Some(ms) = p.full_ms {
                 frame.push_str(&format!(", full picture {:.2} s", ms / 1e3));

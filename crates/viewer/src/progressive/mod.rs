@@ -9,12 +9,14 @@
 //! new tree) starts again from the preview, while the last picture stays on screen.
 
 mod binning;
+mod cpu_preview;
 mod paint;
 mod stages;
 mod state;
 mod textures;
 
 pub use binning::Binner;
+pub use cpu_preview::CpuPreviews;
 pub use paint::{Done, Paint};
 pub use stages::{ACCUMULATED_PASSES, ViewKey};
 pub use state::{Progressive, Subject};

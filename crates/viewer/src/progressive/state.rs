@@ -7,6 +7,7 @@ use std::sync::{Arc, OnceLock};
 use eframe::{egui, egui_wgpu};
 use web_time::Instant;
 
+use fourfold::CompiledFormula;
 use fourfold::render::gpu::{PendingRgba, start_texture_read};
 use fourfold::render::verdict::{VerdictCounts, take_marks};
 use fourfold::render::view;
@@ -15,6 +16,7 @@ use fourfold::scene::Scene;
 use fourfold::tree::Hierarchy;
 
 use super::binning::Binner;
+use super::cpu_preview::CpuPreviews;
 use super::paint::{Paint, Progress, layers};
 use super::stages::{self, Stage, UNIT, ViewKey, texture_index};
 use super::textures::{self, StageTexture};
@@ -57,6 +59,9 @@ pub struct Subject<'a> {
     /// certified pass waits for it (`Session::certified_pipeline_pending`).
     pub certifier_pending: bool,
     pub params: &'a [f64],
+    /// The formula the caster draws, where new pictures preview on the CPU
+    /// (`Session::previews_on_cpu`; None: they do not).
+    pub formula: Option<&'a CompiledFormula>,
     pub scene: &'a Scene,
     pub generation: u64,
 }
@@ -90,6 +95,8 @@ pub struct Progressive {
     /// Wall time of the last complete full-resolution stage, and of the last preview.
     pub full_ms: Option<f64>,
     pub preview_ms: Option<f64>,
+    /// Whether the current plan's preview was drawn on the CPU.
+    pub preview_from_cpu: bool,
     /// Set when the first stage of a new picture generation completed.
     pub first_frame_of: Option<u64>,
     generation: u64,
@@ -107,6 +114,9 @@ pub struct Progressive {
     /// when one is done.
     waiting: bool,
     wake: Option<egui::Context>,
+    /// New pictures' previews drawn on the CPU while their pipeline is not built (see
+    /// `Subject::formula`).
+    pub cpu_previews: CpuPreviews,
 }
 
 impl Default for Progressive {
@@ -128,6 +138,7 @@ impl Default for Progressive {
             stage_started: None,
             full_ms: None,
             preview_ms: None,
+            preview_from_cpu: false,
             first_frame_of: None,
             generation: 0,
             binner: Binner::default(),
@@ -137,6 +148,7 @@ impl Default for Progressive {
             last_done: None,
             waiting: false,
             wake: None,
+            cpu_previews: CpuPreviews::default(),
         }
     }
 }
@@ -213,12 +225,18 @@ impl Progressive {
         self.textures.get(index)
     }
 
+    /// The texture of the stages at the screen's size over `div`.
+    pub fn texture_of(&self, div: u32) -> Option<&StageTexture> {
+        self.textures.get(texture_index(div))
+    }
+
     fn plan(&mut self, scene: &Scene, interacting: bool) {
         self.plans += 1;
         self.take_throughput();
         self.verdict_read = None;
         self.verdicts = None;
         self.stages = stages::plan(self.size, scene.render.rays, self.rays_per_ms, interacting);
+        self.preview_from_cpu = false;
         self.completed = None;
         self.stage = 0;
         self.next_tile = 0;
@@ -262,6 +280,7 @@ impl Progressive {
             certifying,
             certifier_pending,
             params,
+            formula,
             scene,
             generation,
         } = subject;
@@ -274,6 +293,15 @@ impl Progressive {
             self.key = Some(full_key);
             self.generation = generation;
             self.plan(scene, interacting);
+            if let Some(formula) = formula
+                && self.preview_on_cpu(gpu, caster, (formula, params, hierarchy.as_ref()), scene)
+            {
+                // On screen at this frame, before the GPU compiles the pipeline.
+                return true;
+            }
+        }
+        if self.cpu_previews.hold_gpu() {
+            return true;
         }
         let started = Instant::now();
         let mut runs = 0;
@@ -358,6 +386,40 @@ impl Progressive {
             runs += 1;
         }
         false
+    }
+
+    /// Draws a new plan's preview on the CPU where its pipeline is not built yet (see
+    /// `cpu_preview`), before the stages planned for the GPU, or as the first of them
+    /// where it is as fine; whether it did.
+    fn preview_on_cpu(
+        &mut self,
+        gpu: &Gpu,
+        caster: &RayCaster,
+        picture: (&CompiledFormula, &[f64], &Hierarchy),
+        scene: &Scene,
+    ) -> bool {
+        let Some(&planned) = self.stages.first() else {
+            return false;
+        };
+        let mut drawn = scene.clone();
+        drawn.render.certified = false;
+        if planned.div == 1 || caster.has_pipeline_for(&drawn, picture.2) {
+            return false;
+        }
+        let previews = &mut self.cpu_previews;
+        let instructions = picture.0.tape_all.len();
+        let Some(div) = previews.divisor(self.size, planned.rays, instructions, planned.div) else {
+            return false;
+        };
+        if div != planned.div {
+            self.stages.insert(0, Stage { div, ..planned });
+        }
+        self.stage_started = Some(Instant::now());
+        let texture = &self.textures[texture_index(div)];
+        previews.draw(gpu, (texture, div), picture, &drawn, planned.rays);
+        self.complete_stage(gpu, self.stages[0], false);
+        self.preview_from_cpu = true;
+        true
     }
 
     /// Takes a certified view's verdicts once they are back from the GPU.
@@ -528,55 +590,4 @@ impl Progressive {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use web_time::Duration;
-
-    /// A run of `rays` that took `ms`, the one before it done at `after`; when it is done.
-    fn landed(
-        progressive: &mut Progressive,
-        after: Instant,
-        (rays, ms): (f64, u64),
-        certified: bool,
-    ) -> Instant {
-        let done = after + Duration::from_millis(ms);
-        let run = Run {
-            squares: 1,
-            rays,
-            certified,
-            planned_ms: 1.0,
-            submitted: after,
-            done: Arc::new(OnceLock::new()),
-        };
-        progressive.land(&run, done);
-        done
-    }
-
-    #[test]
-    fn previews_are_sized_by_the_whole_picture_s_throughput_not_the_fastest_runs() {
-        let mut progressive = Progressive::default();
-        // One run of squares on M, then fifty of sky, a hundred times faster a ray.
-        let mut at = landed(&mut progressive, Instant::now(), (1000.0, 100), false);
-        for _ in 0..50 {
-            at = landed(&mut progressive, at, (1000.0, 1), false);
-        }
-        // A certified run is not a preview's cost.
-        landed(&mut progressive, at, (1.0, 500), true);
-        progressive.take_throughput();
-        let whole = 51_000.0 / 150.0;
-        assert!(
-            (progressive.throughput() - whole).abs() < 1e-6 * whole,
-            "{} rays/ms, the picture's {whole}",
-            progressive.throughput()
-        );
-    }
-
-    #[test]
-    fn a_few_milliseconds_of_runs_leave_the_throughput_as_it_was() {
-        let mut progressive = Progressive::default();
-        let before = progressive.throughput();
-        landed(&mut progressive, Instant::now(), (1e6, 5), false);
-        progressive.take_throughput();
-        assert_eq!(progressive.throughput(), before);
-    }
-}
+mod tests;

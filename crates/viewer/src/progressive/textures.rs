@@ -38,7 +38,8 @@ pub(super) fn make(
                 height,
                 wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
             );
             let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
             let id = renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Linear);

@@ -84,7 +84,7 @@ impl RayCaster {
         hierarchy: &Hierarchy,
         target: Target,
     ) -> Result<Self, GpuError> {
-        Self::with_first(gpu, shader, hierarchy, target, Variant::first())
+        Self::with_first(gpu, shader, hierarchy, target, Some(Variant::first()))
     }
 
     /// As [`RayCaster::with_target`], building now the one pipeline that frames of `scene`
@@ -103,8 +103,21 @@ impl RayCaster {
             shader,
             hierarchy,
             target,
-            Variant::of_scene(scene, hierarchy),
+            Some(Variant::of_scene(scene, hierarchy)),
         )
+    }
+
+    /// As [`RayCaster::with_target`], building no pipeline yet: each is built when a frame
+    /// first draws with it. A web page's choice, where a pipeline compiles in the browser's
+    /// GPU process ahead of every frame queued after it: the window shows a preview drawn
+    /// on the CPU first.
+    pub fn without_pipelines(
+        gpu: &Gpu,
+        shader: &Shader,
+        hierarchy: &Hierarchy,
+        target: Target,
+    ) -> Result<Self, GpuError> {
+        Self::with_first(gpu, shader, hierarchy, target, None)
     }
 
     /// Whether the pipeline that frames of `scene` draw with is built.
@@ -136,7 +149,7 @@ impl RayCaster {
         shader: &Shader,
         hierarchy: &Hierarchy,
         target: Target,
-        variant: Variant,
+        first: Option<Variant>,
     ) -> Result<Self, GpuError> {
         let device = &gpu.device;
         let (cache, cache_use) = match &gpu.pipeline_cache {
@@ -163,8 +176,11 @@ impl RayCaster {
                         immediate_size: 0,
                     });
                 let cached = cache.as_ref().map(|c| &c.cache);
-                let pipeline =
-                    build_pipeline(device, &module, &pipeline_layout, target, variant, cached);
+                let pipeline = first.map(|variant| {
+                    let pipeline =
+                        build_pipeline(device, &module, &pipeline_layout, target, variant, cached);
+                    (variant, pipeline)
+                });
                 (module, layout, pipeline_layout, pipeline)
             });
         if let Some(error) = error {
@@ -176,7 +192,9 @@ impl RayCaster {
         };
         let pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT] =
             std::array::from_fn(|_| std::sync::OnceLock::new());
-        let _ = pipelines[variant.index()].set(pipeline);
+        if let Some((variant, pipeline)) = pipeline {
+            let _ = pipelines[variant.index()].set(pipeline);
+        }
         let shared = Shared {
             target,
             module,

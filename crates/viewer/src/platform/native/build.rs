@@ -24,6 +24,10 @@ pub const WAITS_FOR_GPU: bool = true;
 /// on the build's thread (`job::build_interpreter`).
 pub const INTERPRETS: bool = true;
 
+/// A new formula's first preview is the GPU's: the interpreting shader draws it while the
+/// formula's own compiles (see `progressive::cpu_preview`).
+pub const CPU_PREVIEWS: bool = false;
+
 /// Boxes the slice slider's search for critical values may look at: on a thread of its
 /// own, the library's default.
 pub const CRITICAL_BOX_BUDGET: usize = fourfold::scene::limits::CRITICAL_BOX_BUDGET;

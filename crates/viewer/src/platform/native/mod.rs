@@ -10,8 +10,8 @@ mod ui;
 mod window;
 
 pub use build::{
-    Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
-    pipelines_beside, warm_up,
+    Background, BuildWork, CPU_PREVIEWS, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS,
+    WAITS_FOR_GPU, pause, pipelines_beside, warm_up,
 };
 pub use thumbnails::Thumbnails;
 pub use ui::{EMBEDS, State, end_frame, file_actions, page_address, sections};

@@ -23,6 +23,10 @@ pub const WAITS_FOR_GPU: bool = false;
 /// the browser's GPU process, in the queue's order).
 pub const INTERPRETS: bool = false;
 
+/// A new formula's first preview is drawn on the CPU, while the GPU process compiles its
+/// shader (see `progressive::cpu_preview`).
+pub const CPU_PREVIEWS: bool = true;
+
 /// Boxes the slice slider's search for critical values may look at: a page searches in
 /// slices of its frames, so a search that needs more than a few seconds of them is cut
 /// short, its remaining boxes shown undecided.

@@ -9,8 +9,8 @@ mod thumbnails;
 mod ui;
 
 pub use build::{
-    Background, BuildWork, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS, WAITS_FOR_GPU, pause,
-    pipelines_beside, warm_up,
+    Background, BuildWork, CPU_PREVIEWS, CRITICAL_BOX_BUDGET, CriticalWork, INTERPRETS,
+    WAITS_FOR_GPU, pause, pipelines_beside, warm_up,
 };
 pub use thumbnails::Thumbnails;
 pub use ui::{
