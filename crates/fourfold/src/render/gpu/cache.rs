@@ -150,7 +150,8 @@ impl ShaderCache {
 }
 
 /// A pipeline cache on `device` holding `data`, or empty.
-// The one unsafe call of the workspace: wgpu has no safe way to make a cache from data.
+// One of the workspace's two unsafe calls (the other: the viewer's hook at the process's
+// exit): wgpu has no safe way to make a cache from data.
 #[allow(unsafe_code)]
 fn create_pipeline_cache(device: &wgpu::Device, data: Option<&[u8]>) -> wgpu::PipelineCache {
     // SAFETY: `data` is what `PipelineCache::get_data` gave on an earlier run, written by

@@ -2,6 +2,7 @@
 //! frames, where to) and the animation drawn and written on a thread and a device of its
 //! own, with its progress and Cancel.
 
+use super::threads;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
@@ -11,7 +12,6 @@ use eframe::egui;
 use fourfold::CompiledFormula;
 use fourfold::critical::sweep::{place_frames, straddle_lines};
 use fourfold::headless::{FrameDevice, Output, draw};
-use fourfold::render::Gpu;
 use fourfold::render::animation::Animation;
 use fourfold::scene::Scene;
 
@@ -100,7 +100,9 @@ impl AnimationExport {
         let frames = job.animation.frames;
         {
             let (drawn, stop) = (drawn.clone(), stop.clone());
-            std::thread::spawn(move || {
+            // (If no thread can start, the sender is dropped with the job: the export
+            // ends with an error.)
+            let _ = threads::spawn("fourfold animation", move || {
                 let _ = tx.send(job.write(&stop, &drawn));
             });
         }
@@ -154,7 +156,7 @@ impl Job {
         let animation = &animation;
         let output = Output::from_path(std::path::Path::new(&self.path))?;
         let mut writer = output.open(width, height, animation.fps, animation.frames)?;
-        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        let gpu = threads::open_gpu()?;
         let done = draw(
             &self.scene,
             &self.formula,

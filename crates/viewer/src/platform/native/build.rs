@@ -2,6 +2,7 @@
 //! warmed up there (a driver that compiles a shader at its first draw does it off the
 //! window's thread).
 
+use super::threads;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, TryRecvError, channel};
@@ -126,11 +127,9 @@ pub fn pipelines_beside(
     let (sender, receiver) = channel();
     let (wanted, _) = channel();
     // If no thread can start, the sender is dropped with the work: the Settling says so.
-    let _ = std::thread::Builder::new()
-        .name("fourfold pipelines".into())
-        .spawn(move || {
-            let _ = sender.send(warm_sibling(&gpu, sibling, &hierarchy, &scenes));
-        });
+    let _ = threads::spawn("fourfold pipelines", move || {
+        let _ = sender.send(warm_sibling(&gpu, sibling, &hierarchy, &scenes));
+    });
     Some(Settling { receiver, wanted })
 }
 
@@ -172,30 +171,27 @@ impl BuildWork {
         let progress = Arc::new(AtomicU64::new(0));
         let (sender, receiver) = channel();
         let (thread_cancel, thread_progress) = (cancel.clone(), progress.clone());
-        std::thread::Builder::new()
-            .name("fourfold build".into())
-            .spawn(move || {
-                let report =
-                    |_level: u32, nodes: u64| thread_progress.store(nodes, Ordering::Relaxed);
-                let prepared = Prepared::build(
-                    &inputs.program.formula,
-                    &inputs.scene,
-                    inputs.scene.tree.into(),
-                    &thread_cancel,
-                    Some(&report),
-                );
-                if matches!(prepared, Err(BuildError::Cancelled)) {
-                    return;
-                }
-                let mut result = inputs.finish(prepared, warm_up);
-                let settling = settle_beside(&inputs, &mut result);
-                let _ = sender.send(result);
-                if let Some(work) = settling {
-                    work();
-                }
-                inputs.complete_interpreter();
-            })
-            .map_err(|e| format!("could not start the tree build: {e}"))?;
+        threads::spawn("fourfold build", move || {
+            let report = |_level: u32, nodes: u64| thread_progress.store(nodes, Ordering::Relaxed);
+            let prepared = Prepared::build(
+                &inputs.program.formula,
+                &inputs.scene,
+                inputs.scene.tree.into(),
+                &thread_cancel,
+                Some(&report),
+            );
+            if matches!(prepared, Err(BuildError::Cancelled)) {
+                return;
+            }
+            let mut result = inputs.finish(prepared, warm_up);
+            let settling = settle_beside(&inputs, &mut result);
+            let _ = sender.send(result);
+            if let Some(work) = settling {
+                work();
+            }
+            inputs.complete_interpreter();
+        })
+        .map_err(|e| format!("could not start the tree build: {e}"))?;
         Ok(Self {
             cancel,
             progress,
@@ -235,11 +231,9 @@ impl<T: Send + 'static> Background<T> {
         let (send, receiver) = channel();
         // If no thread can start, the sender is dropped with the work, and `poll` says the
         // work died.
-        let _ = std::thread::Builder::new()
-            .name(name.into())
-            .spawn(move || {
-                let _ = send.send(work());
-            });
+        let _ = threads::spawn(name, move || {
+            let _ = send.send(work());
+        });
         Self {
             receiver: Some(receiver),
         }

@@ -3,13 +3,14 @@
 //! program and tree the viewer already has) and the slice's mesh made off it too, each
 //! written to a path.
 
+use super::threads;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use eframe::egui;
 
 use fourfold::mesh::MeshFormat;
-use fourfold::render::{Device, FrameOptions, Gpu, Painter, Program, Source};
+use fourfold::render::{Device, FrameOptions, Painter, Program, Source};
 use fourfold::scene::Scene;
 use fourfold::scene::limits::DEFAULT_MESH_LEVEL;
 use fourfold::tree::{Hierarchy, TreeStats};
@@ -112,12 +113,10 @@ impl Export {
         work: impl FnOnce() -> Result<Notice, String> + Send + 'static,
     ) -> Result<Self, String> {
         let (tx, rx) = channel();
-        std::thread::Builder::new()
-            .name("fourfold export".into())
-            .spawn(move || {
-                let _ = tx.send(work());
-            })
-            .map_err(|e| format!("could not start the export: {e}"))?;
+        threads::spawn("fourfold export", move || {
+            let _ = tx.send(work());
+        })
+        .map_err(|e| format!("could not start the export: {e}"))?;
         Ok(Self { result: rx })
     }
 
@@ -178,7 +177,7 @@ struct Job {
 impl Job {
     /// Draws the picture and writes it to `path`; says what was written.
     fn write(&self, path: &str) -> Result<Notice, String> {
-        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        let gpu = threads::open_gpu()?;
         let source = Source {
             formula: &self.program.formula,
             params: &self.params,

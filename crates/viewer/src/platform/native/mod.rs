@@ -5,6 +5,7 @@
 mod animation;
 mod build;
 mod files;
+mod threads;
 mod thumbnails;
 mod ui;
 mod window;

@@ -1,6 +1,7 @@
 //! The gallery's pictures on the desktop: drawn one after another on a thread and a GPU
 //! device of their own, so that the window never waits for them.
 
+use super::threads;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use fourfold::render::{Gpu, Prepared};
@@ -15,9 +16,13 @@ impl Thumbnails {
     /// Starts drawing every example's picture (on a device of its own: not the window's).
     pub fn start(_window_gpu: Option<&Gpu>) -> Self {
         let (tx, rx) = channel();
-        std::thread::spawn(move || {
-            let gpu = Gpu::new().map_err(|e| e.to_string());
+        // (If no thread can start, the sender is dropped: the gallery shows no pictures.)
+        let _ = threads::spawn("fourfold gallery", move || {
+            let gpu = threads::open_gpu();
             for (i, (name, _)) in EXAMPLES.iter().enumerate() {
+                if threads::exiting() {
+                    return;
+                }
                 let picture = match &gpu {
                     Ok(gpu) => thumbnail(gpu, name),
                     Err(e) => Err(e.clone()),
