@@ -4,12 +4,12 @@
 //
 // Serves web/dist (built by web/build.sh) on 127.0.0.1 and checks, from the page's pixels
 // and console: the default scene draws a shaded picture; dragging turns it; the page's link
-// opens the same picture in another page; typing a formula changes the picture; a mistyped
-// one keeps the last picture and shows the error; the longest formulas parse; a share link
-// draws its own formula, and a wrong one opens with its errors; no example scene logs an
-// error; a link's settled picture is certified (its counts cover the picture, every proved
-// hit drawn), certified=false draws the plain pencil; a heavy link is
-// lowered to the page's bounds, says what it lowered and keeps the page answering; embed
+// opens the same picture in another page; typing a formula changes the picture, its first
+// preview drawn on the CPU; a mistyped one keeps the last picture and shows the error; the
+// longest formulas parse; a share link draws its own formula, and a wrong one opens with
+// its errors; no example scene logs an error; a link's settled picture is certified (its
+// counts cover the picture, every proved hit drawn), certified=false draws the plain
+// pencil; a heavy link is lowered to the page's bounds, says what it lowered and keeps the page answering; embed
 // mode shows the picture alone and turns on a drag; the gallery draws the examples and opens
 // one; Export animation downloads a GIF and an animated PNG of the frames asked for; a lost GPU device
 // restarts the page on its scene; a slice's critical
@@ -297,6 +297,9 @@ try {
   const glome = await picture(page);
   check(typed.formula === 'x^2 + y^2 + z^2 + w^2 - 0.7' && changed(home, glome) > 0.02,
     `typing a formula changes the picture (${(100 * changed(home, glome)).toFixed(1)}% of pixels changed)`);
+  check(typed.progress.cpu_previews > dragged.progress.cpu_previews,
+    `the new formula's first preview is drawn on the CPU while the browser compiles its shader `
+    + `(on screen ${typed.edit_latency_ms?.toFixed(0)} ms after the edit)`);
   check(/formula=x%5E2/.test(await page.evaluate(() => location.hash)),
     'the address bar holds the link of the scene on screen');
 
@@ -708,7 +711,9 @@ try {
         + `${t.compile.toFixed(1)} + ${t.codegen.toFixed(1)} + ${t.tree.toFixed(0)} + ${t.pipeline.toFixed(0)} → `
         + `${t.ready.toFixed(0)}, first frame at ${best.edit_latency_ms.toFixed(0)} ms; `
         + `UI frames ${best.ui_frame_ms.toFixed(0)} ms; tree in each run `
-        + `${runs.map((r) => r.edit_stages_ms.tree.toFixed(0)).join(', ')} ms`);
+        + `${runs.map((r) => r.edit_stages_ms.tree.toFixed(0)).join(', ')} ms; the preview drawn in `
+        + `${runs.map((r) => r.progress.preview_ms.toFixed(0)).join(', ')} ms`
+        + `${runs.every((r, i) => i === 0 || r.progress.cpu_previews > runs[i - 1].progress.cpu_previews) ? ' on the CPU' : ''}`);
     }
   }
   await shared.page.close();
