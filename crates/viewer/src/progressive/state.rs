@@ -293,13 +293,11 @@ impl Progressive {
             self.key = Some(full_key);
             self.generation = generation;
             self.plan(scene, interacting);
-            if let Some(formula) = formula
-                && self.preview_on_cpu(gpu, caster, (formula, params, hierarchy.as_ref()), scene)
-            {
-                // On screen at this frame, before the GPU compiles the pipeline.
-                return true;
+            if let Some(formula) = formula {
+                self.preview_on_cpu(gpu, caster, (formula, params, hierarchy.as_ref()), scene);
             }
         }
+        // (A preview drawn on the CPU is on screen at this frame, before a pipeline compiles.)
         if self.cpu_previews.hold_gpu() {
             return true;
         }
@@ -390,26 +388,26 @@ impl Progressive {
 
     /// Draws a new plan's preview on the CPU where its pipeline is not built yet (see
     /// `cpu_preview`), before the stages planned for the GPU, or as the first of them
-    /// where it is as fine; whether it did.
+    /// where it is as fine.
     fn preview_on_cpu(
         &mut self,
         gpu: &Gpu,
         caster: &RayCaster,
         picture: (&CompiledFormula, &[f64], &Hierarchy),
         scene: &Scene,
-    ) -> bool {
+    ) {
         let Some(&planned) = self.stages.first() else {
-            return false;
+            return;
         };
         let mut drawn = scene.clone();
         drawn.render.certified = false;
         if planned.div == 1 || caster.has_pipeline_for(&drawn, picture.2) {
-            return false;
+            return;
         }
         let previews = &mut self.cpu_previews;
         let instructions = picture.0.tape_all.len();
         let Some(div) = previews.divisor(self.size, planned.rays, instructions, planned.div) else {
-            return false;
+            return;
         };
         if div != planned.div {
             self.stages.insert(0, Stage { div, ..planned });
@@ -419,7 +417,6 @@ impl Progressive {
         previews.draw(gpu, (texture, div), picture, &drawn, planned.rays);
         self.complete_stage(gpu, self.stages[0], false);
         self.preview_from_cpu = true;
-        true
     }
 
     /// Takes a certified view's verdicts once they are back from the GPU.
