@@ -2,7 +2,7 @@
 //! it exits. A thread still drawing or compiling on the GPU when the process's exit runs
 //! the driver's destructors (lavapipe's LLVM) corrupts the heap: the window closed during
 //! a gallery or an export, or a test ending while one ran, ended in "double free or
-//! corruption" (one run of the gallery's test in twelve).
+//! corruption" or a segmentation fault (a few runs of the gallery's test in a hundred).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Condvar, Mutex, Once};
