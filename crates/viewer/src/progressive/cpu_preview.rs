@@ -4,7 +4,7 @@
 //! of every frame queued after it; the twin draws a small preview in tens of milliseconds,
 //! and the GPU's own stages follow.
 
-use web_time::Instant;
+use web_time::{Duration, Instant};
 
 use fourfold::CompiledFormula;
 use fourfold::render::{FrameOptions, Gpu, twin, view};
@@ -62,10 +62,10 @@ impl CpuPreviews {
             .find(|&div| cost(div) <= BUDGET_MS * speed)
     }
 
-    /// Whether the GPU's stages still wait (see [`GPU_HOLD_MS`]).
-    pub fn hold_gpu(&self) -> bool {
-        self.last
-            .is_some_and(|(_, t)| t.elapsed().as_secs_f64() * 1e3 < GPU_HOLD_MS)
+    /// How long the GPU's stages still wait (see [`GPU_HOLD_MS`]); None: they do not.
+    pub fn gpu_held(&self) -> Option<Duration> {
+        let (_, at) = self.last?;
+        Duration::from_secs_f64(GPU_HOLD_MS / 1e3).checked_sub(at.elapsed())
     }
 
     /// Draws `scene`'s frame of `formula` over `hierarchy`, with `rays` rays a pixel, at

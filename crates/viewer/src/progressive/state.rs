@@ -110,8 +110,8 @@ pub struct Progressive {
     /// oldest first, and when the last one landed was done.
     in_flight: VecDeque<Run>,
     last_done: Option<Instant>,
-    /// Whether the last step stopped to wait for a run in flight, and the window to wake
-    /// when one is done.
+    /// Whether the last step stopped to wait for a run in flight (or for the hold after a
+    /// preview on the CPU), and the window to wake when it is over.
     waiting: bool,
     wake: Option<egui::Context>,
     /// New pictures' previews drawn on the CPU while their pipeline is not built (see
@@ -163,8 +163,8 @@ impl Progressive {
         }
     }
 
-    /// Whether the last step stopped to wait for the GPU, which wakes the window when it
-    /// is done.
+    /// Whether the last step stopped to wait for the GPU, or for the hold after a preview
+    /// on the CPU; the window is woken when it is over.
     pub fn waiting(&self) -> bool {
         self.waiting
     }
@@ -297,8 +297,7 @@ impl Progressive {
                 self.preview_on_cpu(gpu, caster, (formula, params, hierarchy.as_ref()), scene);
             }
         }
-        // (A preview drawn on the CPU is on screen at this frame, before a pipeline compiles.)
-        if self.cpu_previews.hold_gpu() {
+        if self.held_after_cpu_preview() {
             return true;
         }
         let started = Instant::now();
@@ -384,39 +383,6 @@ impl Progressive {
             runs += 1;
         }
         false
-    }
-
-    /// Draws a new plan's preview on the CPU where its pipeline is not built yet (see
-    /// `cpu_preview`), before the stages planned for the GPU, or as the first of them
-    /// where it is as fine.
-    fn preview_on_cpu(
-        &mut self,
-        gpu: &Gpu,
-        caster: &RayCaster,
-        picture: (&CompiledFormula, &[f64], &Hierarchy),
-        scene: &Scene,
-    ) {
-        let Some(&planned) = self.stages.first() else {
-            return;
-        };
-        let mut drawn = scene.clone();
-        drawn.render.certified = false;
-        if planned.div == 1 || caster.has_pipeline_for(&drawn, picture.2) {
-            return;
-        }
-        let previews = &mut self.cpu_previews;
-        let instructions = picture.0.tape_all.len();
-        let Some(div) = previews.divisor(self.size, planned.rays, instructions, planned.div) else {
-            return;
-        };
-        if div != planned.div {
-            self.stages.insert(0, Stage { div, ..planned });
-        }
-        self.stage_started = Some(Instant::now());
-        let texture = &self.textures[texture_index(div)];
-        previews.draw(gpu, (texture, div), picture, &drawn, planned.rays);
-        self.complete_stage(gpu, self.stages[0], false);
-        self.preview_from_cpu = true;
     }
 
     /// Takes a certified view's verdicts once they are back from the GPU.
@@ -586,5 +552,6 @@ impl Progressive {
     }
 }
 
+mod on_cpu;
 #[cfg(test)]
 mod tests;
