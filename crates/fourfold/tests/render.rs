@@ -75,11 +75,12 @@ fn generated_shaders_spell_no_infinite_or_nan_constant() {
 /// the frame's settings must stay in a storage buffer, with binding 0 as the header says.
 #[test]
 fn the_ray_caster_reads_no_uniform_buffer() {
-    // A formula's own shader reads bindings 0-6; the interpreting one its program too (7).
+    // A formula's own shader reads bindings 0-6 and its constants (7); the interpreting
+    // one its program (7).
     let f = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 = 1").unwrap();
     let all = fourfold::render::gpu::STORAGE_BUFFERS;
     for (shader, count) in [
-        (shader::generate(&f).unwrap(), all - 1),
+        (shader::generate(&f).unwrap(), all),
         (shader::interpreter().unwrap(), all),
     ] {
         let mut bindings = Vec::new();
@@ -1402,6 +1403,101 @@ fn a_caster_adopts_the_pipeline_its_sibling_built_on_another_thread() {
         !caster.adopt(stranger),
         "a caster of another shader was adopted"
     );
+}
+
+/// A formula whose numbers alone differ from another's has the same shader (its constants
+/// are read from binding 7), and a caster of one draws the other once given its constants,
+/// as a caster made for it draws it, certified verdicts included; the interpreting shader's
+/// caster likewise takes the other's program. Another structure is another shader.
+#[test]
+fn a_caster_draws_a_formula_that_differs_only_in_its_numbers_without_a_new_shader() {
+    use fourfold::render::{RayCaster, Target};
+    let gpu = gpu();
+    let texts = [
+        "x^2 + y^2 + z^2 + w^2 - 0.7",
+        "x^2 + y^2 + z^2 + w^2 - 0.75",
+        "x^2 + y^2 + z^2 + w^2 - 0.3",
+    ];
+    let same = [
+        (
+            "0.3 x^3 + y^2 + sin(2.5 z) + w^2 - 0.6",
+            "0.35 x^3 + y^2 + sin(3 z) + w^2 - 1.1",
+        ),
+        (
+            "sqrt(x + 0.1) + y^2 + z^2 + w^2 - 1.2",
+            "sqrt(x + 0.4) + y^2 + z^2 + w^2 - 1e-3",
+        ),
+    ];
+    let source = |t: &str| shader::generate(&CompiledFormula::compile(t).unwrap()).unwrap();
+    for (a, b) in same.iter().chain([&(texts[0], texts[1])]) {
+        // (Not assert_eq: the sources are long.)
+        assert!(
+            source(a).source == source(b).source,
+            "{a} and {b}: two shaders"
+        );
+        assert_ne!(source(a).constants, source(b).constants, "{a} and {b}");
+    }
+    // (A number equal to another one of the formula's is the same constant: x^2 + 2 y^2
+    // has one where x^2 + 3 y^2 has two, and another shader.)
+    for (a, b) in [
+        (texts[0], "x^2 + y^2 + z^2 + w^2 - 0.7 x"),
+        (texts[0], "x^2 + y^2 + z^2 + w^4 - 0.7"),
+        ("x^2 + 3 y^2 - 1", "x^2 + 2 y^2 - 1"),
+    ] {
+        assert!(
+            source(a).source != source(b).source,
+            "{a} and {b}: one shader"
+        );
+    }
+    let interpreter = shader::interpreter().unwrap();
+    let prepare = |text: &str, certified: bool| {
+        let formula = CompiledFormula::compile(text).unwrap();
+        let mut scene = Scene::from_formula(text);
+        scene.tree.max_level = 4;
+        scene.render.certified = certified;
+        let prepared = fourfold::render::Prepared::new(&formula, &scene).unwrap();
+        (formula, scene, prepared)
+    };
+    for certified in [false, true] {
+        let (formula, _, prepared) = prepare(texts[0], certified);
+        let first = shader::generate(&formula).unwrap();
+        let h = &prepared.hierarchy;
+        let target = Target::OFFSCREEN;
+        let mut reused = RayCaster::new(&gpu, &first, h).unwrap();
+        let base = RayCaster::new(&gpu, &interpreter, h).unwrap();
+        let mut interpreting = base.interpret(&gpu, &formula, h).unwrap();
+        for text in &texts[1..] {
+            let (formula, scene, prepared) = prepare(text, certified);
+            let own = shader::generate(&formula).unwrap();
+            let h = &prepared.hierarchy;
+            assert!(reused.draws(&own));
+            let lists = certified.then(|| prepared.certifying(&formula));
+            let draw = |caster: &mut RayCaster| {
+                let (camera, uniforms) = prepared.frame(&scene, 32, 24, Default::default());
+                caster.bin_view(&gpu, h, lists, &camera, &uniforms);
+                caster.render_rgba(&gpu, &uniforms).unwrap()
+            };
+            let mut fresh = RayCaster::for_scene(&gpu, &own, h, target, &scene).unwrap();
+            reused.set_hierarchy(&gpu, h).unwrap();
+            reused.set_formula(&gpu, &formula, &own).unwrap();
+            let expected = draw(&mut fresh);
+            assert!(
+                expected.chunks(4).any(|p| p[3] == 255),
+                "{text}: M is drawn"
+            );
+            assert_eq!(draw(&mut reused), expected, "{text}, certified {certified}");
+            if !certified {
+                let mut fresh = base.interpret(&gpu, &formula, h).unwrap();
+                interpreting.set_hierarchy(&gpu, h).unwrap();
+                interpreting.set_formula(&gpu, &formula, &own).unwrap();
+                assert_eq!(
+                    draw(&mut interpreting),
+                    draw(&mut fresh),
+                    "{text}, interpreted"
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -70,6 +70,16 @@ pub struct Tape {
 
 static NEXT_TAPE_ID: AtomicU64 = AtomicU64::new(1);
 
+/// The nodes `node` reads, first to last.
+fn operands(node: Node) -> impl Iterator<Item = NodeId> {
+    let (a, b) = match node {
+        Node::Const(_) | Node::Var(_) | Node::Param(_) => (None, None),
+        Node::Unary(_, a) | Node::Powi(a, _) => (Some(a), None),
+        Node::Binary(_, a, b) => (Some(a), Some(b)),
+    };
+    a.into_iter().chain(b)
+}
+
 impl Tape {
     /// The program that computes `outputs` of `graph`, in that order.
     pub fn new(graph: &ExprGraph, outputs: &[NodeId]) -> Self {
@@ -84,25 +94,46 @@ impl Tape {
                 Node::Binary(_, a, b) => uniform[a.index()] && uniform[b.index()],
             };
         }
+        // The order of the instructions: the uniform ones, then the others, each in the
+        // graph's order; but the constants first of all, in the order those instructions
+        // (then the outputs) first read them, not in the order the graph made them. So two
+        // formulas that differ only in their numbers have the same tape but for them, and
+        // the same shader (`render::shader::constants`), whichever number the graph met
+        // first (x^3's exponent makes a 3 before sin(3 z)'s, 2.5 comes after y^2's 2).
+        let mut order: Vec<usize> = Vec::new();
+        for pass_uniform in [true, false] {
+            order.extend((0..graph.len()).filter(|&i| {
+                needed[i]
+                    && uniform[i] == pass_uniform
+                    && !matches!(graph.nodes()[i], Node::Const(_))
+            }));
+        }
+        let mut constants: Vec<usize> = Vec::new();
+        let mut placed = vec![false; graph.len()];
+        let reads = order
+            .iter()
+            .flat_map(|&i| operands(graph.nodes()[i]))
+            .chain(outputs.iter().copied());
+        for id in reads {
+            if matches!(graph.nodes()[id.index()], Node::Const(_)) && !placed[id.index()] {
+                placed[id.index()] = true;
+                constants.push(id.index());
+            }
+        }
         let mut slot = vec![u32::MAX; graph.len()];
         let mut instrs = Vec::new();
-        for pass_uniform in [true, false] {
-            for (i, node) in graph.nodes().iter().enumerate() {
-                if !needed[i] || uniform[i] != pass_uniform {
-                    continue;
-                }
-                let s = |id: NodeId| slot[id.index()];
-                let instr = match *node {
-                    Node::Const(v) => Instr::Const(v),
-                    Node::Var(a) => Instr::Var(a),
-                    Node::Param(p) => Instr::Param(p),
-                    Node::Unary(op, a) => Instr::Unary(op, s(a)),
-                    Node::Binary(op, a, b) => Instr::Binary(op, s(a), s(b)),
-                    Node::Powi(a, n) => Instr::Powi(s(a), n),
-                };
-                slot[i] = instrs.len() as u32;
-                instrs.push(instr);
-            }
+        for i in constants.into_iter().chain(order) {
+            let s = |id: NodeId| slot[id.index()];
+            let instr = match graph.nodes()[i] {
+                Node::Const(v) => Instr::Const(v),
+                Node::Var(a) => Instr::Var(a),
+                Node::Param(p) => Instr::Param(p),
+                Node::Unary(op, a) => Instr::Unary(op, s(a)),
+                Node::Binary(op, a, b) => Instr::Binary(op, s(a), s(b)),
+                Node::Powi(a, n) => Instr::Powi(s(a), n),
+            };
+            slot[i] = instrs.len() as u32;
+            instrs.push(instr);
         }
         let uniform_len = (0..graph.len())
             .filter(|&i| needed[i] && uniform[i])

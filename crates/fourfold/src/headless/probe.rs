@@ -26,10 +26,10 @@ pub struct Enclosures {
 }
 
 /// The compute entry point appended to the ray caster's shader: one box per invocation,
-/// four vec4 out.
+/// four vec4 out (beside the formula's constants in binding 7).
 const PROBE: &str = r#"
-@group(0) @binding(7) var<storage, read> probe_boxes: array<vec4<f32>>;
-@group(0) @binding(8) var<storage, read_write> probe_out: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> probe_boxes: array<vec4<f32>>;
+@group(0) @binding(9) var<storage, read_write> probe_out: array<vec4<f32>>;
 
 @compute @workgroup_size(64)
 fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -103,23 +103,36 @@ pub fn enclose(
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
+    let constants = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("fourfold probe constants"),
+        contents: bytemuck::cast_slice(&shader.constants),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: settings.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 8,
+            resource: input.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 9,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    // (The pipeline's layout has binding 7 only where F's enclosures read a constant.)
+    if !shader.constants.is_empty() {
+        entries.push(wgpu::BindGroupEntry {
+            binding: 7,
+            resource: constants.as_entire_binding(),
+        });
+    }
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("fourfold probe bindings"),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: settings.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 7,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 8,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {

@@ -37,6 +37,16 @@ pub(super) struct Shared {
     cache_use: CacheUse,
     /// The shader is the interpreting one (`Shader::interprets`): plain pixels only.
     pub(super) interprets: bool,
+    /// Its source's hash (`source_hash`): which formulas' shaders it draws.
+    pub(super) source_hash: u64,
+}
+
+/// A shader source's hash, within one run.
+pub(super) fn source_hash(source: &str) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    source.hash(&mut hasher);
+    hasher.finish()
 }
 
 /// A compiled pipeline for one shader, and the buffers for one hierarchy.
@@ -60,8 +70,10 @@ pub struct RayCaster {
     cert_tiles: wgpu::Buffer,
     cert_boxes: wgpu::Buffer,
     cert_tiling: Tiling,
-    /// The interpreting shader's program (binding 7; a placeholder for another shader).
-    program: wgpu::Buffer,
+    /// Binding 7: the interpreting shader's program, or the formula's constants for its own
+    /// shader (`Shader::constants`), and the words it holds.
+    pub(super) program: wgpu::Buffer,
+    pub(super) words: Vec<[u32; 4]>,
     bind_group: wgpu::BindGroup,
     /// Where the tile lists have boxes to march (`TileLists::rects`); a pass draws the
     /// background elsewhere.
@@ -203,19 +215,20 @@ impl RayCaster {
             cache: cache.map(Arc::new),
             cache_use,
             interprets: shader.interprets,
+            source_hash: source_hash(&shader.source),
         };
-        Self::assemble(gpu, shared, pipelines, hierarchy, &[])
+        Self::assemble(gpu, shared, pipelines, hierarchy, shader.constants.clone())
     }
 
     /// A caster of `shared`'s shader with `pipelines` built, its buffers made for
-    /// `hierarchy` and, for the interpreting shader, the formula's `program` (empty for
-    /// another: a placeholder).
+    /// `hierarchy` and binding 7's `words` (the interpreting shader's program, or the
+    /// formula's constants).
     pub(super) fn assemble(
         gpu: &Gpu,
         shared: Shared,
         pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
         hierarchy: &Hierarchy,
-        program: &[[u32; 4]],
+        words: Vec<[u32; 4]>,
     ) -> Result<Self, GpuError> {
         let device = &gpu.device;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
@@ -229,7 +242,7 @@ impl RayCaster {
         let boxes = view_buffer(gpu, 0);
         let cert_tiles = view_buffer(gpu, 0);
         let cert_boxes = view_buffer(gpu, 0);
-        let program = program_buffer(gpu, program);
+        let program = program_buffer(gpu, &words);
         let bind_group = bind_group(
             device,
             &shared.layout,
@@ -257,6 +270,7 @@ impl RayCaster {
             cert_boxes,
             cert_tiling: Tiling::zeroed(),
             program,
+            words,
             bind_group,
             rects: Default::default(),
             background: Default::default(),

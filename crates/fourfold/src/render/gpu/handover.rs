@@ -4,9 +4,10 @@
 //! interpreting caster's buffers to the formula's own shader once it is compiled.
 
 use crate::formula::CompiledFormula;
-use crate::render::shader::program;
+use crate::render::shader::{Shader, program};
 use crate::tree::Hierarchy;
 
+use super::buffers::program_buffer;
 use super::caster::RayCaster;
 use super::device::{Gpu, GpuError};
 
@@ -23,7 +24,7 @@ impl RayCaster {
             self.shared.clone(),
             pipelines,
             &Hierarchy::default(),
-            &[],
+            self.words.clone(),
         )
     }
 
@@ -71,7 +72,33 @@ impl RayCaster {
             }
             lock
         });
-        Self::assemble(gpu, self.shared.clone(), pipelines, hierarchy, &program)
+        Self::assemble(gpu, self.shared.clone(), pipelines, hierarchy, program)
+    }
+
+    /// Draws `formula` from now on, whose shader is `shader` and has this caster's source
+    /// (the formula's numbers differ, not its WGSL: `shader::constants`): binding 7 takes
+    /// its constants, or its program where this caster interprets. No pipeline is built.
+    pub fn set_formula(
+        &mut self,
+        gpu: &Gpu,
+        formula: &CompiledFormula,
+        shader: &Shader,
+    ) -> Result<(), GpuError> {
+        self.words = if self.shared.interprets {
+            program(formula)?
+        } else {
+            debug_assert!(self.draws(shader), "a shader of this caster's source");
+            shader.constants.clone()
+        };
+        self.program = program_buffer(gpu, &self.words);
+        self.rebind(gpu);
+        Ok(())
+    }
+
+    /// Whether this caster draws with `shader`'s source (so `set_formula` takes formulas
+    /// of that shader without a compile).
+    pub fn draws(&self, shader: &Shader) -> bool {
+        self.shared.source_hash == super::caster::source_hash(&shader.source)
     }
 
     /// Draws from now on with `own`'s shader and pipelines (a caster of the formula's own
@@ -82,6 +109,9 @@ impl RayCaster {
         self.shared = own.shared;
         self.pipelines = own.pipelines;
         self.background = own.background;
+        // (Binding 7: the own shader's constants, where this one held the program.)
+        self.program = own.program;
+        self.words = own.words;
         self.rebind(gpu);
     }
 }

@@ -89,6 +89,7 @@ pub fn interpreter() -> Result<Shader, CodegenError> {
         source,
         module,
         interprets: true,
+        constants: Vec::new(),
     })
 }
 

@@ -7,7 +7,7 @@
 //! zero base of a real power with an exponent that needs a positive one — all give NaN (from
 //! the uniform, `ff_nan()`), and a NaN sample never makes a sign change, so no root is drawn
 //! there. The graph folds every operation on constants, so no WGSL operation here has
-//! constant operands only; a constant beyond f32's range is the run-time ±∞.
+//! constant operands only; each constant is read from the formula's table (`constants`).
 //!
 //! WGSL leaves a builtin's value on a NaN indeterminate (lavapipe's `pow(NaN, x)` is a
 //! number), so at a point each value carries a flag, `n{i}`, set where it or a value it was
@@ -18,12 +18,15 @@ use std::fmt::Write as _;
 
 use crate::eval::{Instr, Tape};
 
+use super::constants::Constants;
+
 /// How a tape becomes WGSL: in f32 at a point, or as rigorous intervals over a box.
 pub(super) struct Flavour {
     /// The parameters after the function's name.
     params: &'static str,
-    /// An instruction's value, as an expression of earlier `s{i}` (all but Powi).
-    expression: fn(Instr) -> String,
+    /// An instruction's value, as an expression of earlier `s{i}` and the formula's
+    /// constants (all but Powi).
+    expression: fn(Instr, &Constants) -> String,
     /// `let s{i} = s{a}^n`, through helper lets as needed.
     powi_lets: fn(&mut String, usize, u32, i32),
     /// Carry the undefined flags (at a point; intervals carry emptiness instead).
@@ -45,10 +48,11 @@ pub(super) const INTERVAL: Flavour = Flavour {
     flags: false,
 };
 
-/// The WGSL function `name` computing `tape` in `flavour`: one `let` per instruction, then
-/// the return of `result` of the outputs, of type `ret`.
+/// The WGSL function `name` computing `tape` in `flavour`, its numbers read from
+/// `constants`' table: one `let` per instruction, then the return of `result` of the
+/// outputs, of type `ret`.
 pub(super) fn tape_function(
-    flavour: &Flavour,
+    (flavour, constants): (&Flavour, &Constants),
     name: &str,
     ret: &str,
     tape: &Tape,
@@ -64,7 +68,8 @@ pub(super) fn tape_function(
         if let Instr::Powi(a, n) = *instr {
             (flavour.powi_lets)(&mut body, i, a, n);
         } else {
-            let _ = writeln!(body, "    let s{i} = {};", (flavour.expression)(*instr));
+            let expression = (flavour.expression)(*instr, constants);
+            let _ = writeln!(body, "    let s{i} = {expression};");
         }
     }
     let outputs: Vec<String> = tape
@@ -155,28 +160,10 @@ impl Flags {
     }
 }
 
-/// An interval holding the real number `v`: the point where f32 holds it exactly, else its
-/// nearest f32 stepped an ulp either way, or a half-line beyond the library's largest bound.
-fn interval_constant(v: f64) -> String {
-    const LARGE: f64 = 2305843009213693952.0; // IV_LARGE, 2^61
-    if v.is_nan() {
-        "IV_EMPTY".into()
-    } else if v > LARGE {
-        "vec2<f32>(IV_LARGE, IV_BIG)".into()
-    } else if v < -LARGE {
-        "vec2<f32>(-IV_BIG, -IV_LARGE)".into()
-    } else if f64::from(v as f32) == v && (v == 0.0 || v.abs() >= 2f64.powi(-125)) {
-        // Exact in f32, and no subnormal a device may flush: a point.
-        format!("vec2<f32>({})", literal(v))
-    } else {
-        format!("iv_around({})", literal(v))
-    }
-}
-
-fn interval_expression(instr: Instr) -> String {
+fn interval_expression(instr: Instr, constants: &Constants) -> String {
     let s = |i: u32| format!("s{i}");
     match instr {
-        Instr::Const(v) => interval_constant(v),
+        Instr::Const(v) => format!("ff_const_box({}u)", constants.index(v)),
         Instr::Var(a) => {
             let c = ["x", "y", "z", "w"][a as usize & 3];
             format!("vec2<f32>(lo.{c}, hi.{c})")
@@ -223,29 +210,10 @@ fn interval_powi_lets(body: &mut String, i: usize, a: u32, n: i32) {
     let _ = writeln!(body, "    let s{i} = {value};");
 }
 
-/// `v` in f32 as WGSL: a literal where f32 holds it finite, else the run-time NaN or ±∞ of
-/// the settings buffer (an infinite or NaN literal is a WGSL error).
-fn literal(v: f64) -> String {
-    let v32 = v as f32;
-    if v.is_nan() {
-        return "ff_nan()".into();
-    }
-    if v32.is_infinite() {
-        return if v32 > 0.0 { "ff_inf()" } else { "(-ff_inf())" }.into();
-    }
-    let text = format!("{v32:?}");
-    let text = if text.contains(['.', 'e']) {
-        text
-    } else {
-        format!("{text}.0")
-    };
-    if v32 < 0.0 { format!("({text})") } else { text }
-}
-
-fn expression(instr: Instr) -> String {
+fn expression(instr: Instr, constants: &Constants) -> String {
     let s = |i: u32| format!("s{i}");
     match instr {
-        Instr::Const(v) => format!("f32({})", literal(v)),
+        Instr::Const(v) => format!("ff_const({}u)", constants.index(v)),
         Instr::Var(a) => format!("p.{}", ["x", "y", "z", "w"][a as usize]),
         Instr::Param(i) => format!("ff_param({i}u)"),
         Instr::Powi(..) => unreachable!("integer powers are written by powi_lets"),
