@@ -151,9 +151,16 @@ impl Session {
         };
         match settling.poll() {
             None => return,
-            Some(Ok(built)) if caster.interprets() => match gpu {
-                Some(gpu) => caster.take_shader(gpu, built),
-                None => return,
+            Some(Ok(built)) if caster.interprets() => match (gpu, &self.program) {
+                (Some(gpu), Some(program)) => {
+                    caster.take_shader(gpu, built);
+                    // (The formula's numbers may have changed since the own caster was
+                    // made: the same shader, with the constants of the one on screen.)
+                    if let Err(e) = caster.set_formula(gpu, &program.formula, &program.shader) {
+                        self.error = Some(e.to_string());
+                    }
+                }
+                _ => return,
             },
             Some(Ok(sibling)) => {
                 caster.adopt(sibling);
@@ -359,7 +366,13 @@ impl Session {
             self.scene.params.entry(name.to_string()).or_insert(1.0);
         }
         let timings = (program.compile_ms, program.codegen_ms);
-        self.start_job(program, true, gpu, started, timings);
+        // A formula whose numbers alone changed has the same shader (`shader::constants`):
+        // the caster on screen draws it, with no compile.
+        let new_shader = self
+            .program
+            .as_ref()
+            .is_none_or(|p| p.shader.source != program.shader.source);
+        self.start_job(program, new_shader, gpu, started, timings);
     }
 
     /// Parameters, domain or tree settings changed: rebuild the tree for the same shader.
@@ -501,11 +514,15 @@ impl Session {
                 return false;
             }
             None => {
-                if let (Some(caster), Some(gpu)) = (&mut self.caster, gpu)
-                    && let Err(e) = caster.set_hierarchy(gpu, &hierarchy)
-                {
-                    self.error = Some(e.to_string());
-                    return false;
+                if let (Some(caster), Some(gpu)) = (&mut self.caster, gpu) {
+                    let program = &result.program;
+                    let set = caster
+                        .set_hierarchy(gpu, &hierarchy)
+                        .and_then(|()| caster.set_formula(gpu, &program.formula, &program.shader));
+                    if let Err(e) = set {
+                        self.error = Some(e.to_string());
+                        return false;
+                    }
                 }
             }
         }

@@ -85,8 +85,8 @@ fn typing_a_valid_formula_updates_the_picture() {
     let pipelines = h.state().session.counters.pipelines;
     assert!(h.state().session.error.is_none());
 
-    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 = 0.25");
-    assert_eq!(h.state().session.text, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^4 = 0.25");
+    assert_eq!(h.state().session.text, "x^2 + y^2 + z^2 + w^4 = 0.25");
     assert!(
         h.state().session.error.is_none(),
         "{:?}",
@@ -100,11 +100,62 @@ fn typing_a_valid_formula_updates_the_picture() {
         pipelines + 1,
         "a new formula needs a new shader"
     );
-    assert_eq!(app.session.scene.formula, "x^2 + y^2 + z^2 + w^2 = 0.25");
+    assert_eq!(app.session.scene.formula, "x^2 + y^2 + z^2 + w^4 = 0.25");
     assert!(app.session.stats.as_ref().unwrap().leaves > 0);
     assert!(
         app.edit_latency_ms.is_some(),
         "the edit latency was not measured"
+    );
+}
+
+/// A formula whose numbers alone change keeps its shader (its constants are data): the
+/// picture on screen's caster draws it with no new pipeline and no preview on the CPU (the
+/// page's path, which previews a formula whose pipeline is not built), and its settled
+/// picture proves what a viewer opened on it proves.
+#[test]
+fn a_formula_whose_numbers_alone_change_draws_without_a_new_shader() {
+    let mut h = harness(small_scene());
+    settle_without_error(&mut h, "the first picture");
+    converge(&mut h);
+    h.state_mut().session.previews_on_cpu = true;
+    let counters = h.state().session.counters;
+    let (generation, drawn) = (
+        h.state().session.picture_generation,
+        h.state().progressive.cpu_previews.drawn,
+    );
+    let edited = "x^2 + y^2 + z^2 + w^2 = 0.45";
+    replace_formula(&mut h, edited);
+    settle_without_error(&mut h, edited);
+    converge(&mut h);
+    let app = h.state();
+    assert!(
+        app.session.picture_generation > generation,
+        "no new picture"
+    );
+    assert_eq!(app.session.counters.compiles, counters.compiles + 1);
+    assert_eq!(
+        app.session.counters.pipelines, counters.pipelines,
+        "a new shader for new numbers"
+    );
+    assert_eq!(
+        app.progressive.cpu_previews.drawn, drawn,
+        "a preview on the CPU"
+    );
+    let reused = app.progressive.verdicts.expect("certified");
+    // The same formula again after another shape's: a caster made for it, in this view.
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^4 = 0.45");
+    settle_without_error(&mut h, "another shape");
+    replace_formula(&mut h, edited);
+    settle_without_error(&mut h, edited);
+    converge(&mut h);
+    let app = h.state();
+    assert_eq!(app.session.counters.pipelines, counters.pipelines + 2);
+    let fresh = app.progressive.verdicts.expect("certified");
+    assert!(reused.hit > 0 && reused.empty > 0, "{reused:?}");
+    assert_eq!(
+        (reused.hit, reused.empty, reused.undecided),
+        (fresh.hit, fresh.empty, fresh.undecided),
+        "the kept caster proves otherwise"
     );
 }
 
