@@ -34,6 +34,8 @@ const PROBE: &str = r#"
 @compute @workgroup_size(64)
 fn cs_probe(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
+    // (Binding 7 in the layout whichever constants F's enclosures read.)
+    _ = arrayLength(&ff_constants);
     if (2u * i + 1u >= arrayLength(&probe_boxes)) {
         return;
     }
@@ -103,36 +105,38 @@ pub fn enclose(
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
+    // (A formula without constants binds a word of zeros: a binding is never empty.)
+    let table = if shader.constants.is_empty() {
+        vec![[0u32; 4]]
+    } else {
+        shader.constants.clone()
+    };
     let constants = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("fourfold probe constants"),
-        contents: bytemuck::cast_slice(&shader.constants),
+        contents: bytemuck::cast_slice(&table),
         usage: wgpu::BufferUsages::STORAGE,
     });
-    let mut entries = vec![
-        wgpu::BindGroupEntry {
-            binding: 0,
-            resource: settings.as_entire_binding(),
-        },
-        wgpu::BindGroupEntry {
-            binding: 8,
-            resource: input.as_entire_binding(),
-        },
-        wgpu::BindGroupEntry {
-            binding: 9,
-            resource: output.as_entire_binding(),
-        },
-    ];
-    // (The pipeline's layout has binding 7 only where F's enclosures read a constant.)
-    if !shader.constants.is_empty() {
-        entries.push(wgpu::BindGroupEntry {
-            binding: 7,
-            resource: constants.as_entire_binding(),
-        });
-    }
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("fourfold probe bindings"),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: settings.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: constants.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 8,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 9,
+                resource: output.as_entire_binding(),
+            },
+        ],
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {

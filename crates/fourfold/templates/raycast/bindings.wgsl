@@ -12,8 +12,10 @@
 //                                             see march_ray and plane_curvature)
 //   binding 5: storage  array<u32>            certifying tile lists, as binding 2 (or two words)
 //   binding 6: storage  array<BoxRecord>      the boxes they index, as binding 3 (or one)
-//   binding 7: storage  array<vec4<u32>>      the formula's tapes (the interpreting shader only:
-//                                             interpret.wgsl)
+//   binding 7: storage  array<vec4<u32>>      the formula's constants, a constant's f32 bits
+//                                             and its interval's (ff_constants: fourfold's
+//                                             src/render/shader/constants.rs), or for the
+//                                             interpreting shader its tapes (interpret.wgsl)
 // Entry points: vs_main draws one triangle covering the target (no vertex buffers; it reads
 // binding 0 too, and hands some settings to the fragment stage as flat values, see Flat);
 // fs_tiles, fs_walk and fs_brute_force (as MODE) return the pixel's colour (target format
