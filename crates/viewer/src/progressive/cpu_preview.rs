@@ -17,9 +17,10 @@ use super::textures::StageTexture;
 /// The milliseconds a preview on the CPU may hold the window's thread.
 pub const BUDGET_MS: f64 = 40.0;
 
-/// How long the GPU's stages wait after a preview on the CPU: a keystroke within it brings
-/// another formula, and a compile queued for this one cannot be taken back; it would hold
-/// up the next preview on screen by as long as it takes.
+/// How long the GPU's stages wait after a preview on the CPU of a formula whose pipeline is
+/// not built: a keystroke within it brings another formula, and a compile queued for this
+/// one cannot be taken back; it would hold up the next preview on screen by as long as it
+/// takes.
 pub const GPU_HOLD_MS: f64 = 250.0;
 
 /// The twin's speed before one of its previews is measured, in rays times instructions
@@ -37,6 +38,8 @@ pub struct CpuPreviews {
     pub drawn: u64,
     /// The last one's divisor of the screen's size, and when it was drawn.
     pub last: Option<(u32, Instant)>,
+    /// When the GPU's stages began to wait (see [`GPU_HOLD_MS`]); None: they do not.
+    held_from: Option<Instant>,
 }
 
 impl CpuPreviews {
@@ -64,8 +67,12 @@ impl CpuPreviews {
 
     /// How long the GPU's stages still wait (see [`GPU_HOLD_MS`]); None: they do not.
     pub fn gpu_held(&self) -> Option<Duration> {
-        let (_, at) = self.last?;
-        Duration::from_secs_f64(GPU_HOLD_MS / 1e3).checked_sub(at.elapsed())
+        Duration::from_secs_f64(GPU_HOLD_MS / 1e3).checked_sub(self.held_from?.elapsed())
+    }
+
+    /// The GPU's stages wait from now (`hold`: its pipeline would compile first), or not.
+    pub fn hold_gpu(&mut self, hold: bool) {
+        self.held_from = hold.then(Instant::now);
     }
 
     /// Draws `scene`'s frame of `formula` over `hierarchy`, with `rays` rays a pixel, at

@@ -291,10 +291,12 @@ impl Progressive {
         if self.key.as_ref() != Some(&full_key) {
             // Keep what is on screen (completed) until the new preview is done.
             self.key = Some(full_key);
+            let new_picture = self.generation != generation;
             self.generation = generation;
             self.plan(scene, interacting);
             if let Some(formula) = formula {
-                self.preview_on_cpu(gpu, caster, (formula, params, hierarchy.as_ref()), scene);
+                let picture = (formula, params, hierarchy.as_ref());
+                self.preview_on_cpu(gpu, caster, picture, scene, new_picture);
             }
         }
         if self.held_after_cpu_preview() {
