@@ -191,6 +191,7 @@ pub fn status() -> String {
             "preset": app.preset,
             "error": app.session.error,
             "building": app.session.building(),
+            "pipelines": app.session.counters.pipelines,
             "notice": app.message.as_ref().map(|m| m.text.clone()),
             "drawing": app.drawing,
             "certified": app.session.scene.render.certified,

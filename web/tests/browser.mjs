@@ -5,8 +5,8 @@
 // Serves web/dist (built by web/build.sh) on 127.0.0.1 and checks, from the page's pixels
 // and console: the default scene draws a shaded picture; dragging turns it; the page's link
 // opens the same picture in another page; typing a formula changes the picture, its first
-// preview drawn on the CPU; a mistyped one keeps the last picture and shows the error; the
-// longest formulas parse; a share link draws its own formula, and a wrong one opens with
+// preview drawn on the CPU; a mistyped one keeps the last picture and shows the error; a
+// new number draws with the shader on screen, compiling nothing; the longest formulas parse; a share link draws its own formula, and a wrong one opens with
 // its errors; no example scene logs an error; a link's settled picture is certified (its
 // counts cover the picture, every proved hit drawn), certified=false draws the plain
 // pencil; a heavy link is lowered to the page's bounds, says what it lowered and keeps the page answering; embed
@@ -18,7 +18,8 @@
 // is refused with its culprit; the WGSL of fuzzed formulas (FOURFOLD_WGSL_SAMPLES, a folder)
 // compiles in Chromium's WebGPU; without WebGPU the page says what it needs; the wasm is at
 // most 2.5 MB gzipped. With --measure it also prints the wasm's size, load
-// → first picture, and keystroke → first new preview for three presets (docs/benchmarks.md).
+// → first picture, and keystroke → first new preview for three presets, for a keystroke
+// that makes a new shader and for one that changes a number (docs/benchmarks.md).
 
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
@@ -313,6 +314,17 @@ try {
     `a mistyped formula keeps the last picture (${(100 * changed(glome, kept)).toFixed(2)}% changed)`);
   check(/\^/.test(wrong.error) && wrong.formula === typed.formula,
     `the error is shown with its caret: ${JSON.stringify(wrong.error.split('\n')[0])}`);
+
+  // A formula whose numbers alone differ from the picture's has its shader: the caster on
+  // screen draws it, with nothing compiled (its first preview still on the CPU).
+  await type(page, 'x^2 + y^2 + z^2 + w^2 - 0.5');
+  const renumbered = await settled(page, typed.generation);
+  const smaller = await picture(page);
+  check(renumbered.formula === 'x^2 + y^2 + z^2 + w^2 - 0.5' && changed(glome, smaller) > 0.005
+    && renumbered.pipelines === typed.pipelines,
+    `a new number draws with the shader on screen (${renumbered.pipelines - typed.pipelines} new, `
+    + `${(100 * changed(glome, smaller)).toFixed(2)}% of pixels changed, on screen `
+    + `${renumbered.edit_latency_ms?.toFixed(0)} ms after the edit)`);
 
   // Issue 38's formulas, the list every front end's test reads: a constant outside its
   // function's domain is refused with the culprit underlined, as the command line refuses
@@ -705,6 +717,18 @@ try {
         runs.push(done);
         generation = done.generation;
       }
+      // Then keystrokes that change a number only: no compile (the same shader).
+      await type(shared.page, before.formula + ' + 0.01');
+      let numbered = await settled(shared.page, generation);
+      generation = numbered.generation;
+      const numbers = [];
+      for (const key of ['2', '3', '4']) {
+        await shared.page.keyboard.press(key);
+        const done = await settled(shared.page, generation);
+        numbers.push(`${done.edit_latency_ms.toFixed(0)}${done.pipelines === numbered.pipelines ? '' : ' (compiled)'}`);
+        generation = done.generation;
+        numbered = done;
+      }
       const best = runs.reduce((a, b) => (b.edit_latency_ms < a.edit_latency_ms ? b : a));
       const t = best.edit_stages_ms;
       console.log(`  ${name}: ${runs.map((r) => r.edit_latency_ms.toFixed(0)).join(', ')} ms; best: `
@@ -713,7 +737,8 @@ try {
         + `UI frames ${best.ui_frame_ms.toFixed(0)} ms; tree in each run `
         + `${runs.map((r) => r.edit_stages_ms.tree.toFixed(0)).join(', ')} ms; the preview drawn in `
         + `${runs.map((r) => r.progress.preview_ms.toFixed(0)).join(', ')} ms`
-        + `${runs.every((r, i) => i === 0 || r.progress.cpu_previews > runs[i - 1].progress.cpu_previews) ? ' on the CPU' : ''}`);
+        + `${runs.every((r, i) => i === 0 || r.progress.cpu_previews > runs[i - 1].progress.cpu_previews) ? ' on the CPU' : ''}`
+        + `; a number's keystroke → first preview: ${numbers.join(', ')} ms`);
     }
   }
   await shared.page.close();

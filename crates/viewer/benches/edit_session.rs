@@ -2,10 +2,12 @@
 //! --bench edit_session`.
 //!
 //! For each preset of FOURFOLD_BENCH_SCENES (default the glome, the chapter's scene and the
-//! tiger), certified (the default) and plain, three edits that each change a constant of the
-//! formula (so each makes a new shader and ray caster), on the first adapter wgpu finds, with
-//! the first frames drawn by the interpreting shader (built once, before the edits) and by
-//! the formula's own: from the changed text to the new tree and caster being ready for the
+//! tiger), certified (the default) and plain, three edits that each add a term of a new
+//! shape to the formula (`+ 0.001 x^k`, a new k each time, so each makes a new shader and
+//! ray caster), on the first adapter wgpu finds, with the first frames drawn by the
+//! interpreting shader (built once, before the edits) and by the formula's own; and three
+//! edits that change only that term's number (the same shader: the caster on screen draws
+//! it, "numbers only"): from the changed text to the new tree and caster being ready for the
 //! first preview (`EditTimes::ready_ms`, of which the caster's pipeline and its warm-up),
 //! one preview-sized frame drawn with that caster, and the time until the formula's own
 //! pipelines are there too (built beside the window after the caster: the settled picture's
@@ -47,26 +49,39 @@ fn main() {
             std::process::exit(1);
         };
         for certified in [true, false] {
-            for interpreted in [true, false] {
+            for (interpreted, numbers_only) in [(true, false), (false, false), (false, true)] {
                 let mut scene = Scene::parse(text, name).expect("examples parse");
                 scene.render.certified = certified;
                 let formula = scene.formula.clone();
                 let mut session = Session::new(scene);
                 session.interpret_new_formulas(interpreted);
-                session.set_text(&formula, Some(&gpu));
+                // (With numbers only, the term is there before the edits change its number.)
+                let first = if numbers_only {
+                    constant += 1;
+                    format!("{formula} + 0.009 x^{}", constant + 1)
+                } else {
+                    formula.clone()
+                };
+                session.set_text(&first, Some(&gpu));
                 settle(&mut session, &gpu);
                 session.wait_for_interpreter(Some(&gpu));
+                let pipelines = session.counters.pipelines;
                 let (mut ready, mut frames, mut settled) = (Vec::new(), Vec::new(), Vec::new());
                 let mut proved = Vec::new();
-                for _ in 0..3 {
-                    // A constant no edit before used (the driver may keep the pipelines of
-                    // a shader it compiled in this process).
-                    constant += 1;
+                for edit in 1..=3 {
+                    // A shape no edit before had (the driver may keep the pipelines of a
+                    // shader it compiled in this process), or the same with a new number.
+                    if !numbers_only {
+                        constant += 1;
+                    }
+                    let text = format!("{formula} + 0.00{edit} x^{}", constant + 1);
                     let started = Instant::now();
-                    session.set_text(&format!("{formula} + 0.00{constant}"), Some(&gpu));
+                    session.set_text(&text, Some(&gpu));
                     session.wait(Some(&gpu));
                     let t = session.times;
                     assert_eq!(session.interpreting(), interpreted, "{name}");
+                    let made = session.counters.pipelines - pipelines;
+                    assert_eq!(made, if numbers_only { 0 } else { edit }, "{name}");
                     ready.push(format!(
                         "{:.0} ({:.0}, {:.0})",
                         t.ready_ms, t.pipeline_ms, t.warm_up_ms
@@ -78,13 +93,13 @@ fn main() {
                         proved.push(format!("{:.0}", frame_ms(&mut session, &gpu, true)));
                     }
                 }
-                let by = if interpreted {
-                    "interpreter"
-                } else {
-                    "own shader"
+                let by = match (interpreted, numbers_only) {
+                    (true, _) => "interpreter",
+                    (false, false) => "own shader",
+                    (false, true) => "numbers only (the same shader)",
                 };
                 // (A plain scene drawn by its own shader builds nothing beside the window.)
-                let settled = cell(&settled, certified || interpreted);
+                let settled = cell(&settled, (certified && !numbers_only) || interpreted);
                 println!(
                     "| {name} | {certified} | {by} | {} | {} | {settled} | {} |",
                     ready.join(", "),
