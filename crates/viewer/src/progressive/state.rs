@@ -230,6 +230,21 @@ impl Progressive {
         self.textures.get(texture_index(div))
     }
 
+    /// Plans the stages for a new view, picture, size or interaction (`key`), keeping what
+    /// is on screen (completed) until the new preview is done; a page draws that preview
+    /// on the CPU (`on_cpu`).
+    fn replan(&mut self, gpu: &Gpu, subject: &Subject<'_>, key: (ViewKey, u64, bool)) {
+        let interacting = key.2;
+        self.key = Some(key);
+        let new_picture = self.generation != subject.generation;
+        self.generation = subject.generation;
+        self.plan(subject.scene, interacting);
+        if let Some(formula) = subject.formula {
+            let picture = (formula, subject.params, subject.hierarchy.as_ref());
+            self.preview_on_cpu(gpu, subject.caster, picture, subject.scene, new_picture);
+        }
+    }
+
     fn plan(&mut self, scene: &Scene, interacting: bool) {
         self.plans += 1;
         self.take_throughput();
@@ -274,31 +289,26 @@ impl Progressive {
         interacting: bool,
         budget_ms: f64,
     ) -> bool {
+        self.waiting = false;
+        self.ensure_textures(gpu, subject.caster, renderer, size);
+        self.read_verdicts(gpu);
+        let full_key = (
+            ViewKey::new(subject.scene, size),
+            subject.generation,
+            interacting,
+        );
+        if self.key.as_ref() != Some(&full_key) {
+            self.replan(gpu, &subject, full_key);
+        }
         let Subject {
             caster,
             hierarchy,
             certifying,
             certifier_pending,
             params,
-            formula,
             scene,
-            generation,
+            ..
         } = subject;
-        self.waiting = false;
-        self.ensure_textures(gpu, caster, renderer, size);
-        self.read_verdicts(gpu);
-        let full_key = (ViewKey::new(scene, size), generation, interacting);
-        if self.key.as_ref() != Some(&full_key) {
-            // Keep what is on screen (completed) until the new preview is done.
-            self.key = Some(full_key);
-            let new_picture = self.generation != generation;
-            self.generation = generation;
-            self.plan(scene, interacting);
-            if let Some(formula) = formula {
-                let picture = (formula, params, hierarchy.as_ref());
-                self.preview_on_cpu(gpu, caster, picture, scene, new_picture);
-            }
-        }
         if self.held_after_cpu_preview() {
             return true;
         }
