@@ -1056,7 +1056,7 @@ fn a_new_formula_previews_on_the_cpu_while_its_pipeline_is_not_built() {
     assert!(progressive.preview_from_cpu);
     assert_eq!(progressive.cpu_previews.drawn, drawn + 1);
     // The texture holds the twin's picture of the preview's frame, byte for byte.
-    let (div, _) = progressive.cpu_previews.last.unwrap();
+    let div = progressive.cpu_previews.last.unwrap();
     let texture = progressive.texture_of(div).unwrap();
     let gpu = app.gpu().unwrap();
     let read = fourfold::render::gpu::start_texture_read(gpu, &texture.texture);

@@ -8,6 +8,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::expr::graph::operands;
 use crate::expr::{BinaryOp, ExprGraph, Node, NodeId, UnaryOp};
 
 /// One instruction; operands are slots of earlier instructions.
@@ -69,16 +70,6 @@ pub struct Tape {
 }
 
 static NEXT_TAPE_ID: AtomicU64 = AtomicU64::new(1);
-
-/// The nodes `node` reads, first to last.
-fn operands(node: Node) -> impl Iterator<Item = NodeId> {
-    let (a, b) = match node {
-        Node::Const(_) | Node::Var(_) | Node::Param(_) => (None, None),
-        Node::Unary(_, a) | Node::Powi(a, _) => (Some(a), None),
-        Node::Binary(_, a, b) => (Some(a), Some(b)),
-    };
-    a.into_iter().chain(b)
-}
 
 impl Tape {
     /// The program that computes `outputs` of `graph`, in that order.

@@ -36,8 +36,8 @@ pub struct CpuPreviews {
     speed: Option<f64>,
     /// Previews drawn on the CPU so far.
     pub drawn: u64,
-    /// The last one's divisor of the screen's size, and when it was drawn.
-    pub last: Option<(u32, Instant)>,
+    /// The last one's divisor of the screen's size.
+    pub last: Option<u32>,
     /// When the GPU's stages began to wait (see [`GPU_HOLD_MS`]); None: they do not.
     held_from: Option<Instant>,
 }
@@ -98,7 +98,7 @@ impl CpuPreviews {
         // (A few milliseconds' reading says little of a costly formula: counted as one.)
         self.speed = Some(work * formula.tape_all.len().max(1) as f64 / ms.max(1.0));
         self.drawn += 1;
-        self.last = Some((div, Instant::now()));
+        self.last = Some(div);
         gpu.queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture.texture,

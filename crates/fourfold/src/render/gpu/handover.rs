@@ -84,12 +84,17 @@ impl RayCaster {
         formula: &CompiledFormula,
         shader: &Shader,
     ) -> Result<(), GpuError> {
-        self.words = if self.shared.interprets {
+        let words = if self.shared.interprets {
             program(formula)?
         } else {
             debug_assert!(self.draws(shader), "a shader of this caster's source");
             shader.constants.clone()
         };
+        // (A new tree of the same formula, a parameter's: binding 7 stays.)
+        if words == self.words {
+            return Ok(());
+        }
+        self.words = words;
         self.program = program_buffer(gpu, &self.words);
         self.rebind(gpu);
         Ok(())

@@ -64,8 +64,8 @@ pub struct Shader {
 /// each constant's entry in binding 7, then the generated, validated WGSL (what `fourfold
 /// wgsl` prints and the Python package's `wgsl()` returns).
 pub fn listing(formula: &CompiledFormula) -> Result<String, CodegenError> {
-    let shader = generate(formula)?;
-    let constants = Constants::of(&tapes(formula))
+    let (shader, constants) = generate_with_constants(formula)?;
+    let constants = constants
         .values()
         .iter()
         .enumerate()
@@ -95,10 +95,15 @@ pub fn listing(formula: &CompiledFormula) -> Result<String, CodegenError> {
 
 /// Generates and validates the ray-casting shader for `formula`.
 pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
+    generate_with_constants(formula).map(|(shader, _)| shader)
+}
+
+/// The shader, and the constants its table holds (whose real values the listing names).
+fn generate_with_constants(formula: &CompiledFormula) -> Result<(Shader, Constants), CodegenError> {
     if formula.params.len() > MAX_PARAMS {
         return Err(CodegenError::TooManyParams(formula.params.len()));
     }
-    let constants = Constants::of(&tapes(formula));
+    let constants = Constants::of(&[&formula.tape_f, &formula.tape_grad, &formula.tape_all]);
     let (point, interval) = ((&POINT, &constants), (&INTERVAL, &constants));
     let f = tape_function(point, "ff_f", "f32", &formula.tape_f, |v| v[0].clone());
     let f = format!("{DECLARATIONS}\n{f}");
@@ -125,17 +130,13 @@ pub fn generate(formula: &CompiledFormula) -> Result<Shader, CodegenError> {
     );
     let source = splice(TEMPLATE, &f, &grad, &f_grad, &interval);
     let module = validate(&source)?;
-    Ok(Shader {
+    let shader = Shader {
         source,
         module,
         interprets: false,
         constants: constants.table(),
-    })
-}
-
-/// The formula's tapes, in the order the constants' table is made from.
-fn tapes(formula: &CompiledFormula) -> [&crate::eval::Tape; 3] {
-    [&formula.tape_f, &formula.tape_grad, &formula.tape_all]
+    };
+    Ok((shader, constants))
 }
 
 /// The template without certified pixels (for the interpreting shader, which draws plain
