@@ -133,3 +133,43 @@ fn an_undefined_operand_leaves_every_operation_undefined() {
         }
     }
 }
+
+#[test]
+fn a_negative_number_has_its_integer_powers_however_large() {
+    // Folded: (−2)^3 is −8 as x^3 is at x = −2, not the undefined real power.
+    let formula = CompiledFormula::compile("x + (-2)^3").expect("(-2)^3 is -8");
+    let at = |formula: &CompiledFormula, x: f64| {
+        fourfold::eval::PointEvaluator::new().eval(&formula.tape_f, [x, 0.0, 0.0, 0.0], &[])
+    };
+    assert_eq!(at(&formula, 1.0), -7.0);
+    assert!(folds_fully(&formula));
+    // Beyond the exponents multiplied out (1024), x^n keeps its value at a negative x, and
+    // so does each partial derivative.
+    for (n, x, want) in [
+        (2000, -1.0002, 1.0002f64.powi(2000)),
+        (2001, -1.0002, -(1.0002f64.powi(2001))),
+        (2001, 0.5, 0.5f64.powi(2001)),
+        (-2001, -1.5, -(1.5f64.powi(-2001))),
+    ] {
+        let text = format!("x^{n} - 1");
+        let formula = CompiledFormula::compile(&text).unwrap_or_else(|e| panic!("{text}: {e:?}"));
+        let got = at(&formula, x) + 1.0;
+        assert!((got - want).abs() <= 1e-9 * want.abs(), "{text} at {x}: {got}");
+        let mut grad = [0.0; 5];
+        fourfold::eval::PointEvaluator::new().eval_into(
+            &formula.tape_all,
+            [x, 0.0, 0.0, 0.0],
+            &[],
+            &mut grad,
+        );
+        let slope = f64::from(n) * want / x;
+        assert!(
+            (grad[1] - slope).abs() <= 1e-9 * slope.abs(),
+            "d/dx {text} at {x}: {}",
+            grad[1]
+        );
+    }
+    // A constant's large power folds with its sign, too.
+    let formula = CompiledFormula::compile("x + (-1)^2001").expect("(-1)^2001 is -1");
+    assert_eq!(at(&formula, 3.0), 2.0);
+}

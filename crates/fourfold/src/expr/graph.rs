@@ -291,6 +291,9 @@ impl ExprGraph {
                     if e.fract() == 0.0 && e.abs() <= MAX_INT_EXPONENT {
                         return self.powi(a, e as i32);
                     }
+                    if e.fract() == 0.0 {
+                        return self.large_integer_power(a, b, e);
+                    }
                     if e == 0.5 {
                         return self.unary(UnaryOp::Sqrt, a);
                     }
@@ -373,6 +376,19 @@ impl ExprGraph {
         self.intern(Node::Binary(BinaryOp::Mul, a, b))
     }
 
+    /// `a` to the integer `e` (node `b`), too large to multiply out: |a|^e, with a's sign
+    /// for an odd `e`, so that a negative `a` has the power `x^3` would give it (a real power
+    /// of a negative number is undefined).
+    fn large_integer_power(&mut self, a: NodeId, b: NodeId, e: f64) -> NodeId {
+        let magnitude = self.unary(UnaryOp::Abs, a);
+        let power = self.intern(Node::Binary(BinaryOp::Pow, magnitude, b));
+        if e % 2.0 == 0.0 {
+            return power;
+        }
+        let sign = self.unary(UnaryOp::Sign, a);
+        self.mul(sign, power)
+    }
+
     fn as_power(&self, id: NodeId) -> (NodeId, i32) {
         match self.node(id) {
             Node::Powi(base, n) => (base, n),
@@ -413,6 +429,10 @@ pub fn operands(node: Node) -> impl Iterator<Item = NodeId> {
 /// undefined; division by 0; a real power of a negative number.
 fn fold_binary(op: BinaryOp, a: Option<f64>, b: Option<f64>) -> Option<f64> {
     match (a, b) {
+        // A negative number's integer power, which the real power leaves undefined.
+        (Some(x), Some(y)) if op == BinaryOp::Pow && x < 0.0 && y.fract() == 0.0 => {
+            Some(x.powf(y))
+        }
         (Some(x), Some(y)) => Some((op.spec().point)(x, y)),
         (Some(v), None) | (None, Some(v)) if v.is_nan() => Some(f64::NAN),
         (_, Some(0.0)) if op == BinaryOp::Div => Some(f64::NAN),

@@ -96,7 +96,8 @@ pub static BINARY: [BinarySpec; 8] = [
             }
         },
         interval: Interval::pow,
-        continuous: |a, _| a.lo() > 0.0,
+        // (0^b = 0 for every b > 0: a base that reaches 0 keeps it continuous there.)
+        continuous: |a, b| a.lo() > 0.0 || (a.lo() >= 0.0 && b.lo() > 0.0),
         derivative: power,
         wgsl: |a, b| {
             format!(
