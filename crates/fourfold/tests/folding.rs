@@ -154,7 +154,10 @@ fn a_negative_number_has_its_integer_powers_however_large() {
         let text = format!("x^{n} - 1");
         let formula = CompiledFormula::compile(&text).unwrap_or_else(|e| panic!("{text}: {e:?}"));
         let got = at(&formula, x) + 1.0;
-        assert!((got - want).abs() <= 1e-9 * want.abs(), "{text} at {x}: {got}");
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "{text} at {x}: {got}"
+        );
         let mut grad = [0.0; 5];
         fourfold::eval::PointEvaluator::new().eval_into(
             &formula.tape_all,

@@ -430,9 +430,7 @@ pub fn operands(node: Node) -> impl Iterator<Item = NodeId> {
 fn fold_binary(op: BinaryOp, a: Option<f64>, b: Option<f64>) -> Option<f64> {
     match (a, b) {
         // A negative number's integer power, which the real power leaves undefined.
-        (Some(x), Some(y)) if op == BinaryOp::Pow && x < 0.0 && y.fract() == 0.0 => {
-            Some(x.powf(y))
-        }
+        (Some(x), Some(y)) if op == BinaryOp::Pow && x < 0.0 && y.fract() == 0.0 => Some(x.powf(y)),
         (Some(x), Some(y)) => Some((op.spec().point)(x, y)),
         (Some(v), None) | (None, Some(v)) if v.is_nan() => Some(f64::NAN),
         (_, Some(0.0)) if op == BinaryOp::Div => Some(f64::NAN),

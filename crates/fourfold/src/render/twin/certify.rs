@@ -208,13 +208,19 @@ impl<'a> Certifier<'a> {
                 continue;
             };
             search.budget -= 1;
+            // F alone first: most cells it excludes, at a fraction of F and ∇F's tape (the
+            // same enclosure of F, operation for operation).
+            if !self
+                .eval
+                .eval(&self.formula.tape_f, &x, self.params)
+                .contains_zero()
+            {
+                continue;
+            }
             let mut fg = [Interval::EMPTY; 5];
             let tape = &self.formula.tape_all;
             self.eval.eval_into(tape, &x, self.params, &mut fg);
             let smooth = self.eval.continuous_on_last_box(tape);
-            if !fg[0].contains_zero() {
-                continue;
-            }
             let mid = [cs.midpoint(), ct.midpoint()];
             // F's slope along n1 and n2 over the cell, estimated (where bounded), and the
             // most it may be (where unknown, the longer side is split).

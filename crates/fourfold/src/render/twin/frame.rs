@@ -1,17 +1,21 @@
-//! A whole frame on the CPU: each pixel's boxes (its tile's, or a walk of the hierarchy),
-//! its rays, and with certified pixels its verdict, in parallel over the rows.
+//! A whole frame on the CPU: each pixel's boxes (a walk of the hierarchy, shared by a tile
+//! of pixels), its rays, and with certified pixels its verdict, in parallel over bands of
+//! rows.
+
+use std::ops::Range;
 
 use rayon::prelude::*;
 
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
-use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, march_steps};
-use crate::tree::{Curvature, Hierarchy};
+use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
+use crate::tree::Hierarchy;
 
 use super::certify::{Certifier, SearchBox};
 use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::section::Band;
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
+use super::walk::{Kept, Tile, boxes_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
 /// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
@@ -36,36 +40,77 @@ pub fn render_rgba(
     // The section's bands from the rays' origin and from the plane's, once per frame.
     let bands = [Band::of(u, true), Band::of(u, false)];
     let (width, height) = (u.size.width, u.size.height);
-    let rows: Vec<Vec<u8>> = (0..height)
+    // Bands of TILE rows in parallel, each walked a tile of TILE × TILE pixels at a time.
+    let strips: Vec<Vec<u8>> = (0..height.div_ceil(TILE))
         .into_par_iter()
-        .map(|py| {
+        .map(|strip| {
             let mut scratch = Scratch {
                 certifier: Certifier::new(formula, params, u),
                 evals: Evaluators::new(),
                 boxes: Vec::new(),
                 forms: &forms,
                 bands: &bands,
+                kept: [Vec::new(), Vec::new()],
                 covered: Vec::new(),
                 bounds: Vec::new(),
             };
-            let mut row = Vec::with_capacity(width as usize * 4);
-            for px in 0..width {
-                let pixel = (px, py);
-                let (c, verdict) = render_pixel(
-                    formula,
-                    params,
-                    [hierarchy, certifying],
-                    u,
-                    &mut scratch,
-                    pixel,
-                );
-                row.extend(c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8));
-                row.push(verdict.alpha());
+            let rows = strip * TILE..((strip + 1) * TILE).min(height);
+            let mut out = vec![0u8; rows.len() * width as usize * 4];
+            for x0 in (0..width).step_by(TILE as usize) {
+                let columns = x0..(x0 + TILE).min(width);
+                for (k, h) in [hierarchy, certifying].into_iter().enumerate() {
+                    let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
+                    tile_nodes(h, u, tile, &bands[k], &mut scratch.kept[k]);
+                }
+                for py in rows.clone() {
+                    for px in columns.clone() {
+                        let (c, verdict) = render_pixel(
+                            formula,
+                            params,
+                            [hierarchy, certifying],
+                            u,
+                            &mut scratch,
+                            (px, py),
+                        );
+                        let at = (((py - rows.start) * width + px) * 4) as usize;
+                        let rgb = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+                        out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], verdict.alpha()]);
+                    }
+                }
             }
-            row
+            out
         })
         .collect();
-    rows.concat()
+    strips.concat()
+}
+
+/// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
+const TILE: u32 = 8;
+
+/// The pixels `columns` × `rows` as a [`Tile`]: around the origin of their plane (or, with
+/// `rays` in a slice, of their rays' line) at the square's centre.
+fn tile_around(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>), rays: bool) -> Tile {
+    let wide = |v: V4| v.map(f64::from);
+    let (w, h) = (f64::from(u.size.width), f64::from(u.size.height));
+    let s = f64::from(u.misc.pixel_size);
+    let fx = 0.5 * f64::from(columns.start + columns.end);
+    let fy = 0.5 * f64::from(rows.start + rows.end);
+    let (v1, v2, n1, n2) = (wide(u.v1), wide(u.v2), wide(u.n1), wide(u.n2));
+    let mut centre: [f64; 4] = std::array::from_fn(|k| {
+        f64::from(u.center[k]) + v1[k] * s * (fx - 0.5 * w) + v2[k] * s * (0.5 * h - fy)
+    });
+    let reach = f64::from(slice_reach(u));
+    let offset = f64::from(u.root.section_offset);
+    if rays && u.control.flags & FLAG_SLICE != 0 {
+        centre = std::array::from_fn(|k| centre[k] + n2[k] * offset - n1[k] * reach);
+    }
+    let half = 0.5 * f64::from((columns.end - columns.start).max(rows.end - rows.start));
+    let centre_size: f64 = u.center.iter().map(|c| f64::from(*c).abs()).sum();
+    Tile {
+        centre,
+        radius: s * half * std::f64::consts::SQRT_2 * (1.0 + 1e-6),
+        rounding: 1e-5 * (centre_size + s * (w + h) + reach + offset.abs()),
+    }
 }
 
 /// The form of a box without curvature bounds (brute force's domain).
@@ -88,62 +133,11 @@ struct Scratch<'a> {
     forms: &'a [[f32; 6]],
     /// The section's band from the rays' origin and from the plane's (see `render_rgba`).
     bands: &'a [Option<Band>; 2],
+    /// The nodes of the two hierarchies the pixel's tile may visit (see `walk`).
+    kept: [Vec<Kept>; 2],
     /// The boxes of the pixel's certified search, walked and then with their forms.
     covered: Vec<Marched>,
     bounds: Vec<SearchBox>,
-}
-
-/// The boxes pixel `o`'s rays march (or, for `certifying`'s hierarchy, its certified search
-/// covers), into `boxes`: a walk of the hierarchy's marched boxes whose sphere meets its
-/// observer plane (the shader's MODE 2), or the domain for brute force. With a `band` (a
-/// slice's or slab's, from `o`), a box that cannot meet it is left out with its subtree,
-/// as the shader's tile lists leave it out.
-fn boxes_of(h: &Hierarchy, u: &Uniforms, o: V4, band: &Option<Band>, boxes: &mut Vec<Marched>) {
-    boxes.clear();
-    if u.brute_force() {
-        boxes.push(Marched {
-            lo: u.domain_lo,
-            hi: u.domain_hi,
-            steps: u.counts.brute_steps,
-            slope: [f32::INFINITY; 4],
-            curvature: Curvature::NONE,
-            node: None,
-        });
-        return;
-    }
-    let mut i = 0usize;
-    while i < h.nodes.len() {
-        let node = &h.nodes[i];
-        let level = &u.levels[node.level() as usize];
-        let rel = sub(node.center, o);
-        let (a, b) = (dot(rel, u.v1), dot(rel, u.v2));
-        if a * a + b * b > level.radius * level.radius
-            || band
-                .as_ref()
-                .is_some_and(|b| !b.meets(rel, node.level() as usize))
-        {
-            i = node.skip as usize;
-            continue;
-        }
-        // As the shader's `visit`: the boxes of the cut are marched whole.
-        if node.is_marched() {
-            boxes.push(Marched {
-                lo: sub(node.center, level.half),
-                hi: add(node.center, level.half),
-                steps: if node.is_leaf() {
-                    u.control.steps
-                } else {
-                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
-                },
-                slope: h.slope(i),
-                curvature: h.curvature(i),
-                node: Some(i),
-            });
-            i = node.skip as usize;
-            continue;
-        }
-        i += 1;
-    }
 }
 
 /// A pixel's colour and verdict; `h` holds the hierarchy the rays march and the one the
@@ -168,8 +162,7 @@ fn render_pixel(
     );
     let mut o = plane;
     // As the shader: the slice's line, from where it enters the sphere around the domain.
-    let extent = sub(u.domain_hi, u.domain_lo);
-    let reach = 0.5 * dot(extent, extent).sqrt();
+    let reach = slice_reach(u);
     if u.control.flags & FLAG_SLICE != 0 {
         o = sub(
             add(o, scale(u.n2, u.root.section_offset)),
@@ -196,7 +189,7 @@ fn render_pixel(
         starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;
-    boxes_of(h[0], u, o, &scratch.bands[0], boxes);
+    boxes_of(h[0], u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
     for b in boxes.iter() {
         pixel.trace_box(o, b);
     }
@@ -208,7 +201,8 @@ fn render_pixel(
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        boxes_of(h[1], u, plane, &scratch.bands[1], &mut scratch.covered);
+        let walk = (&scratch.bands[1], scratch.kept[1].as_slice());
+        boxes_of(h[1], u, plane, walk, &mut scratch.covered);
         let forms = scratch.forms;
         scratch.bounds.clear();
         scratch
@@ -264,4 +258,11 @@ fn render_pixel(
         };
     }
     (color, verdict)
+}
+
+/// How far before the slice's place along n1 its rays start: the domain's half diagonal (the
+/// sphere around the domain).
+fn slice_reach(u: &Uniforms) -> f32 {
+    let extent = sub(u.domain_hi, u.domain_lo);
+    0.5 * dot(extent, extent).sqrt()
 }

@@ -10,6 +10,7 @@ mod pixel;
 mod section;
 mod seek;
 mod shading;
+mod walk;
 
 pub use certify::{CERT_STACK, Certifier, Outcome};
 pub use frame::render_rgba;

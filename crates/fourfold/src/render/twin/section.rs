@@ -53,10 +53,17 @@ impl Band {
     /// and beyond the certified search's own widening of it (1e-5 of the ranges along n1
     /// and n2), so that no box is left out that a ray or the search could use.
     pub(super) fn meets(&self, rel: V4, level: usize) -> bool {
-        let along = |n: V4| -> f64 { (0..4).map(|i| f64::from(rel[i]) * f64::from(n[i])).sum() };
+        self.meets_within(rel.map(f64::from), level, 0.0)
+    }
+
+    /// As [`Self::meets`], for any of the boxes whose centres lie within `margin` of `rel`
+    /// along n1 and n2 (a tile's pixels' boxes, from the tile's centre).
+    pub(super) fn meets_within(&self, rel: [f64; 4], level: usize, margin: f64) -> bool {
+        let along = |n: V4| -> f64 { (0..4).map(|i| rel[i] * f64::from(n[i])).sum() };
         let [r1, r2] = self.support[level];
         let (q1, q2) = (along(self.n1), along(self.n2));
-        let slack = 1e-4 * (q1.abs() + r1 + q2.abs() + r2 + self.lo.abs() + self.hi.abs()) + 1e-6;
+        let widest = q1.abs() + r1 + q2.abs() + r2 + self.lo.abs() + self.hi.abs() + 2.0 * margin;
+        let slack = 1e-4 * widest + 1e-6 + margin;
         q2 - r2 <= self.hi + slack && q2 + r2 >= self.lo - slack
     }
 }
