@@ -232,13 +232,16 @@ def render(
     *,
     size: Optional[tuple[int, int]] = None,
     fit: bool = False,
-    cpu: bool = False,
+    cpu: Optional[bool] = None,
     **settings: Any,
 ) -> Picture:
     """Renders a picture, as `fourfold render` does: an RGBA `Picture` of shape (h, w, 4).
 
     `size` is (width, height) in pixels (the scene's, else 512 × 512); `fit` zooms and
-    centres on the manifold; `cpu` draws on the CPU reference renderer instead of the GPU.
+    centres on the manifold; `cpu=True` draws on the CPU reference renderer instead of the
+    GPU, `cpu=False` on the GPU; by default a slice the CPU draws sooner than a GPU could be
+    opened for it (up to 2^17 pixels per thread of this machine) is drawn there, as by
+    `fourfold render`.
     `settings` are the scene's keywords: `angles=[θ1, ..., θ6]`, `domain=[x0, x1, ..., w0,
     w1]`, `params={"R": 2.0}`, `rays`, `hits`, `background="#rrggbb"`, `slice=C`,
     `slab=(C, H)`, `colour_by="hidden"`, `certified=False` (the plain ray pencil: pictures are

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use fourfold::formula::CompiledFormula;
 use fourfold::headless::render_fitted;
 use fourfold::render::Prepared;
-use fourfold::render::picture::{Device, Picture, RenderError};
+use fourfold::render::picture::{Device, Picture, RenderError, sooner_on_cpu};
 use fourfold::render::view::scene_hidden_range;
 use fourfold::scene::{ColorBy, Scene as CoreScene};
 use fourfold::tree::BuildError;
@@ -57,7 +57,10 @@ pub fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
 pub enum Want {
     Gpu,
     Cpu,
-    /// The GPU if one opens, else the CPU (pictures shown inline in a notebook).
+    /// The CPU for a slice it draws sooner than a GPU could be opened for it (as `fourfold
+    /// render`), else the GPU.
+    Sooner,
+    /// As `Sooner`, but the CPU where no GPU opens (pictures shown inline in a notebook).
     Any,
 }
 
@@ -79,10 +82,12 @@ pub fn draw(
     want: Want,
 ) -> PyResult<Drawn> {
     let (formula, mut warnings) = compile(py, scene)?;
+    let on_cpu = want == Want::Cpu
+        || (matches!(want, Want::Sooner | Want::Any) && sooner_on_cpu(scene, width, height));
     let gpu = match want {
-        Want::Cpu => None,
-        Want::Gpu => Some(gpu_or_error()?),
+        _ if on_cpu => None,
         Want::Any => gpu().ok(),
+        _ => Some(gpu_or_error()?),
     };
     let core = scene.clone();
     let drawn = run_quiet(py, move |job| {

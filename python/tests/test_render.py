@@ -73,6 +73,19 @@ def test_cpu_fallback_matches_the_command_lines_cpu(cli, tmp_path):
     assert differ.mean() < 0.05
 
 
+def test_a_small_slice_is_drawn_on_the_cpu_as_by_the_command_line(cli, tmp_path):
+    out = tmp_path / "slice.png"
+    code, stdout, stderr = cli("render", GLOME, "-o", out, "--size", "40x30", "--slice", "0.3")
+    assert code == 0, stderr
+    assert "drawn on the CPU" in stdout
+    picture = fourfold.render(GLOME, size=(40, 30), slice=0.3)
+    assert picture.adapter == "CPU reference renderer"
+    assert np.array_equal(np.asarray(picture), read_png(out))
+    # cpu=False asks for the GPU, and a projection is drawn there.
+    assert fourfold.render(GLOME, size=(40, 30), slice=0.3, cpu=False).adapter != picture.adapter
+    assert fourfold.render(GLOME, size=(40, 30)).adapter != picture.adapter
+
+
 def test_certified_counts_equal_the_command_lines(cli, tmp_path):
     scene = "(x^2 + y^2 - 1)^2 + (z - w)^2 = 0.05 + 0.1*x"
     out = tmp_path / "c.png"

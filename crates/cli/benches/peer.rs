@@ -9,11 +9,11 @@
 //!    (binning, pass, read-back) and the GPU's pass alone (timestamps), best of RUNS after a
 //!    warm-up; and whether the two pictures cover the same pixels;
 //! 2. whole processes, as a user runs them: `fourfold render SCENE --slice C` (certified,
-//!    the default) against this bench re-run as a program that JIT-compiles, renders with
-//!    fidget and writes a PNG; the first fourfold run with an empty pipeline cache (cold),
-//!    then the median of RUNS (warm); and the median of RUNS of the same with
-//!    `--uncertified` (fidget proves nothing either) and with `--uncertified --cpu` (the CPU
-//!    twin: no GPU to open, no shader to compile).
+//!    on the device `render` chooses: the CPU twin for a slice this size on most machines)
+//!    against this bench re-run as a program that JIT-compiles, renders with fidget and
+//!    writes a PNG, median of RUNS; the same on the GPU (`--gpu`), its first run with an
+//!    empty pipeline cache (cold), then the median of RUNS (warm); and the median of RUNS
+//!    with `--uncertified` (fidget proves nothing either) on the GPU and on the CPU twin.
 //!
 //! fidget sees F(p) over the picture's box, p the point of the slice that the pixel and the
 //! depth stand for, intersected with the scene's domain (fourfold marches only within it).
@@ -214,6 +214,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Milliseconds of a whole process, and its standard error's last "times (ms)" line.
+/// The process's wall time in ms, and its lines of stages and of the adapter that drew.
 fn process_ms(command: &mut Command) -> (f64, String) {
     let t = Instant::now();
     let output = command.output().expect("the process starts");
@@ -221,12 +222,13 @@ fn process_ms(command: &mut Command) -> (f64, String) {
     let text = String::from_utf8_lossy(&output.stderr).to_string()
         + &String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{command:?} failed:\n{text}");
-    let stages = text
-        .lines()
-        .rfind(|l| l.starts_with("times (ms)"))
-        .unwrap_or_default()
-        .to_string();
-    (ms, stages)
+    let line = |start: &str| {
+        text.lines()
+            .rfind(|l| l.starts_with(start))
+            .unwrap_or_default()
+            .to_string()
+    };
+    (ms, format!("{}; {}", line("adapter: "), line("times (ms)")))
 }
 
 struct Row {
@@ -236,6 +238,9 @@ struct Row {
     pass: f64,
     coverage: (usize, usize, usize),
     peer_process: f64,
+    /// `render`'s own choice of device, and the adapter it names.
+    default: f64,
+    default_adapter: String,
     cold: f64,
     warm: f64,
     warm_stages: String,
@@ -275,19 +280,30 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
             .env("FOURFOLD_CACHE_DIR", &cache);
         c
     };
-    let (cold, _) = process_ms(&mut fourfold(&[]));
-    let warm_runs: Vec<(f64, String)> = (0..runs).map(|_| process_ms(&mut fourfold(&[]))).collect();
-    let warm_stages = warm_runs.last().map(|r| r.1.clone()).unwrap_or_default();
-    let warm = median(warm_runs.into_iter().map(|r| r.0).collect());
+    // The median of RUNS processes, and the last one's adapter and stages.
     let median_of = |extra: &[&str]| {
-        median(
-            (0..runs)
-                .map(|_| process_ms(&mut fourfold(extra)).0)
-                .collect(),
-        )
+        let runs: Vec<(f64, String)> = (0..runs)
+            .map(|_| process_ms(&mut fourfold(extra)))
+            .collect();
+        let said = runs.last().map(|r| r.1.clone()).unwrap_or_default();
+        (median(runs.into_iter().map(|r| r.0).collect()), said)
     };
-    let plain = median_of(&["--uncertified"]);
-    let cpu = median_of(&["--uncertified", "--cpu"]);
+    let (default, said) = median_of(&[]);
+    let default_adapter = said
+        .split("; ")
+        .next()
+        .unwrap_or_default()
+        .trim_start_matches("adapter: ")
+        .to_string();
+    let (cold, _) = process_ms(&mut fourfold(&["--gpu"]));
+    let (warm, warm_stages) = median_of(&["--gpu"]);
+    let warm_stages = warm_stages
+        .split("; ")
+        .nth(1)
+        .unwrap_or_default()
+        .to_string();
+    let (plain, _) = median_of(&["--uncertified", "--gpu"]);
+    let (cpu, _) = median_of(&["--uncertified", "--cpu"]);
     let this = std::env::current_exe().expect("the bench's own path");
     let peer_process = median(
         (0..runs)
@@ -308,6 +324,8 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         pass,
         coverage: (count(&ours), count(&theirs), differ),
         peer_process,
+        default,
+        default_adapter,
         cold,
         warm,
         warm_stages,
@@ -366,14 +384,17 @@ fn main() {
         rows.push(r);
     }
     println!(
-        "\n| surface | fidget process ms | fourfold process ms, cold / warm | warm/fidget | plain (--uncertified), CPU twin (--cpu), ms | plain/fidget, CPU/fidget | fourfold's stages (warm) |"
+        "\n| surface | fidget process ms | fourfold process ms (certified; drawn by) | fourfold/fidget | on the GPU (--gpu), cold / warm | warm/fidget | plain (--uncertified) on the GPU, on the CPU twin, ms | plain/fidget, GPU and CPU | fourfold's stages (--gpu, warm) |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {} | {:.0} | {:.0} / {:.0} | {:.2}x | {:.0}, {:.0} | {:.2}x, {:.2}x | {} |",
+            "| {} | {:.0} | {:.0} ({}) | {:.2}x | {:.0} / {:.0} | {:.2}x | {:.0}, {:.0} | {:.2}x, {:.2}x | {} |",
             r.name,
             r.peer_process,
+            r.default,
+            r.default_adapter,
+            r.default / r.peer_process,
             r.cold,
             r.warm,
             r.warm / r.peer_process,

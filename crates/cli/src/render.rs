@@ -9,7 +9,7 @@ use clap::Args;
 use fourfold::headless::render_fitted;
 use fourfold::render::gpu::CacheUse;
 use fourfold::render::view::scene_hidden_range;
-use fourfold::render::{Device, Gpu, Prepared};
+use fourfold::render::{Device, Gpu, Prepared, sooner_on_cpu};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
 use crate::failure::Failure;
@@ -96,9 +96,14 @@ pub struct RenderArgs {
     /// Flat colour instead of Phong lighting.
     #[arg(long)]
     pub no_lighting: bool,
-    /// Render on the CPU with the reference ray caster instead of the GPU.
-    #[arg(long)]
+    /// Render on the CPU with the reference ray caster instead of the GPU. The default
+    /// for a slice of at most 2^17 pixels per thread of this machine, which the CPU draws
+    /// sooner than a GPU can be opened for it.
+    #[arg(long, conflicts_with = "gpu")]
     pub cpu: bool,
+    /// Render on the GPU, a small slice too.
+    #[arg(long)]
+    pub gpu: bool,
     /// Zoom and centre on the manifold (the tree's boxes at these angles) instead of the
     /// scene's zoom and pan, as the viewer does when it opens a scene.
     #[arg(long)]
@@ -246,7 +251,8 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let formula = compile_warning(&scene, warn)?;
     let parse_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = std::time::Instant::now();
-    let gpu = if args.cpu {
+    let chosen = !args.cpu && !args.gpu && sooner_on_cpu(&scene, width, height);
+    let gpu = if args.cpu || chosen {
         None
     } else {
         Some(Gpu::new().map_err(|e| Failure::runtime(e.to_string()))?)
@@ -303,6 +309,12 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     );
     if let Some(warning) = t.pipeline_cache.warning() {
         out.push_str(&format!("\nwarning: {warning}"));
+    }
+    if chosen {
+        out.push_str(
+            "\ndrawn on the CPU: a slice this size is done there before a GPU could be \
+             opened for it (--gpu draws it on the GPU)",
+        );
     }
     if scene.render.color_by == ColorBy::Hidden {
         let [lo, hi] = scene_hidden_range(&prepared.hierarchy, &scene);

@@ -927,6 +927,52 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
     );
 }
 
+/// A small slice is drawn on the CPU unless `--gpu` asks for the GPU, and `render` says
+/// which; a projection, a slab and a slice beyond 2^17 pixels a thread stay on the GPU.
+#[test]
+fn render_draws_a_small_slice_on_the_cpu_and_says_so() {
+    let out = std::env::temp_dir().join(format!("fourfold-cli-device-{}.png", std::process::id()));
+    let glome = "x^2 + y^2 + z^2 + w^2 = 1";
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    // Just over the CPU's share: 2^17 pixels a thread, as a picture 2^10 wide.
+    let rows = (fourfold::render::CPU_SLICE_PIXELS_PER_THREAD * threads).div_ceil(1024) + 1;
+    let beyond = format!("1024x{rows}");
+    let drawn_by = |flags: &[&str]| {
+        let mut args = vec!["render", glome, "-o", out.to_str().unwrap()];
+        args.extend_from_slice(flags);
+        let (code, stdout, stderr) = fourfold(&args);
+        assert_eq!(code, Some(0), "{flags:?}: {stderr}");
+        let adapter = stdout.lines().next().unwrap_or_default().to_string();
+        let said = stdout.contains("drawn on the CPU: a slice this size");
+        (adapter, said)
+    };
+    let on_cpu = "adapter: CPU reference renderer".to_string();
+    assert_eq!(
+        drawn_by(&["--slice", "0.2", "--size", "64x48"]),
+        (on_cpu.clone(), true)
+    );
+    assert_eq!(
+        drawn_by(&["--slice", "0.2", "--size", "64x48", "--cpu"]),
+        (on_cpu.clone(), false)
+    );
+    for flags in [
+        &["--slice", "0.2", "--size", "64x48", "--gpu"][..],
+        &["--size", "64x48"],
+        &["--slab", "0.2,0.1", "--size", "64x48"],
+        &["--slice", "0.2", "--size", &beyond, "--uncertified"],
+    ] {
+        let (adapter, said) = drawn_by(flags);
+        assert!(adapter != on_cpu && !said, "{flags:?}: {adapter}");
+    }
+    let (code, _, stderr) = fourfold(&["render", glome, "--cpu", "--gpu", "-o", "x.png"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--gpu") && stderr.contains("cannot be used with"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_file(&out);
+}
+
 /// `fourfold render` keeps its pipelines between runs in FOURFOLD_CACHE_DIR, says so among
 /// the stages, warns about a broken cache file and still writes the picture; `off` keeps
 /// none.
@@ -938,7 +984,13 @@ fn render_keeps_pipelines_between_runs_and_warns_about_a_broken_cache() {
     let _ = std::fs::remove_dir_all(&dir);
     let run = |cache: &std::ffi::OsStr| {
         let output = std::process::Command::new(env!("CARGO_BIN_EXE_fourfold"))
-            .args(["render", "x^2 + y^2 + z^2 + w^2 = 1", "--slice", "0.2"])
+            .args([
+                "render",
+                "x^2 + y^2 + z^2 + w^2 = 1",
+                "--slice",
+                "0.2",
+                "--gpu",
+            ])
             .args(["--size", "24x16", "-o"])
             .arg(&out)
             .env("FOURFOLD_CACHE_DIR", cache)

@@ -24,9 +24,18 @@ type Arrays<'py> = (
 /// The picture of `scene` (at its size) as (RGBA rows (h, w, 4), verdicts (h, w) or None,
 /// what its making says as JSON, the scene drawn).
 #[pyfunction]
-#[pyo3(signature = (scene, fit = false, cpu = false))]
-pub fn render<'py>(py: Python<'py>, scene: &Scene, fit: bool, cpu: bool) -> PyResult<Arrays<'py>> {
-    let want = if cpu { Want::Cpu } else { Want::Gpu };
+#[pyo3(signature = (scene, fit = false, cpu = None))]
+pub fn render<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    fit: bool,
+    cpu: Option<bool>,
+) -> PyResult<Arrays<'py>> {
+    let want = match cpu {
+        Some(true) => Want::Cpu,
+        Some(false) => Want::Gpu,
+        None => Want::Sooner,
+    };
     let Drawn {
         picture,
         scene: drawn_scene,

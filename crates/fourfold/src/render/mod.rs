@@ -20,7 +20,10 @@ pub mod view;
 
 pub use frames::AnimationFrames;
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
-pub use picture::{Device, Painter, PendingPicture, Picture, RenderError, Source, StageTimes};
+pub use picture::{
+    CPU_SLICE_PIXELS_PER_THREAD, Device, Painter, PendingPicture, Picture, RenderError, Source,
+    StageTimes, sooner_on_cpu,
+};
 pub use prepare::{PrepareSteps, Prepared};
 pub use program::{Program, ProgramError};
 pub use shader::{CodegenError, Shader};

@@ -134,6 +134,23 @@ pub enum Device<'a> {
     Cpu,
 }
 
+/// Pixels a thread of the CPU twin draws of a slice in about the time a GPU takes to open
+/// and make its pipeline (docs/benchmarks.md, "A one-off slice on the CPU").
+pub const CPU_SLICE_PIXELS_PER_THREAD: u64 = 1 << 17;
+
+/// Whether one picture of `scene` at `width` × `height`, with no GPU open yet, is sooner
+/// drawn by the CPU twin: a slice (one ray a pixel, where a projection or a slab casts a
+/// pencil of them) of at most [`CPU_SLICE_PIXELS_PER_THREAD`] pixels per thread of this
+/// machine, for which opening a device and making its pipeline take longer than the twin's
+/// whole picture.
+pub fn sooner_on_cpu(scene: &Scene, width: u32, height: u32) -> bool {
+    let threads = rayon::current_num_threads().max(1) as u64;
+    let pixels = u64::from(width) * u64::from(height);
+    scene.view.slice.is_some()
+        && scene.view.slab.is_none()
+        && pixels <= CPU_SLICE_PIXELS_PER_THREAD * threads
+}
+
 /// Draws offscreen pictures of one formula: on a GPU, with a ray caster whose pipelines are
 /// kept from picture to picture (and from tree to tree); or on the CPU twin.
 pub struct Painter {
