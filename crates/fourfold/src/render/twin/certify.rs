@@ -182,6 +182,11 @@ impl<'a> Certifier<'a> {
     /// most `cap` cells of the budget (the shader's `certify_box`).
     fn certify_box(&mut self, search: &mut Search, o: [f32; 4], b: &SearchBox, cap: u32) {
         let u = self.u;
+        // (A box the slice's line misses costs no cell; only this test, not the search's
+        // set-up, which would find nothing there either.)
+        if u.control.flags & FLAG_SLICE != 0 && search.budget > 0 && self.line_misses(o, b) {
+            return;
+        }
         let floor = search.budget.saturating_sub(cap);
         let domain = self.domain();
         let Some((bx, rel, (s, t))) = self.plane_cell(o, b.lo, b.hi) else {
@@ -287,6 +292,35 @@ impl<'a> Certifier<'a> {
                 search.undecided = true;
             }
         }
+    }
+
+    /// Whether a slice's line through the pixel, o + s·n1 + offset·n2, misses the box `b`
+    /// by far more than the search's widening of its cells (a thousandth of the distances
+    /// from o, where the search's is 1e-5): then `certify_box` would find no cell there.
+    fn line_misses(&self, o: [f32; 4], b: &SearchBox) -> bool {
+        let u = self.u;
+        let offset = f64::from(u.root.section_offset);
+        let base: [f64; 4] = std::array::from_fn(|i| f64::from(o[i]) + offset * f64::from(u.n2[i]));
+        let (lo, hi) = (b.lo.map(f64::from), b.hi.map(f64::from));
+        let far: f64 = (0..4)
+            .map(|i| (lo[i] - base[i]).abs() + (hi[i] - base[i]).abs())
+            .sum();
+        let margin = 1e-3 * (far + offset.abs()) + 1e-30;
+        let (mut first, mut last) = (f64::NEG_INFINITY, f64::INFINITY);
+        for i in 0..4 {
+            let (from, to) = (lo[i] - margin - base[i], hi[i] + margin - base[i]);
+            let n = f64::from(u.n1[i]);
+            if n == 0.0 {
+                if from > 0.0 || to < 0.0 {
+                    return true;
+                }
+                continue;
+            }
+            let (a, b) = (from / n, to / n);
+            first = first.max(a.min(b));
+            last = last.min(a.max(b));
+        }
+        first > last
     }
 
     /// Whether Taylor's form of second order, F(c0) + ∇F(c0)·d + half_quad (the shader's),
