@@ -198,6 +198,7 @@ impl<'a> Certifier<'a> {
         let global = u.control.flags & FLAG_CONTINUOUS != 0;
         let mut stack: Vec<Cell> = Vec::with_capacity(CERT_STACK);
         stack.push((s, t));
+        let mut first_cell = true;
         while let Some(cell) = stack.pop() {
             let Some((cs, ct)) = self.shrink_cell(cell, &rel, reach) else {
                 continue;
@@ -213,12 +214,15 @@ impl<'a> Certifier<'a> {
                 continue;
             };
             search.budget -= 1;
-            // F alone first: most cells it excludes, at a fraction of F and ∇F's tape (the
-            // same enclosure of F, operation for operation).
-            if !self
-                .eval
-                .eval(&self.formula.tape_f, &x, self.params)
-                .contains_zero()
+            // A box's first cell, F alone first: where the plane passes by M, it excludes
+            // most, at a fraction of F and ∇F's tape (the same enclosure of F, operation for
+            // operation); the cells split from it lie nearer M, where it seldom does.
+            let first = std::mem::replace(&mut first_cell, false);
+            if first
+                && !self
+                    .eval
+                    .eval(&self.formula.tape_f, &x, self.params)
+                    .contains_zero()
             {
                 continue;
             }
@@ -226,6 +230,9 @@ impl<'a> Certifier<'a> {
             let tape = &self.formula.tape_all;
             self.eval.eval_into(tape, &x, self.params, &mut fg);
             let smooth = self.eval.continuous_on_last_box(tape);
+            if !fg[0].contains_zero() {
+                continue;
+            }
             let mid = [cs.midpoint(), ct.midpoint()];
             // F's slope along n1 and n2 over the cell, estimated (where bounded), and the
             // most it may be (where unknown, the longer side is split).
