@@ -90,7 +90,8 @@ impl FormulaCase {
             .collect()
     }
 
-    /// `fourfold render` of this case into `output`, on the CPU twin where `cpu`.
+    /// `fourfold render` of this case into `output`, on the CPU twin where `cpu`, else on
+    /// the GPU.
     pub fn render_args(&self, output: &Path, cpu: bool) -> Vec<String> {
         let angles: Vec<String> = self.angles.iter().map(|a| format!("{a:.4}")).collect();
         let mut args = vec![
@@ -119,9 +120,8 @@ impl FormulaCase {
             Mode::Hidden => args.extend(["--colour-by", "hidden"].map(String::from)),
             Mode::BruteForce => args.push("--brute-force".to_string()),
         }
-        if cpu {
-            args.push("--cpu".to_string());
-        }
+        // (`render` itself would draw a small slice on the CPU: the GPU's case asks for it.)
+        args.push(if cpu { "--cpu" } else { "--gpu" }.to_string());
         args
     }
 }
