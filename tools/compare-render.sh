@@ -20,9 +20,13 @@ for scene in "${scenes[@]}"; do
   for _ in $(seq "$runs"); do
     for which in old new; do
       binary=${!which}
+      # The GPU's frames: a small slice is drawn on the CPU unless asked (binaries since
+      # render's --gpu).
+      gpu=""
+      [[ $("$binary" render --help) == *--gpu* ]] && gpu=--gpu
       start=$(date +%s%N)
       # shellcheck disable=SC2086
-      line=$(XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} "$binary" render $scene --size 512x512 -o "$out/$which.png" | grep '^times')
+      line=$(XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} "$binary" render $scene $gpu --size 512x512 -o "$out/$which.png" | grep '^times')
       end=$(date +%s%N)
       stages=$(echo "$line" | sed -E 's/.*pipeline ([0-9.]+)[^,]*, frame ([0-9.]+)( \(of which the GPU.s pass ([0-9.]+)\))?.*/\1|\2|\4/')
       echo "$scene|$which|$(( (end - start) / 1000000 ))|$stages"
