@@ -58,7 +58,13 @@ pub fn render_rgba(
             let mut out = vec![0u8; rows.len() * width as usize * 4];
             for x0 in (0..width).step_by(TILE as usize) {
                 let columns = x0..(x0 + TILE).min(width);
-                for (k, h) in [hierarchy, certifying].into_iter().enumerate() {
+                // (The certifying hierarchy's only where pixels are certified.)
+                let walked = if u.control.flags & FLAG_CERTIFIED != 0 {
+                    2
+                } else {
+                    1
+                };
+                for (k, h) in [hierarchy, certifying].into_iter().enumerate().take(walked) {
                     let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
                     tile_nodes(h, u, tile, &bands[k], &mut scratch.kept[k]);
                 }
