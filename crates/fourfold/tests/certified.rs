@@ -12,7 +12,7 @@ use fourfold::eval::PointEvaluator;
 use fourfold::headless::render_prepared;
 use fourfold::render::Device;
 use fourfold::render::verdict::Verdict;
-use fourfold::render::view::FLAG_SLAB;
+use fourfold::render::view::{FLAG_SLAB, FLAG_SLICE};
 use fourfold::render::{Gpu, Prepared, Uniforms};
 use fourfold::scene::{DEFAULT_CERT_BUDGET, Scene};
 use rayon::prelude::*;
@@ -23,8 +23,8 @@ fn gpu() -> Gpu {
 }
 
 /// Each pixel's observer plane sampled on a grid of `side`² points over the disk that
-/// holds the domain (within the slab, for one), in f64: whether F takes both signs at
-/// points inside the domain.
+/// holds the domain (within the slab, for one; for a slice, `side`² points along its line),
+/// in f64: whether F takes both signs at points inside the domain.
 fn dense_sign_change(
     u: &Uniforms,
     formula: &CompiledFormula,
@@ -54,12 +54,22 @@ fn dense_sign_change(
         f64::from(u.root.section_half),
     );
     let slab = (u.control.flags & FLAG_SLAB != 0).then_some((mid - half, mid + half));
+    let slice = u.control.flags & FLAG_SLICE != 0;
+    let (along_s, along_t) = if slice {
+        (side * side, 1)
+    } else {
+        (side, side)
+    };
     let mut eval = PointEvaluator::new();
     let (mut pos, mut neg) = (false, false);
-    for i in 0..side {
-        for j in 0..side {
-            let sv = reach * (2.0 * (i as f64 + 0.5) / side as f64 - 1.0);
-            let tv = reach * (2.0 * (j as f64 + 0.5) / side as f64 - 1.0);
+    for i in 0..along_s {
+        for j in 0..along_t {
+            let sv = reach * (2.0 * (i as f64 + 0.5) / along_s as f64 - 1.0);
+            let tv = if slice {
+                mid
+            } else {
+                reach * (2.0 * (j as f64 + 0.5) / side as f64 - 1.0)
+            };
             if slab.is_some_and(|(lo, hi)| tv < lo || tv > hi) {
                 continue;
             }
@@ -176,7 +186,7 @@ fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
 fn unseen_scenes_are_sound_and_decided() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, 96, 1);
+        assert_sound_and_decided(&gpu, &name, &scene, (96, 1), 50);
     }
 }
 
@@ -186,14 +196,37 @@ fn unseen_scenes_are_sound_and_decided() {
 fn unseen_scenes_are_sound_and_decided_at_512() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, 512, 8);
+        assert_sound_and_decided(&gpu, &name, &scene, (512, 8), 50);
+    }
+}
+
+/// The unseen scenes' slices, which `render --slice` draws on the CPU twin when small, at
+/// 96² and at two places: as sound and as decided as their projections.
+#[test]
+fn unseen_slices_are_sound_and_decided() {
+    let gpu = gpu();
+    for (name, scene) in unseen_scenes() {
+        for c in [0.15, -0.4] {
+            let mut sliced = scene.clone();
+            sliced.view.slice = Some(c);
+            let name = format!("{name}, slice {c}");
+            // (A slice of a thin tube covers a few pixels only.)
+            assert_sound_and_decided(&gpu, &name, &sliced, (96, 1), 10);
+        }
     }
 }
 
 /// Certifies `scene` at `side`² on the GPU and the twin: no EMPTY pixel whose plane a dense
 /// look finds F taking both signs on (every pixel within two of a covered one, finely; of
-/// the others one in `stride`² per axis), and at most 0.5% of the covered pixels undecided.
-fn assert_sound_and_decided(gpu: &Gpu, name: &str, scene: &Scene, side: u32, stride: u32) {
+/// the others one in `stride`² per axis), at most 0.5% of the covered pixels undecided, and
+/// more than `least_hits` hits (the scene shows something).
+fn assert_sound_and_decided(
+    gpu: &Gpu,
+    name: &str,
+    scene: &Scene,
+    (side, stride): (u32, u32),
+    least_hits: usize,
+) {
     let (u, verdicts) = certified_pictures(gpu, scene, side, DEFAULT_CERT_BUDGET);
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
     let params = scene.param_values(&formula.param_names());
@@ -233,7 +266,7 @@ fn assert_sound_and_decided(gpu: &Gpu, name: &str, scene: &Scene, side: u32, str
             "{name}, {device}, {side}²: {hit} hit, {undecided} undecided ({:.2}% of the covered)",
             100.0 * share
         );
-        assert!(hit > 50, "{name}, {device}: only {hit} hit pixels");
+        assert!(hit > least_hits, "{name}, {device}: only {hit} hit pixels");
         assert!(
             share <= 0.005,
             "{name}, {device}, {side}²: {:.2}% of the covered pixels undecided (at most 0.5%)",
