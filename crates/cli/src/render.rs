@@ -9,7 +9,9 @@ use clap::Args;
 use fourfold::headless::render_fitted;
 use fourfold::render::gpu::CacheUse;
 use fourfold::render::view::scene_hidden_range;
-use fourfold::render::{Device, Gpu, Prepared, sooner_on_cpu};
+use fourfold::render::{
+    CPU_SLICE_PIXELS_PER_THREAD, Device, Gpu, Prepared, cpu_slice_pixels, sooner_on_cpu,
+};
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
 use crate::failure::Failure;
@@ -311,10 +313,12 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         out.push_str(&format!("\nwarning: {warning}"));
     }
     if chosen {
-        out.push_str(
-            "\ndrawn on the CPU: a slice this size is done there before a GPU could be \
-             opened for it (--gpu draws it on the GPU)",
-        );
+        out.push_str(&format!(
+            "\ndrawn on the CPU: a slice of up to {} pixels ({CPU_SLICE_PIXELS_PER_THREAD} a \
+             thread) is done there before a GPU could be opened for it (--gpu draws it on the \
+             GPU)",
+            cpu_slice_pixels()
+        ));
     }
     if scene.render.color_by == ColorBy::Hidden {
         let [lo, hi] = scene_hidden_range(&prepared.hierarchy, &scene);

@@ -933,9 +933,8 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
 fn render_draws_a_small_slice_on_the_cpu_and_says_so() {
     let out = std::env::temp_dir().join(format!("fourfold-cli-device-{}.png", std::process::id()));
     let glome = "x^2 + y^2 + z^2 + w^2 = 1";
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
-    // Just over the CPU's share: 2^17 pixels a thread, as a picture 2^10 wide.
-    let rows = (fourfold::render::CPU_SLICE_PIXELS_PER_THREAD * threads).div_ceil(1024) + 1;
+    // Just over the CPU's share (2^17 pixels a thread), as a picture 2^10 wide.
+    let rows = fourfold::render::cpu_slice_pixels().div_ceil(1024) + 1;
     let beyond = format!("1024x{rows}");
     let drawn_by = |flags: &[&str]| {
         let mut args = vec!["render", glome, "-o", out.to_str().unwrap()];
@@ -943,7 +942,7 @@ fn render_draws_a_small_slice_on_the_cpu_and_says_so() {
         let (code, stdout, stderr) = fourfold(&args);
         assert_eq!(code, Some(0), "{flags:?}: {stderr}");
         let adapter = stdout.lines().next().unwrap_or_default().to_string();
-        let said = stdout.contains("drawn on the CPU: a slice this size");
+        let said = stdout.contains("drawn on the CPU: a slice of up to");
         (adapter, said)
     };
     let on_cpu = "adapter: CPU reference renderer".to_string();

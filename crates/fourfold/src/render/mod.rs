@@ -22,7 +22,7 @@ pub use frames::AnimationFrames;
 pub use gpu::{Gpu, GpuError, Pass, RayCaster, Target, check_image_size};
 pub use picture::{
     CPU_SLICE_PIXELS_PER_THREAD, Device, Painter, PendingPicture, Picture, RenderError, Source,
-    StageTimes, sooner_on_cpu,
+    StageTimes, cpu_slice_pixels, sooner_on_cpu,
 };
 pub use prepare::{PrepareSteps, Prepared};
 pub use program::{Program, ProgramError};

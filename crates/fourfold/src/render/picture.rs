@@ -144,11 +144,13 @@ pub const CPU_SLICE_PIXELS_PER_THREAD: u64 = 1 << 17;
 /// machine, for which opening a device and making its pipeline take longer than the twin's
 /// whole picture.
 pub fn sooner_on_cpu(scene: &Scene, width: u32, height: u32) -> bool {
-    let threads = rayon::current_num_threads().max(1) as u64;
     let pixels = u64::from(width) * u64::from(height);
-    scene.view.slice.is_some()
-        && scene.view.slab.is_none()
-        && pixels <= CPU_SLICE_PIXELS_PER_THREAD * threads
+    scene.view.slice.is_some() && scene.view.slab.is_none() && pixels <= cpu_slice_pixels()
+}
+
+/// The most pixels of a slice [`sooner_on_cpu`] gives the CPU twin on this machine.
+pub fn cpu_slice_pixels() -> u64 {
+    CPU_SLICE_PIXELS_PER_THREAD * rayon::current_num_threads().max(1) as u64
 }
 
 /// Draws offscreen pictures of one formula: on a GPU, with a ray caster whose pipelines are
