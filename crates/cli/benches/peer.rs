@@ -213,7 +213,6 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Milliseconds of a whole process, and its standard error's last "times (ms)" line.
 /// The process's wall time in ms, and its lines of stages and of the adapter that drew.
 fn process_ms(command: &mut Command) -> (f64, String) {
     let t = Instant::now();
@@ -288,6 +287,8 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         let said = runs.last().map(|r| r.1.clone()).unwrap_or_default();
         (median(runs.into_iter().map(|r| r.0).collect()), said)
     };
+    // (The GPU's first run before any other: its pipeline cache is still empty.)
+    let (cold, _) = process_ms(&mut fourfold(&["--gpu"]));
     let (default, said) = median_of(&[]);
     let default_adapter = said
         .split("; ")
@@ -295,7 +296,6 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         .unwrap_or_default()
         .trim_start_matches("adapter: ")
         .to_string();
-    let (cold, _) = process_ms(&mut fourfold(&["--gpu"]));
     let (warm, warm_stages) = median_of(&["--gpu"]);
     let warm_stages = warm_stages
         .split("; ")
