@@ -15,15 +15,19 @@ scenes=(
   "examples/scenes/glome.toml --slab 0.2,0.3"
   "examples/scenes/glome.toml"
 )
+# The GPU's frames: a small slice is drawn on the CPU unless asked (binaries since
+# render's --gpu).
+declare -A gpu_flag
+for which in old new; do
+  gpu_flag[$which]=""
+  if [[ $("${!which}" render --help) == *--gpu* ]]; then gpu_flag[$which]=--gpu; fi
+done
 echo "scene|binary|wall ms|pipeline ms|frame ms|GPU pass ms"
 for scene in "${scenes[@]}"; do
   for _ in $(seq "$runs"); do
     for which in old new; do
       binary=${!which}
-      # The GPU's frames: a small slice is drawn on the CPU unless asked (binaries since
-      # render's --gpu).
-      gpu=""
-      [[ $("$binary" render --help) == *--gpu* ]] && gpu=--gpu
+      gpu=${gpu_flag[$which]}
       start=$(date +%s%N)
       # shellcheck disable=SC2086
       line=$(XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp} "$binary" render $scene $gpu --size 512x512 -o "$out/$which.png" | grep '^times')

@@ -213,8 +213,16 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// The process's wall time in ms, and its lines of stages and of the adapter that drew.
-fn process_ms(command: &mut Command) -> (f64, String) {
+/// A whole process: its wall time, and what it printed of the adapter that drew and of
+/// its stages (empty where it printed none).
+#[derive(Default, Clone)]
+struct Process {
+    ms: f64,
+    adapter: String,
+    stages: String,
+}
+
+fn process_ms(command: &mut Command) -> Process {
     let t = Instant::now();
     let output = command.output().expect("the process starts");
     let ms = t.elapsed().as_secs_f64() * 1e3;
@@ -224,10 +232,14 @@ fn process_ms(command: &mut Command) -> (f64, String) {
     let line = |start: &str| {
         text.lines()
             .rfind(|l| l.starts_with(start))
+            .map(|l| l.trim_start_matches(start).to_string())
             .unwrap_or_default()
-            .to_string()
     };
-    (ms, format!("{}; {}", line("adapter: "), line("times (ms)")))
+    Process {
+        ms,
+        adapter: line("adapter: "),
+        stages: line("times (ms): "),
+    }
 }
 
 struct Row {
@@ -279,29 +291,18 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
             .env("FOURFOLD_CACHE_DIR", &cache);
         c
     };
-    // The median of RUNS processes, and the last one's adapter and stages.
+    // The median of RUNS processes' times, and the last one.
     let median_of = |extra: &[&str]| {
-        let runs: Vec<(f64, String)> = (0..runs)
+        let runs: Vec<Process> = (0..runs)
             .map(|_| process_ms(&mut fourfold(extra)))
             .collect();
-        let said = runs.last().map(|r| r.1.clone()).unwrap_or_default();
-        (median(runs.into_iter().map(|r| r.0).collect()), said)
+        let last = runs.last().cloned().unwrap_or_default();
+        (median(runs.into_iter().map(|r| r.ms).collect()), last)
     };
     // (The GPU's first run before any other: its pipeline cache is still empty.)
-    let (cold, _) = process_ms(&mut fourfold(&["--gpu"]));
-    let (default, said) = median_of(&[]);
-    let default_adapter = said
-        .split("; ")
-        .next()
-        .unwrap_or_default()
-        .trim_start_matches("adapter: ")
-        .to_string();
-    let (warm, warm_stages) = median_of(&["--gpu"]);
-    let warm_stages = warm_stages
-        .split("; ")
-        .nth(1)
-        .unwrap_or_default()
-        .to_string();
+    let cold = process_ms(&mut fourfold(&["--gpu"])).ms;
+    let (default, chosen) = median_of(&[]);
+    let (warm, on_gpu) = median_of(&["--gpu"]);
     let (plain, _) = median_of(&["--uncertified", "--gpu"]);
     let (cpu, _) = median_of(&["--uncertified", "--cpu"]);
     let this = std::env::current_exe().expect("the bench's own path");
@@ -313,7 +314,7 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
                         .env(PEER_RUN, index.to_string())
                         .env(PEER_OUT, work.join("fidget.png")),
                 )
-                .0
+                .ms
             })
             .collect(),
     );
@@ -325,10 +326,10 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
         coverage: (count(&ours), count(&theirs), differ),
         peer_process,
         default,
-        default_adapter,
+        default_adapter: chosen.adapter,
         cold,
         warm,
-        warm_stages,
+        warm_stages: on_gpu.stages,
         plain,
         cpu,
     }
@@ -402,7 +403,7 @@ fn main() {
             r.cpu,
             r.plain / r.peer_process,
             r.cpu / r.peer_process,
-            r.warm_stages.trim_start_matches("times (ms): ")
+            r.warm_stages
         );
     }
     let _ = std::fs::remove_dir_all(&work);

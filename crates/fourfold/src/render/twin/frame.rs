@@ -27,9 +27,10 @@ pub fn render_rgba(
     u: &Uniforms,
 ) -> Vec<u8> {
     let certifying = certifying.unwrap_or(hierarchy);
+    let certified = u.control.flags & FLAG_CERTIFIED != 0;
     // The certified search's forms of its boxes' curvature bounds in this view's plane (as
     // the shader's box records), once per frame.
-    let forms: Vec<[f32; 6]> = if u.control.flags & FLAG_CERTIFIED != 0 {
+    let forms: Vec<[f32; 6]> = if certified {
         let (n1, n2) = (u.n1.map(f64::from), u.n2.map(f64::from));
         (0..certifying.nodes.len())
             .map(|i| certifying.curvature(i).in_plane(n1, n2))
@@ -59,11 +60,7 @@ pub fn render_rgba(
             for x0 in (0..width).step_by(TILE as usize) {
                 let columns = x0..(x0 + TILE).min(width);
                 // (The certifying hierarchy's only where pixels are certified.)
-                let walked = if u.control.flags & FLAG_CERTIFIED != 0 {
-                    2
-                } else {
-                    1
-                };
+                let walked = if certified { 2 } else { 1 };
                 for (k, h) in [hierarchy, certifying].into_iter().enumerate().take(walked) {
                     let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
                     tile_nodes(h, u, tile, &bands[k], &mut scratch.kept[k]);
@@ -96,27 +93,42 @@ const TILE: u32 = 8;
 /// The pixels `columns` × `rows` as a [`Tile`]: around the origin of their plane (or, with
 /// `rays` in a slice, of their rays' line) at the square's centre.
 fn tile_around(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>), rays: bool) -> Tile {
-    let wide = |v: V4| v.map(f64::from);
+    let middle = |r: Range<u32>| 0.5 * (r.start + r.end) as f32;
+    let (plane, line) = origins(u, (middle(columns.clone()), middle(rows.clone())));
+    let centre = if rays { line } else { plane };
     let (w, h) = (f64::from(u.size.width), f64::from(u.size.height));
     let s = f64::from(u.misc.pixel_size);
-    let fx = 0.5 * f64::from(columns.start + columns.end);
-    let fy = 0.5 * f64::from(rows.start + rows.end);
-    let (v1, v2, n1, n2) = (wide(u.v1), wide(u.v2), wide(u.n1), wide(u.n2));
-    let mut centre: [f64; 4] = std::array::from_fn(|k| {
-        f64::from(u.center[k]) + v1[k] * s * (fx - 0.5 * w) + v2[k] * s * (0.5 * h - fy)
-    });
-    let reach = f64::from(slice_reach(u));
-    let offset = f64::from(u.root.section_offset);
-    if rays && u.control.flags & FLAG_SLICE != 0 {
-        centre = std::array::from_fn(|k| centre[k] + n2[k] * offset - n1[k] * reach);
-    }
     let half = 0.5 * f64::from((columns.end - columns.start).max(rows.end - rows.start));
     let centre_size: f64 = u.center.iter().map(|c| f64::from(*c).abs()).sum();
+    let (reach, offset) = (slice_reach(u), u.root.section_offset.abs());
     Tile {
-        centre,
+        centre: centre.map(f64::from),
         radius: s * half * std::f64::consts::SQRT_2 * (1.0 + 1e-6),
-        rounding: 1e-5 * (centre_size + s * (w + h) + reach + offset.abs()),
+        rounding: 1e-5 * (centre_size + s * (w + h) + f64::from(reach + offset)),
     }
+}
+
+/// The origin of the observer plane through the point (fx, fy) of the picture (in pixels
+/// from its top left corner), and that of its rays: for a slice, the slice's line from
+/// where it enters the sphere around the domain (as the shader).
+fn origins(u: &Uniforms, (fx, fy): (f32, f32)) -> (V4, V4) {
+    let (w, hgt) = (u.size.width as f32, u.size.height as f32);
+    let s = u.misc.pixel_size;
+    let plane = add(
+        u.center,
+        add(
+            scale(u.v1, s * (fx - 0.5 * w)),
+            scale(u.v2, s * (0.5 * hgt - fy)),
+        ),
+    );
+    if u.control.flags & FLAG_SLICE == 0 {
+        return (plane, plane);
+    }
+    let line = sub(
+        add(plane, scale(u.n2, u.root.section_offset)),
+        scale(u.n1, slice_reach(u)),
+    );
+    (plane, line)
 }
 
 /// The form of a box without curvature bounds (brute force's domain).
@@ -129,7 +141,7 @@ const UNBOUNDED: [f32; 6] = [
     f32::INFINITY,
 ];
 
-/// What a row's pixels reuse from one to the next.
+/// What a strip's pixels reuse from one to the next.
 struct Scratch<'a> {
     certifier: Certifier<'a>,
     evals: Evaluators,
@@ -156,25 +168,7 @@ fn render_pixel(
     scratch: &mut Scratch<'_>,
     (px, py): (u32, u32),
 ) -> ([f32; 3], Verdict) {
-    let (w, hgt) = (u.size.width as f32, u.size.height as f32);
-    let s = u.misc.pixel_size;
-    let (fx, fy) = (px as f32 + 0.5, py as f32 + 0.5);
-    let plane = add(
-        u.center,
-        add(
-            scale(u.v1, s * (fx - 0.5 * w)),
-            scale(u.v2, s * (0.5 * hgt - fy)),
-        ),
-    );
-    let mut o = plane;
-    // As the shader: the slice's line, from where it enters the sphere around the domain.
-    let reach = slice_reach(u);
-    if u.control.flags & FLAG_SLICE != 0 {
-        o = sub(
-            add(o, scale(u.n2, u.root.section_offset)),
-            scale(u.n1, reach),
-        );
-    }
+    let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
     let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
         .control
         .seed
@@ -226,7 +220,7 @@ fn render_pixel(
             // As the shader's `certify`: aim a ray through the proved root.
             let root = pixel.root_between(plane, a, b);
             if pixel.slice() {
-                pixel.insert(root[0] + reach, AIMED);
+                pixel.insert(root[0] + slice_reach(u), AIMED);
             } else {
                 let len = (root[0] * root[0] + root[1] * root[1]).sqrt();
                 pixel.aim = if len > 0.0 {
