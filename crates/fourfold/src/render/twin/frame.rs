@@ -11,6 +11,7 @@ use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
+use super::bundle::{Bundle, RootFree};
 use super::certify::{Certifier, SearchBox};
 use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::section::Band;
@@ -47,6 +48,7 @@ pub fn render_rgba(
         .map(|strip| {
             let mut scratch = Scratch {
                 certifier: Certifier::new(formula, params, u),
+                root_free: RootFree::new(formula, params),
                 evals: Evaluators::new(),
                 boxes: Vec::new(),
                 forms: &forms,
@@ -61,9 +63,23 @@ pub fn render_rgba(
                 let columns = x0..(x0 + TILE).min(width);
                 // (The certifying hierarchy's only where pixels are certified.)
                 let walked = if certified { 2 } else { 1 };
+                let (last_x, last_y) = (columns.end - 1, rows.end - 1);
+                let corners = [
+                    (x0, rows.start),
+                    (last_x, rows.start),
+                    (x0, last_y),
+                    (last_x, last_y),
+                ]
+                .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).0);
+                let bundle = Bundle::of(u, corners, slice_reach(u));
+                let mut free = |lo, hi| {
+                    bundle
+                        .as_ref()
+                        .is_some_and(|b| scratch.root_free.proves(b, lo, hi))
+                };
                 for (k, h) in [hierarchy, certifying].into_iter().enumerate().take(walked) {
                     let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
-                    tile_nodes(h, u, tile, &bands[k], &mut scratch.kept[k]);
+                    tile_nodes(h, u, (tile, &bands[k]), &mut free, &mut scratch.kept[k]);
                 }
                 for py in rows.clone() {
                     for px in columns.clone() {
@@ -144,6 +160,8 @@ const UNBOUNDED: [f32; 6] = [
 /// What a strip's pixels reuse from one to the next.
 struct Scratch<'a> {
     certifier: Certifier<'a>,
+    /// Proves a slice's boxes free of M for a whole tile (see `bundle`).
+    root_free: RootFree<'a>,
     evals: Evaluators,
     /// The boxes of the pixel's rays.
     boxes: Vec<Marched>,

@@ -3,6 +3,7 @@
 //! its certified pixels' search in rigorous f64 intervals. Same hierarchy, same uniforms,
 //! same hash and sampling, so GPU and CPU pictures can be compared pixel for pixel.
 
+mod bundle;
 mod certify;
 mod forms;
 mod frame;

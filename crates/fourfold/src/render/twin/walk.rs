@@ -29,12 +29,14 @@ pub(super) struct Tile {
     pub(super) rounding: f64,
 }
 
-/// The nodes of `h` that a pixel of `tile` may visit, in the walk's order, into `kept`.
+/// The nodes of `h` that a pixel of `tile` may visit, in the walk's order, into `kept`;
+/// a node whose box `free` proves free of M (for every pixel of the tile) is left out with
+/// its subtree, as one no pixel of the tile can pass.
 pub(super) fn tile_nodes(
     h: &Hierarchy,
     u: &Uniforms,
-    tile: Tile,
-    band: &Option<Band>,
+    (tile, band): (Tile, &Option<Band>),
+    mut free: impl FnMut(V4, V4) -> bool,
     kept: &mut Vec<Kept>,
 ) {
     kept.clear();
@@ -50,7 +52,10 @@ pub(super) fn tile_nodes(
         }
         let node = &h.nodes[i];
         let level = node.level() as usize;
-        if !tile_may_visit(u, tile, node.center, level, band) {
+        let half = u.levels[level].half;
+        if !tile_may_visit(u, tile, node.center, level, band)
+            || free(sub(node.center, half), add(node.center, half))
+        {
             i = node.skip as usize;
             continue;
         }
