@@ -7,15 +7,23 @@
 
 use crate::ops::powi;
 
-use super::tape::{Op, PrefixKey, Tape, prepare_slots};
+use super::tape::{Op, PrefixKey, Tape, sized};
 
-/// Reusable evaluator; holds its slot storage so repeated calls do not allocate.
+/// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
+/// keep their values from one call to the next: an instruction that reads none of the
+/// coordinates that changed since (the uniform prefix: none at all) is not run again. Along
+/// a ray parallel to an axis (a slice's seen square on), that is most of a tape.
 #[derive(Debug, Clone, Default)]
 pub struct PointEvaluator {
     slots: Vec<f64>,
     /// The slots of an evaluation in f32 (`single`).
     narrow_slots: Vec<f32>,
     prefix: PrefixKey,
+    /// The point the slots hold the values at, as bits (None: they hold none).
+    last: Option<[u64; 4]>,
+    /// For the tape and parameters the slots hold, by the set of coordinates that moved (a
+    /// bit each), the instructions reading any of them (see [`plan`]).
+    runs: [Option<Run>; 16],
     /// Round every operation's result to f32, as the GPU computes.
     single: bool,
 }
@@ -42,50 +50,60 @@ impl PointEvaluator {
         }
     }
 
+    /// The instructions to run for `p`: those reading a coordinate in the returned bits
+    /// (bit k: x_k changed since the last call), or, where the second is true, all (another
+    /// tape or parameters: the slots hold nothing of theirs).
+    fn moved(&mut self, tape: &Tape, p: [f64; 4], params: &[f64]) -> (u8, bool) {
+        let bits = p.map(f64::to_bits);
+        let stale = self.prefix.stale(tape, params);
+        if stale {
+            self.runs.iter_mut().for_each(|r| *r = None);
+        }
+        let moved = match self.last.filter(|_| !stale) {
+            Some(last) => (0..4).fold(0, |m, k| m | (u8::from(last[k] != bits[k]) << k)),
+            None => 0xf,
+        };
+        self.last = Some(bits);
+        (moved, stale)
+    }
+
     fn run_double(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        let (slots, start) = prepare_slots(&mut self.slots, &mut self.prefix, tape, params, 0.0);
-        for (i, op) in tape.ops().iter().enumerate().skip(start) {
-            slots[i] = match *op {
-                Op::Const(c) => c,
-                Op::Var(a) => p[a as usize & 3],
-                Op::Param(i) => params.get(i as usize).copied().unwrap_or(1.0),
-                Op::Add(a, b) => slots[a as usize] + slots[b as usize],
-                Op::Sub(a, b) => slots[a as usize] - slots[b as usize],
-                Op::Mul(a, b) => slots[a as usize] * slots[b as usize],
-                Op::Neg(a) => -slots[a as usize],
-                Op::Square(a) => slots[a as usize] * slots[a as usize],
-                Op::Powi(a, n) => powi(slots[a as usize], n),
-                Op::Unary(op, a) => (op.spec().point)(slots[a as usize]),
-                Op::Binary(op, a, b) => (op.spec().point)(slots[a as usize], slots[b as usize]),
-            };
+        let (moved, all) = self.moved(tape, p, params);
+        let slots = sized(&mut self.slots, tape, 0.0);
+        let only = (!all && moved != 0xf)
+            .then(|| plan(&mut self.runs, tape, moved))
+            .flatten();
+        if let Some(list) = only {
+            for &(i, op) in list {
+                slots[i as usize] = double_op(op, slots, p, params);
+            }
+        } else {
+            let start = if all { 0 } else { tape.uniform_len() };
+            for (i, &op) in tape.ops().iter().enumerate().skip(start) {
+                slots[i] = double_op(op, slots, p, params);
+            }
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
             *o = slots[slot as usize];
         }
     }
 
-    /// As [`Self::run_double`] with each result rounded to f32 (see the module's note). + − ×
-    /// run in f32 itself: on f32 operands, f32's rounding of the exact result is f64's
-    /// rounded again to f32 (53 ≥ 2 × 24 + 2 bits, so the double rounding is harmless), at
-    /// a third of the instructions; the other operations go through f64 as before.
+    /// As [`Self::run_double`] with each result rounded to f32 (see the module's note).
     fn run_single(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        let (slots, start) =
-            prepare_slots(&mut self.narrow_slots, &mut self.prefix, tape, params, 0.0);
-        for (i, op) in tape.ops().iter().enumerate().skip(start) {
-            let wide = |a: u32| f64::from(slots[a as usize]);
-            slots[i] = match *op {
-                Op::Const(c) => narrow(c),
-                Op::Var(a) => narrow(p[a as usize & 3]),
-                Op::Param(i) => narrow(params.get(i as usize).copied().unwrap_or(1.0)),
-                Op::Add(a, b) => flush(slots[a as usize] + slots[b as usize]),
-                Op::Sub(a, b) => flush(slots[a as usize] - slots[b as usize]),
-                Op::Mul(a, b) => flush(slots[a as usize] * slots[b as usize]),
-                Op::Neg(a) => -slots[a as usize],
-                Op::Square(a) => flush(slots[a as usize] * slots[a as usize]),
-                Op::Powi(a, n) => narrow(powi(wide(a), n)),
-                Op::Unary(op, a) => narrow((op.spec().point)(wide(a))),
-                Op::Binary(op, a, b) => narrow((op.spec().point)(wide(a), wide(b))),
-            };
+        let (moved, all) = self.moved(tape, p, params);
+        let slots = sized(&mut self.narrow_slots, tape, 0.0);
+        let only = (!all && moved != 0xf)
+            .then(|| plan(&mut self.runs, tape, moved))
+            .flatten();
+        if let Some(list) = only {
+            for &(i, op) in list {
+                slots[i as usize] = single_op(op, slots, p, params);
+            }
+        } else {
+            let start = if all { 0 } else { tape.uniform_len() };
+            for (i, &op) in tape.ops().iter().enumerate().skip(start) {
+                slots[i] = single_op(op, slots, p, params);
+            }
         }
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
             *o = f64::from(slots[slot as usize]);
@@ -97,6 +115,76 @@ impl PointEvaluator {
         let mut out = [0.0];
         self.eval_into(tape, p, params, &mut out);
         out[0]
+    }
+}
+
+/// The instructions of `tape` that read a coordinate in `moved`, in order, with their
+/// indices, from `runs` (made there when first needed); None where they are most of those
+/// past the uniform prefix, which then run straight through (a list costs more a step).
+fn plan<'a>(runs: &'a mut [Option<Run>; 16], tape: &Tape, moved: u8) -> Option<&'a [(u32, Op)]> {
+    let run = runs[usize::from(moved & 0xf)].get_or_insert_with(|| {
+        let reads = tape.reads().iter().zip(tape.ops()).enumerate();
+        let list: Vec<(u32, Op)> = reads
+            .filter(|&(_, (&r, _))| r & moved != 0)
+            .map(|(i, (_, &op))| (i as u32, op))
+            .collect();
+        let rest = tape.len() - tape.uniform_len();
+        if moved != 0 && 5 * list.len() > 4 * rest {
+            Run::Whole
+        } else {
+            Run::Only(list)
+        }
+    });
+    match run {
+        Run::Whole => None,
+        Run::Only(list) => Some(list),
+    }
+}
+
+/// What a set of moved coordinates runs (see [`plan`]).
+#[derive(Debug, Clone)]
+enum Run {
+    Whole,
+    Only(Vec<(u32, Op)>),
+}
+
+/// Instruction `op`'s value at `p` in f64, its operands in `slots`.
+#[inline(always)]
+fn double_op(op: Op, slots: &[f64], p: [f64; 4], params: &[f64]) -> f64 {
+    match op {
+        Op::Const(c) => c,
+        Op::Var(a) => p[a as usize & 3],
+        Op::Param(i) => params.get(i as usize).copied().unwrap_or(1.0),
+        Op::Add(a, b) => slots[a as usize] + slots[b as usize],
+        Op::Sub(a, b) => slots[a as usize] - slots[b as usize],
+        Op::Mul(a, b) => slots[a as usize] * slots[b as usize],
+        Op::Neg(a) => -slots[a as usize],
+        Op::Square(a) => slots[a as usize] * slots[a as usize],
+        Op::Powi(a, n) => powi(slots[a as usize], n),
+        Op::Unary(op, a) => (op.spec().point)(slots[a as usize]),
+        Op::Binary(op, a, b) => (op.spec().point)(slots[a as usize], slots[b as usize]),
+    }
+}
+
+/// As [`double_op`], rounded to f32. + − × run in f32 itself: on f32 operands, f32's
+/// rounding of the exact result is f64's rounded again to f32 (53 ≥ 2 × 24 + 2 bits, so the
+/// double rounding is harmless), at a third of the instructions; the other operations go
+/// through f64.
+#[inline(always)]
+fn single_op(op: Op, slots: &[f32], p: [f64; 4], params: &[f64]) -> f32 {
+    let wide = |a: u32| f64::from(slots[a as usize]);
+    match op {
+        Op::Const(c) => narrow(c),
+        Op::Var(a) => narrow(p[a as usize & 3]),
+        Op::Param(i) => narrow(params.get(i as usize).copied().unwrap_or(1.0)),
+        Op::Add(a, b) => flush(slots[a as usize] + slots[b as usize]),
+        Op::Sub(a, b) => flush(slots[a as usize] - slots[b as usize]),
+        Op::Mul(a, b) => flush(slots[a as usize] * slots[b as usize]),
+        Op::Neg(a) => -slots[a as usize],
+        Op::Square(a) => flush(slots[a as usize] * slots[a as usize]),
+        Op::Powi(a, n) => narrow(powi(wide(a), n)),
+        Op::Unary(op, a) => narrow((op.spec().point)(wide(a))),
+        Op::Binary(op, a, b) => narrow((op.spec().point)(wide(a), wide(b))),
     }
 }
 
@@ -132,7 +220,47 @@ mod tests {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
 
+    /// A coordinate's next value: kept, or one of a few that include both zeros.
+    fn coordinate() -> impl Strategy<Value = Option<f64>> {
+        prop::option::of(prop::sample::select(vec![0.0, -0.0, 0.5, -1.25, 2.0, 1e-3]))
+    }
+
     proptest! {
+        /// An evaluator that keeps the values of instructions reading no coordinate that
+        /// moved gives, at each point of a walk that moves some coordinates at a time (to
+        /// −0 from +0 too) and changes the parameters now and then, what a new one gives.
+        #[test]
+        fn kept_values_are_those_a_new_evaluator_computes(
+            steps in prop::collection::vec((prop::array::uniform4(coordinate()), 0..4u8), 1..40),
+            single in prop::bool::ANY,
+        ) {
+            let formulas = [
+                "1/x + sqrt(y) * sin(z*k) - atan2(w, x) + y^3",
+                "(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4R^2(x^2 + y^2) - w",
+                "cos(3x) + cos(3y) + cos(3z) + cos(3w)",
+            ];
+            for src in formulas {
+                let f = CompiledFormula::compile(src).unwrap();
+                let make = || if single { PointEvaluator::single_precision() } else { PointEvaluator::new() };
+                let (mut kept, mut p) = ([make(), make()], [0.25; 4]);
+                for &(moves, k) in &steps {
+                    for (c, m) in p.iter_mut().zip(moves) {
+                        *c = m.unwrap_or(*c);
+                    }
+                    let params = [f64::from(k), 2.0, 1.0];
+                    for (kept, tape) in kept.iter_mut().zip([&f.tape_f, &f.tape_all]) {
+                        let (mut a, mut b) = ([0.0; 5], [0.0; 5]);
+                        let n = tape.outputs().len();
+                        kept.eval_into(tape, p, &params, &mut a[..n]);
+                        make().eval_into(tape, p, &params, &mut b[..n]);
+                        for (x, y) in a.iter().zip(b) {
+                            prop_assert!(x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()), "{src} at {p:?}: {a:?} against {b:?}");
+                        }
+                    }
+                }
+            }
+        }
+
         /// `run_single`'s + − × in f32 give what f64's, rounded to f32 and flushed, give.
         #[test]
         fn f32_arithmetic_is_f64_s_rounded(a in slot(), b in slot()) {

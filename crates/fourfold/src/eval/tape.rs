@@ -64,6 +64,9 @@ pub struct Tape {
     ops: Vec<Op>,
     outputs: Vec<u32>,
     uniform_len: usize,
+    /// The coordinates each instruction reads, itself or through its operands: bit k for
+    /// x_k (0 for the uniform prefix).
+    reads: Vec<u8>,
     /// Distinct per `Tape::new` (clones share it: same content), so an evaluator can tell
     /// whether its cached uniform prefix belongs to this tape.
     id: u64,
@@ -131,11 +134,23 @@ impl Tape {
             .count();
         let outputs = outputs.iter().map(|o| slot[o.index()]).collect();
         let ops = instrs.iter().map(|&i| Op::from(i)).collect();
+        let mut reads: Vec<u8> = Vec::with_capacity(instrs.len());
+        for instr in &instrs {
+            let of = |a: u32| reads[a as usize];
+            let r = match *instr {
+                Instr::Const(_) | Instr::Param(_) => 0,
+                Instr::Var(a) => 1 << (a & 3),
+                Instr::Unary(_, a) | Instr::Powi(a, _) => of(a),
+                Instr::Binary(_, a, b) => of(a) | of(b),
+            };
+            reads.push(r);
+        }
         Self {
             instrs,
             ops,
             outputs,
             uniform_len,
+            reads,
             id: NEXT_TAPE_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
@@ -157,6 +172,11 @@ impl Tape {
     /// The instructions in the evaluators' flat form.
     pub fn ops(&self) -> &[Op] {
         &self.ops
+    }
+
+    /// The coordinates each instruction reads (bit k: x_k), itself or through its operands.
+    pub fn reads(&self) -> &[u8] {
+        &self.reads
     }
 
     pub fn outputs(&self) -> &[u32] {
@@ -188,16 +208,21 @@ pub(crate) fn prepare_slots<'a, T: Copy>(
     params: &[f64],
     fill: T,
 ) -> (&'a mut [T], usize) {
-    let n = tape.len();
-    if slots.len() < n {
-        slots.resize(n, fill);
-    }
     let start = if key.stale(tape, params) {
         0
     } else {
         tape.uniform_len()
     };
-    (&mut slots[..n], start)
+    (sized(slots, tape, fill), start)
+}
+
+/// `slots` grown to hold `tape`'s, and as many of them.
+pub(crate) fn sized<'a, T: Copy>(slots: &'a mut Vec<T>, tape: &Tape, fill: T) -> &'a mut [T] {
+    let n = tape.len();
+    if slots.len() < n {
+        slots.resize(n, fill);
+    }
+    &mut slots[..n]
 }
 
 impl PrefixKey {
