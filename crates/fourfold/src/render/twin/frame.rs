@@ -92,7 +92,7 @@ pub fn render_rgba(
                             (px, py),
                         );
                         let at = (((py - rows.start) * width + px) * 4) as usize;
-                        let rgb = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+                        let rgb = c.map(unorm8);
                         out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], verdict.alpha()]);
                     }
                 }
@@ -101,6 +101,13 @@ pub fn render_rgba(
         })
         .collect();
     strips.concat()
+}
+
+/// A channel in [0, 1] as a byte, rounded to nearest, halves up: `(v · 255).round()`, but
+/// with the half added in f64 (exact for an f32) and cut off, not a call to libm's `roundf`
+/// (3% of a plain slice's frame).
+fn unorm8(v: f32) -> u8 {
+    (f64::from(v.clamp(0.0, 1.0) * 255.0) + 0.5) as u8
 }
 
 /// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
@@ -283,4 +290,41 @@ fn render_pixel(
 fn slice_reach(u: &Uniforms) -> f32 {
     let extent = sub(u.domain_hi, u.domain_lo);
     0.5 * dot(extent, extent).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn rounded(v: f32) -> u8 {
+        (v.clamp(0.0, 1.0) * 255.0).round() as u8
+    }
+
+    proptest! {
+        /// A channel's byte is `(v · 255).round()`'s, for any value.
+        #[test]
+        fn a_channel_s_byte_is_its_value_rounded(v in -0.5f32..1.5) {
+            prop_assert_eq!(unorm8(v), rounded(v));
+        }
+    }
+
+    /// The same at and beside every halfway point, and beyond [0, 1] and NaN.
+    #[test]
+    fn a_channel_s_byte_rounds_halves_as_round_does() {
+        for k in 0..=255u32 {
+            let half = (k as f32 + 0.5) / 255.0;
+            let mut v = half;
+            for _ in 0..4 {
+                v = f32::from_bits(v.to_bits() - 1);
+            }
+            for _ in 0..9 {
+                assert_eq!(unorm8(v), rounded(v), "{v}");
+                v = f32::from_bits(v.to_bits() + 1);
+            }
+        }
+        for v in [f32::NAN, f32::INFINITY, -1.0, 0.0, -0.0, 1.0, 2.0] {
+            assert_eq!(unorm8(v), rounded(v), "{v}");
+        }
+    }
 }
