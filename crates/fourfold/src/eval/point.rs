@@ -133,7 +133,7 @@ impl PointEvaluator {
 /// indices, from `runs` (made there when first needed); None where they are most of those
 /// past the uniform prefix, which then run straight through (a list costs more a step).
 fn plan<'a>(runs: &'a mut [Option<Run>; 16], tape: &Tape, moved: u8) -> Option<&'a [(u32, Op)]> {
-    let run = runs[usize::from(moved & 0xf)].get_or_insert_with(|| {
+    let run = runs[usize::from(moved)].get_or_insert_with(|| {
         let reads = tape.reads().iter().zip(tape.ops()).enumerate();
         let list: Vec<(u32, Op)> = reads
             .filter(|&(_, (&r, _))| r & moved != 0)

@@ -5,51 +5,46 @@
 
 use crate::eval::{Box4, Interval, IntervalEvaluator};
 use crate::formula::CompiledFormula;
-use crate::render::view::{FLAG_SLICE, Uniforms};
+use crate::render::view::Uniforms;
 
 use super::shading::V4;
 
-/// The tile's lines: each pixel's point o + offset·n2 (o its plane's origin) and the
-/// direction n1; `base` holds every such point, and `slack` the widening of a box that
-/// covers the rounding of the points a pixel works out along its line.
+/// The tile's lines: each pixel's slice line from its start (the rays' origin) along n1;
+/// `base` holds every start, and `slack` the widening of a box that covers the rounding of
+/// the points a pixel works out along its line, the march's and the certified search's.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Bundle {
-    base: Box4,
+    base: [(f64, f64); 4],
     n1: [f64; 4],
     slack: f64,
 }
 
 impl Bundle {
-    /// The lines through the plane origins of a tile's pixels, for a slice (None for a
-    /// projection or a slab), from the origins of its four corner pixels: each coordinate
-    /// of an origin is worked out from the pixel's column and row by steps that each keep
-    /// or reverse order, so the corners' hold all the others'.
-    pub(super) fn of(u: &Uniforms, corners: [V4; 4], reach: f32) -> Option<Self> {
-        if u.control.flags & FLAG_SLICE == 0 {
-            return None;
-        }
-        let offset = f64::from(u.root.section_offset);
-        let base: Box4 = std::array::from_fn(|k| {
-            let at = |o: V4| f64::from(o[k]) + offset * f64::from(u.n2[k]);
-            let (lo, hi) = corners
+    /// The lines of a slice's tile from the starts of its four corner pixels' lines: each
+    /// coordinate of a start is worked out from the pixel's column and row by steps that
+    /// each keep or reverse order, so the corners' hold all the others'.
+    pub(super) fn of(u: &Uniforms, corners: [V4; 4], reach: f32) -> Self {
+        let base: [(f64, f64); 4] = std::array::from_fn(|k| {
+            corners
                 .iter()
-                .map(|&o| at(o))
+                .map(|o| f64::from(o[k]))
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
                     (l.min(v), h.max(v))
-                });
-            Interval::new(lo, hi)
+                })
         });
-        let far = (0..4)
-            .map(|k| base[k].lo().abs().max(base[k].hi().abs()))
+        let far = base
+            .iter()
+            .map(|&(l, h)| l.abs().max(h.abs()))
             .fold(0.0, f64::max);
-        Some(Self {
+        let offset = f64::from(u.root.section_offset).abs();
+        Self {
             base,
             n1: u.n1.map(f64::from),
-            // A pixel's points o + t·n1 and its cells' boxes are worked out in f32 from
-            // origins and distances of at most `far` and twice `reach` (and the base above
-            // in f64): far beyond their rounding.
-            slack: 1e-5 * (far + 2.0 * f64::from(reach) + offset.abs()) + 1e-30,
-        })
+            // A pixel's points, its line's start plus t·n1 or its plane's origin plus
+            // s·n1 + offset·n2, are worked out in f32 from starts, origins and distances of
+            // at most `far`, twice `reach` and `offset`: far beyond their rounding.
+            slack: 1e-5 * (far + 2.0 * f64::from(reach) + offset) + 1e-30,
+        }
     }
 
     /// A box around the lines' points within [lo, hi] (widened by the slack); None where
@@ -60,31 +55,14 @@ impl Bundle {
             let m = 1e-5 * (l.abs() + h.abs()) + self.slack;
             (l - m, h + m)
         });
-        // The range of distances along n1 at which some line is within every side.
-        let (mut first, mut last) = (f64::NEG_INFINITY, f64::INFINITY);
-        for k in 0..4 {
-            let (l, h) = widened[k];
-            let (b, n) = (self.base[k], self.n1[k]);
-            if n == 0.0 {
-                if b.hi() < l || b.lo() > h {
-                    return None;
-                }
-                continue;
-            }
-            let (a, c) = ((l - b.hi()) / n, (h - b.lo()) / n);
-            first = first.max(a.min(c));
-            last = last.min(a.max(c));
-        }
-        if !(first <= last) {
-            return None;
-        }
+        let (first, last) = span_within(self.base, self.n1, widened)?;
         // (The quotients' rounding: a millionth of the range's ends.)
         let e = 1e-6 * (first.abs() + last.abs()) + 1e-30;
         let along = Interval::new(first - e, last + e);
         let mut x = [Interval::EMPTY; 4];
         for k in 0..4 {
-            let (l, h) = widened[k];
-            x[k] = self.base[k]
+            let ((bl, bh), (l, h)) = (self.base[k], widened[k]);
+            x[k] = Interval::new(bl, bh)
                 .add(along.mul(Interval::point(self.n1[k])))
                 .intersect(l, h);
             if x[k].is_empty() {
@@ -93,6 +71,29 @@ impl Bundle {
         }
         Some(x)
     }
+}
+
+/// The distances along `n` at which a line from a point of `base` (a range per coordinate)
+/// may lie within `sides` on every axis, as (first, last); None where none does.
+pub(super) fn span_within(
+    base: [(f64, f64); 4],
+    n: [f64; 4],
+    sides: [(f64, f64); 4],
+) -> Option<(f64, f64)> {
+    let (mut first, mut last) = (f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..4 {
+        let ((bl, bh), (l, h)) = (base[k], sides[k]);
+        if n[k] == 0.0 {
+            if bh < l || bl > h {
+                return None;
+            }
+            continue;
+        }
+        let (a, c) = ((l - bh) / n[k], (h - bl) / n[k]);
+        first = first.max(a.min(c));
+        last = last.min(a.max(c));
+    }
+    (first <= last).then_some((first, last))
 }
 
 /// Proves boxes free of M along a tile's lines: F's enclosure over the lines' part in the
@@ -154,12 +155,15 @@ mod tests {
             let [v1, v2, n1, n2] = turned(a, b);
             let mut u = Uniforms::zeroed();
             (u.n1, u.n2) = (n1, n2);
-            u.control.flags = FLAG_SLICE;
             u.root.section_offset = offset;
+            // A pixel's plane origin, and its line's start (as the twin's `origins`).
             let origin = |p: [f32; 2]| -> V4 { std::array::from_fn(|k| p[0] * v1[k] + p[1] * v2[k]) };
+            let start = |o: V4| -> V4 { std::array::from_fn(|k| (o[k] + offset * n2[k]) - 2.0 * n1[k]) };
             let corners = [[0.0, 0.0], [side, 0.0], [0.0, side], [side, side]]
-                .map(|d| origin([corner[0] + d[0], corner[1] + d[1]]));
-            let bundle = Bundle::of(&u, corners, 2.0).expect("a slice has a bundle");
+                .map(|d| start(origin([corner[0] + d[0], corner[1] + d[1]])));
+            let bundle = Bundle::of(&u, corners, 2.0);
+            // A point of a pixel's line as the certified search has it, from its plane's
+            // origin (the march's, from its start, differ by rounding only).
             let o = origin([corner[0] + at[0] * side, corner[1] + at[1] * side]);
             let p: V4 = std::array::from_fn(|k| o[k] + offset * n2[k] + s * n1[k]);
             // A box around p, p anywhere in it.
@@ -181,12 +185,12 @@ mod tests {
         let mut u = Uniforms::zeroed();
         let [_, _, n1, n2] = turned(0.0, 0.0);
         (u.n1, u.n2) = (n1, n2);
-        u.control.flags = FLAG_SLICE;
         u.root.section_offset = 0.3;
-        // Lines along z at x, y in [0.1, 0.12], w = 0.3: they cross the sphere at z ≈ ±0.94.
+        // Lines along z from z = −2 at x, y in [0.1, 0.12], w = 0.3: they cross the sphere
+        // at z ≈ ±0.94.
         let corners =
-            [[0.1, 0.1], [0.12, 0.1], [0.1, 0.12], [0.12, 0.12]].map(|[x, y]| [x, y, 0.0, 0.0]);
-        let bundle = Bundle::of(&u, corners, 2.0).unwrap();
+            [[0.1, 0.1], [0.12, 0.1], [0.1, 0.12], [0.12, 0.12]].map(|[x, y]| [x, y, -2.0, 0.3]);
+        let bundle = Bundle::of(&u, corners, 2.0);
         assert!(free.proves(&bundle, [-0.5; 4], [0.5; 4]));
         assert!(!free.proves(&bundle, [-0.5, -0.5, 0.5, -0.5], [0.5, 0.5, 1.5, 0.5]));
         // A box the lines do not reach (x beyond 0.12), though it holds part of M.

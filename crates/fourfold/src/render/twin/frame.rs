@@ -29,6 +29,7 @@ pub fn render_rgba(
 ) -> Vec<u8> {
     let certifying = certifying.unwrap_or(hierarchy);
     let certified = u.control.flags & FLAG_CERTIFIED != 0;
+    let slice = u.control.flags & FLAG_SLICE != 0;
     // The certified search's forms of its boxes' curvature bounds in this view's plane (as
     // the shader's box records), once per frame.
     let forms: Vec<[f32; 6]> = if certified {
@@ -63,15 +64,7 @@ pub fn render_rgba(
                 let columns = x0..(x0 + TILE).min(width);
                 // (The certifying hierarchy's only where pixels are certified.)
                 let walked = if certified { 2 } else { 1 };
-                let (last_x, last_y) = (columns.end - 1, rows.end - 1);
-                let corners = [
-                    (x0, rows.start),
-                    (last_x, rows.start),
-                    (x0, last_y),
-                    (last_x, last_y),
-                ]
-                .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).0);
-                let bundle = Bundle::of(u, corners, slice_reach(u));
+                let bundle = slice.then(|| tile_bundle(u, (columns.clone(), rows.clone())));
                 let mut free = |lo, hi| {
                     bundle
                         .as_ref()
@@ -129,6 +122,14 @@ fn tile_around(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>), rays: bo
         radius: s * half * std::f64::consts::SQRT_2 * (1.0 + 1e-6),
         rounding: 1e-5 * (centre_size + s * (w + h) + f64::from(reach + offset)),
     }
+}
+
+/// The lines of a slice's pixels `columns` × `rows`, from their corner pixels' lines.
+fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundle {
+    let (first, last) = ((columns.start, rows.start), (columns.end - 1, rows.end - 1));
+    let corners = [first, (last.0, first.1), (first.0, last.1), last]
+        .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).1);
+    Bundle::of(u, corners, slice_reach(u))
 }
 
 /// The origin of the observer plane through the point (fx, fy) of the picture (in pixels

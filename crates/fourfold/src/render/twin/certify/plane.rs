@@ -6,6 +6,7 @@
 use crate::eval::{Box4, Interval};
 use crate::render::view::{FLAG_SLAB, FLAG_SLICE};
 
+use super::super::bundle::span_within;
 use super::super::forms::magnitude;
 use super::{Cell, Certifier, SearchBox};
 
@@ -60,21 +61,8 @@ impl Certifier<'_> {
             .map(|i| (lo[i] - base[i]).abs() + (hi[i] - base[i]).abs())
             .sum();
         let margin = 1e-3 * (far + offset.abs()) + 1e-30;
-        let (mut first, mut last) = (f64::NEG_INFINITY, f64::INFINITY);
-        for i in 0..4 {
-            let (from, to) = (lo[i] - margin - base[i], hi[i] + margin - base[i]);
-            let n = f64::from(u.n1[i]);
-            if n == 0.0 {
-                if from > 0.0 || to < 0.0 {
-                    return true;
-                }
-                continue;
-            }
-            let (a, b) = (from / n, to / n);
-            first = first.max(a.min(b));
-            last = last.min(a.max(b));
-        }
-        first > last
+        let sides = std::array::from_fn(|i| (lo[i] - margin, hi[i] + margin));
+        span_within(base.map(|b| (b, b)), u.n1.map(f64::from), sides).is_none()
     }
 
     /// A point of the plane within the cell, in the box `bx` where three rounds find one
