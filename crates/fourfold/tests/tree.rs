@@ -568,6 +568,55 @@ fn slopes_are_not_bounded_where_f_may_be_undefined_or_jump() {
 }
 
 #[test]
+fn a_root_marched_whole_for_its_own_bounds_has_every_descendant_bounded() {
+    // Hierarchy::for_formula marches the root whole, without working out its descendants'
+    // bounds, when its slope bound is finite and F'' bounded over it: the cut would march
+    // it whole whatever their bounds, so long as they are finite, which an enclosure over a
+    // box inside the root is. Checked on the examples and on formulas written for this.
+    let settings = BuildSettings {
+        max_level: 4,
+        min_level: 4,
+        node_budget: 4_000_000,
+    };
+    let mut scenes = example_scenes();
+    for formula in [
+        "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1",
+        "cos(3x) + cos(3y) + cos(3z) + cos(3w)",
+        "sqrt(x^2 + y^2 + 4) - 2.2 + z*w",
+        "exp(-x^2 - y^2) - 0.5 + 0.1*z - w^3",
+        "abs(x) + y^2 - z*w - 0.3",
+    ] {
+        scenes.push((formula, Scene::from_formula(formula)));
+    }
+    let mut whole = 0;
+    for (name, scene) in scenes {
+        let (f, params, tree) = build(&scene, settings);
+        if tree.is_empty() {
+            continue;
+        }
+        let cut = Hierarchy::for_formula(&tree, &f, &params);
+        // The root alone, marched, with its bounds; and every box down to the march level.
+        let mut root = Hierarchy::from_tree_at(&tree, 0);
+        root.bound_slopes(&f, &params);
+        let mut every = Hierarchy::from_tree(&tree);
+        every.bound_slopes(&f, &params);
+        let finite = |h: &Hierarchy, i: usize| h.slope(i).iter().sum::<f32>().is_finite();
+        let root_bounded = finite(&root, 0) && root.curvature(0).is_bounded();
+        if root_bounded {
+            whole += 1;
+            assert_eq!(cut.nodes.len(), 1, "{name}");
+            assert!((0..every.nodes.len()).all(|i| finite(&every, i)), "{name}");
+            assert_eq!(
+                (cut.slope(0), cut.curvature(0)),
+                (root.slope(0), root.curvature(0)),
+                "{name}"
+            );
+        }
+    }
+    assert!(whole >= 5, "{whole} roots marched whole");
+}
+
+#[test]
 fn the_default_cut_marches_each_leaf_once_and_coarser_where_slopes_allow() {
     // Hierarchy::for_formula marches some boxes above the march level: every point of the
     // tree's leaves must still lie in exactly one marched box, none of which keeps children.

@@ -101,22 +101,6 @@ impl Hierarchy {
                     .collect()
             })
             .collect();
-        // Slope bounds of every box down to the march level, and which boxes are marched.
-        let slopes: Vec<Vec<[f32; 4]>> = match formula {
-            Some((formula, params)) => centers
-                .iter()
-                .enumerate()
-                .map(|(l, c)| {
-                    let half = hierarchy.levels[l].half;
-                    c.par_iter()
-                        .map_init(IntervalEvaluator::new, |eval, &center| {
-                            box_slope(eval, formula, params, center, half)
-                        })
-                        .collect()
-                })
-                .collect(),
-            None => Vec::new(),
-        };
         let curvature_of = |eval: &mut IntervalEvaluator, l: usize, i: usize| match formula {
             Some((formula, params)) => box_curvature(
                 eval,
@@ -127,7 +111,33 @@ impl Hierarchy {
             ),
             None => Curvature::NONE,
         };
-        let (marched, known) = cut(tree, depth, &slopes, curvature_of);
+        let (slopes, marched, known) = match root_marched_whole(&hierarchy, &centers, formula) {
+            Some((slope, curvature)) => {
+                let (marched, known) = only_root(tree, depth, curvature);
+                (vec![vec![slope]], marched, known)
+            }
+            None => {
+                // Slope bounds of every box down to the march level, and which boxes are
+                // marched.
+                let slopes: Vec<Vec<[f32; 4]>> = match formula {
+                    Some((formula, params)) => centers
+                        .iter()
+                        .enumerate()
+                        .map(|(l, c)| {
+                            let half = hierarchy.levels[l].half;
+                            c.par_iter()
+                                .map_init(IntervalEvaluator::new, |eval, &center| {
+                                    box_slope(eval, formula, params, center, half)
+                                })
+                                .collect()
+                        })
+                        .collect(),
+                    None => Vec::new(),
+                };
+                let (marched, known) = cut(tree, depth, &slopes, curvature_of);
+                (slopes, marched, known)
+            }
+        };
         let walk = DepthFirst::walk(tree, &marched, &centers, &slopes, cover_level);
         hierarchy.cover = cover_levels(walk.cover, &walk.nodes, &geometry);
         // The marched boxes' curvature: what the cut worked out, the rest now.
@@ -180,6 +190,52 @@ impl Hierarchy {
             .collect();
         self.curvature = curvature;
     }
+}
+
+/// The root's slope and curvature bounds where the cut marches it whole for them: F's
+/// slope bound over it finite and F'' bounded. Every box inside the root then has finite
+/// slope bounds too (an enclosure over a box lies within the one over a box around it), so
+/// `cut` would march the root whole whatever its descendants' bounds, which are then not
+/// worked out (most of the hierarchy's time for a smooth formula: the polynomial examples).
+fn root_marched_whole(
+    hierarchy: &Hierarchy,
+    centers: &[Vec<[f32; 4]>],
+    formula: Option<(&CompiledFormula, &[f64])>,
+) -> Option<([f32; 4], Curvature)> {
+    let (formula, params) = formula?;
+    let (center, half) = (centers[0][0], hierarchy.levels[0].half);
+    let mut eval = IntervalEvaluator::new();
+    let slope = box_slope(&mut eval, formula, params, center, half);
+    if !slope.iter().sum::<f32>().is_finite() {
+        return None;
+    }
+    let curvature = box_curvature(&mut eval, formula, params, center, half);
+    curvature.is_bounded().then_some((slope, curvature))
+}
+
+/// The cut of `tree`'s first `depth` levels that marches the root whole (with its
+/// `curvature`), as `cut` gives it.
+#[allow(clippy::type_complexity)]
+fn only_root(
+    tree: &Tree16,
+    depth: usize,
+    curvature: Curvature,
+) -> (Vec<Vec<bool>>, Vec<Vec<Option<Curvature>>>) {
+    let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
+        .iter()
+        .enumerate()
+        .map(|(l, boxes)| {
+            boxes
+                .iter()
+                .map(|b| b.child_count == 0 || l + 1 == depth)
+                .collect()
+        })
+        .collect();
+    let mut known: Vec<Vec<Option<Curvature>>> =
+        marched.iter().map(|m| vec![None; m.len()]).collect();
+    marched[0][0] = true;
+    known[0][0] = Some(curvature);
+    (marched, known)
 }
 
 /// The domain's geometry as the hierarchy stores it, in f32 and padded.
