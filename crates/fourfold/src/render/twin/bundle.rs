@@ -1,7 +1,10 @@
 //! The lines of a tile of a slice's pixels, all along n1 within the slice's hyperplane:
 //! a box of the hierarchy in which F has no root on any of them is proved so once for the
 //! tile, and left out of its walk, for the rays' march and the certified search alike
-//! (each pixel had proved it again, box by box: most of an empty pixel's time).
+//! (each pixel had proved it again, box by box: most of an empty pixel's time). In a box
+//! that is kept, the stretches of the lines on which F keeps one sign are proved so the
+//! same way, and each pixel's march steps over them (where the box's bounds on F' and F''
+//! are loose, most of its samples).
 
 use crate::eval::{Box4, Interval, IntervalEvaluator};
 use crate::formula::CompiledFormula;
@@ -50,18 +53,29 @@ impl Bundle {
     /// A box around the lines' points within [lo, hi] (widened by the slack); None where
     /// no line meets it.
     fn within(&self, lo: V4, hi: V4) -> Option<Box4> {
-        let widened: [(f64, f64); 4] = std::array::from_fn(|k| {
+        let widened = self.widened(lo, hi);
+        let (first, last) = span_within(self.base, self.n1, widened)?;
+        self.segment((first, last), widened)
+    }
+
+    /// The box [lo, hi] widened by the slack and past its own rounding, per axis.
+    fn widened(&self, lo: V4, hi: V4) -> [(f64, f64); 4] {
+        std::array::from_fn(|k| {
             let (l, h) = (f64::from(lo[k]), f64::from(hi[k]));
             let m = 1e-5 * (l.abs() + h.abs()) + self.slack;
             (l - m, h + m)
-        });
-        let (first, last) = span_within(self.base, self.n1, widened)?;
+        })
+    }
+
+    /// A box around the lines' points from `first` to `last` along n1 that lie within
+    /// `sides`; None where there are none.
+    fn segment(&self, (first, last): (f64, f64), sides: [(f64, f64); 4]) -> Option<Box4> {
         // (The quotients' rounding: a millionth of the range's ends.)
         let e = 1e-6 * (first.abs() + last.abs()) + 1e-30;
         let along = Interval::new(first - e, last + e);
         let mut x = [Interval::EMPTY; 4];
         for k in 0..4 {
-            let ((bl, bh), (l, h)) = (self.base[k], widened[k]);
+            let ((bl, bh), (l, h)) = (self.base[k], sides[k]);
             x[k] = Interval::new(bl, bh)
                 .add(along.mul(Interval::point(self.n1[k])))
                 .intersect(l, h);
@@ -122,6 +136,54 @@ impl<'a> RootFree<'a> {
                 .contains_zero()
         })
     }
+
+    /// The stretches of the lines of `bundle` within [lo, hi], as distances along n1 from
+    /// their starts (ascending, apart), on which F is defined and keeps one sign: halves of
+    /// the lines' span in the box, then halves of those that are not proved, to `depth`
+    /// halvings. A pixel's march steps over them (its samples there cannot change sign).
+    pub(super) fn one_signed(
+        &mut self,
+        bundle: &Bundle,
+        (lo, hi): (V4, V4),
+        depth: u32,
+        out: &mut Vec<(f32, f32)>,
+    ) {
+        out.clear();
+        let sides = bundle.widened(lo, hi);
+        let Some((first, last)) = span_within(bundle.base, bundle.n1, sides) else {
+            return;
+        };
+        // (The whole span is not proved: the tile's walk would have left the box out.)
+        let middle = 0.5 * (first + last);
+        for half in [(first, middle), (middle, last)] {
+            self.split(bundle, sides, half, depth.saturating_sub(1), out);
+        }
+    }
+
+    fn split(
+        &mut self,
+        bundle: &Bundle,
+        sides: [(f64, f64); 4],
+        (first, last): (f64, f64),
+        depth: u32,
+        out: &mut Vec<(f32, f32)>,
+    ) {
+        let Some(x) = bundle.segment((first, last), sides) else {
+            return;
+        };
+        let f = self.eval.eval(&self.formula.tape_f, &x, self.params);
+        if !f.contains_zero() && self.eval.continuous_on_last_box(&self.formula.tape_f) {
+            let (a, b) = (first as f32, last as f32);
+            match out.last_mut() {
+                Some(prev) if prev.1 >= a => prev.1 = b,
+                _ => out.push((a, b)),
+            }
+        } else if depth > 0 {
+            let middle = 0.5 * (first + last);
+            self.split(bundle, sides, (first, middle), depth - 1, out);
+            self.split(bundle, sides, (middle, last), depth - 1, out);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -176,6 +238,50 @@ mod tests {
         }
     }
 
+    proptest! {
+        /// F keeps one sign along every line of a tile over each of the stretches found in
+        /// a box, whichever way the view is turned.
+        #[test]
+        fn f_keeps_one_sign_on_every_line_over_each_one_signed_stretch(
+            a in -3.0f32..3.0, b in -3.0f32..3.0, offset in -0.8f32..0.8,
+            corner in prop::array::uniform2(-0.9f32..0.9), side in 0.001f32..0.05,
+            half in 0.2f32..1.0, shift in prop::array::uniform4(-0.5f32..0.5),
+        ) {
+            let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 - 1").unwrap();
+            let f = |p: [f64; 4]| p.iter().map(|v| v * v).sum::<f64>() - 1.0;
+            let mut free = RootFree::new(&formula, &[]);
+            let [v1, v2, n1, n2] = turned(a, b);
+            let mut u = Uniforms::zeroed();
+            (u.n1, u.n2) = (n1, n2);
+            u.root.section_offset = offset;
+            let origin = |p: [f32; 2]| -> V4 { std::array::from_fn(|k| p[0] * v1[k] + p[1] * v2[k]) };
+            let start = |o: V4| -> V4 { std::array::from_fn(|k| (o[k] + offset * n2[k]) - 2.0 * n1[k]) };
+            let corners = [[0.0, 0.0], [side, 0.0], [0.0, side], [side, side]]
+                .map(|d| start(origin([corner[0] + d[0], corner[1] + d[1]])));
+            let bundle = Bundle::of(&u, corners, 2.0);
+            // A box around the middle of the lines' part in the ball of radius 1.5.
+            let mid = start(origin([corner[0] + 0.5 * side, corner[1] + 0.5 * side]));
+            let c: V4 = std::array::from_fn(|k| mid[k] + 2.0 * n1[k] + shift[k]);
+            let (lo, hi) = (c.map(|v| v - half), c.map(|v| v + half));
+            let mut stretches = Vec::new();
+            free.one_signed(&bundle, (lo, hi), 6, &mut stretches);
+            prop_assert!(stretches.windows(2).all(|w| w[0].1 < w[1].0));
+            for &(from, to) in &stretches {
+                prop_assert!(from < to);
+                for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.3, 0.7)] {
+                    let o = start(origin([corner[0] + i * side, corner[1] + j * side]));
+                    let signs: Vec<bool> = (0..=64)
+                        .map(|k| from + (to - from) * k as f32 / 64.0)
+                        .map(|t| std::array::from_fn(|m| f64::from(o[m]) + f64::from(t * n1[m])))
+                        .filter(|p: &[f64; 4]| (0..4).all(|m| p[m] >= f64::from(lo[m]) && p[m] <= f64::from(hi[m])))
+                        .map(|p| f(p) > 0.0)
+                        .collect();
+                    prop_assert!(signs.windows(2).all(|w| w[0] == w[1]), "{from}..{to}");
+                }
+            }
+        }
+    }
+
     /// A box the tile's lines pass by, clear of the sphere, is proved free of it; one they
     /// cross the sphere in is not, nor one F is 0 in.
     #[test]
@@ -195,5 +301,15 @@ mod tests {
         assert!(!free.proves(&bundle, [-0.5, -0.5, 0.5, -0.5], [0.5, 0.5, 1.5, 0.5]));
         // A box the lines do not reach (x beyond 0.12), though it holds part of M.
         assert!(free.proves(&bundle, [0.5, -1.0, -1.0, -1.0], [1.0, 1.0, 1.0, 1.0]));
+        // Through z in [-1.5, 1.5] (t from 0.5 to 3.5), the lines cross the sphere at t of
+        // about 1.06 and 2.94: the stretches cover all but the surroundings of those.
+        let mut stretches = Vec::new();
+        let sides = ([-0.5, -0.5, -1.5, -0.5], [0.5, 0.5, 1.5, 0.5]);
+        free.one_signed(&bundle, sides, 8, &mut stretches);
+        let covered = |t: f32| stretches.iter().any(|&(a, b)| a <= t && t <= b);
+        assert!(!covered(1.06) && !covered(2.94), "{stretches:?}");
+        for t in [0.51, 0.8, 1.0, 1.12, 2.0, 2.88, 3.0, 3.49] {
+            assert!(covered(t), "{t}: {stretches:?}");
+        }
     }
 }

@@ -16,7 +16,7 @@ use super::certify::{Certifier, SearchBox};
 use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::section::Band;
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
-use super::walk::{Kept, Tile, boxes_of, tile_nodes};
+use super::walk::{Kept, Tile, boxes_of, steps_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
 /// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
@@ -50,6 +50,8 @@ pub fn render_rgba(
             let mut scratch = Scratch {
                 certifier: Certifier::new(formula, params, u),
                 root_free: RootFree::new(formula, params),
+                one_signed: Vec::new(),
+                stretches: Vec::new(),
                 evals: Evaluators::new(),
                 boxes: Vec::new(),
                 forms: &forms,
@@ -73,6 +75,10 @@ pub fn render_rgba(
                 for (k, h) in [hierarchy, certifying].into_iter().enumerate().take(walked) {
                     let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
                     tile_nodes(h, u, (tile, &bands[k]), &mut free, &mut scratch.kept[k]);
+                }
+                scratch.one_signed.clear();
+                if let Some(bundle) = &bundle {
+                    one_signed_stretches(hierarchy, u, bundle, &mut scratch);
                 }
                 for py in rows.clone() {
                     for px in columns.clone() {
@@ -124,6 +130,28 @@ fn tile_around(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>), rays: bo
     }
 }
 
+/// The stretches of a slice's tile's lines on which F keeps one sign, in each box of the
+/// rays' hierarchy that the tile's walk kept: halved until a stretch is about 4 of the box's
+/// steps long, as the march could not skip a shorter one by much.
+fn one_signed_stretches(h: &Hierarchy, u: &Uniforms, bundle: &Bundle, scratch: &mut Scratch) {
+    for kept in scratch.kept[0].iter_mut() {
+        let node = &h.nodes[kept.node()];
+        if !node.is_marched() {
+            continue;
+        }
+        let half = u.levels[node.level() as usize].half;
+        let depth = (steps_of(h, u, kept.node()) / 4).max(1).ilog2();
+        let sides = (sub(node.center, half), add(node.center, half));
+        let stretches = &mut scratch.stretches;
+        scratch
+            .root_free
+            .one_signed(bundle, sides, depth, stretches);
+        let first = scratch.one_signed.len() as u32;
+        scratch.one_signed.extend_from_slice(stretches);
+        kept.one_signed = (first, scratch.one_signed.len() as u32);
+    }
+}
+
 /// The lines of a slice's pixels `columns` × `rows`, from their corner pixels' lines.
 fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundle {
     let (first, last) = ((columns.start, rows.start), (columns.end - 1, rows.end - 1));
@@ -170,6 +198,10 @@ struct Scratch<'a> {
     certifier: Certifier<'a>,
     /// Proves a slice's boxes free of M for a whole tile (see `bundle`).
     root_free: RootFree<'a>,
+    /// A slice's tile's stretches of its lines on which F keeps one sign, box after box
+    /// (each kept box's range of them in `kept[0]`), and one box's.
+    one_signed: Vec<(f32, f32)>,
+    stretches: Vec<(f32, f32)>,
     evals: Evaluators,
     /// The boxes of the pixel's rays.
     boxes: Vec<Marched>,
@@ -212,6 +244,7 @@ fn render_pixel(
         plane,
         bracket: None,
         closest: ([0.0; 2], f32::INFINITY),
+        one_signed: &scratch.one_signed,
         starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;

@@ -54,10 +54,24 @@ pub(super) struct Pixel<'a, 'e> {
     /// The sample of the ray being marched, over its span in the box, that M may be nearest:
     /// its (s, t) in the observer plane and |F| over |∇F| there (the shader's `closest`).
     pub(super) closest: ([f32; 2], f32),
+    /// A slice's stretches of the line, in its tile's boxes, on which F keeps one sign
+    /// (each [`Marched`] box says which are its; empty where there are none).
+    pub(super) one_signed: &'a [(f32, f32)],
     /// The closest samples of the spans the rays marched, the nearest [`SEEK_STARTS`] by
     /// |F| over |∇F|, nearest first (+∞: none): where the search between the rays starts
     /// (the shader's `starts`).
     pub(super) starts: [([f32; 2], f32); SEEK_STARTS],
+}
+
+/// What lets a march step over samples that cannot change sign: its box's steps, the bounds
+/// on |dF/dt| and on d²F/dt² there (+∞ and (−∞, +∞): none), and the stretches of its line
+/// (ascending distances from its start) on which F keeps one sign.
+#[derive(Clone, Copy)]
+pub(super) struct Skips<'s> {
+    pub(super) steps: u32,
+    pub(super) slope: f32,
+    pub(super) bend: (f32, f32),
+    pub(super) one_signed: &'s [(f32, f32)],
 }
 
 /// A box the pixel marches, as `trace_box` takes it.
@@ -70,6 +84,8 @@ pub(super) struct Marched {
     pub(super) curvature: Curvature,
     /// Its node in the hierarchy walked (None: brute force's domain).
     pub(super) node: Option<usize>,
+    /// The range of the pixel's [`Pixel::one_signed`] stretches that lie in this box.
+    pub(super) one_signed: (u32, u32),
 }
 
 impl Pixel<'_, '_> {
@@ -245,38 +261,24 @@ impl Pixel<'_, '_> {
     }
 
     /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
-    /// the samples that cannot change sign when `slope` bounds |dF/dt| or `bend` bounds
-    /// d²F/dt² (as the shader's `march_ray`: the same sign changes as taking every sample;
-    /// +∞ and (−∞, +∞) take every sample); the span's closest sample is a start of the search.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn find_roots(
-        &mut self,
-        o: V4,
-        d: V4,
-        span: (f32, f32),
-        steps: u32,
-        slope: f32,
-        bend: (f32, f32),
-        ray: u32,
-    ) {
+    /// the samples that cannot change sign by `skips` (as the shader's `march_ray`, and a
+    /// slice's one-signed stretches, the twin's own: the same sign changes as taking every
+    /// sample); the span's closest sample is a start of the search.
+    pub(super) fn find_roots(&mut self, o: V4, d: V4, span: (f32, f32), skips: Skips, ray: u32) {
         self.closest = ([0.0; 2], f32::INFINITY);
-        self.march(o, d, span, steps, slope, bend, ray);
+        self.march(o, d, span, skips, ray);
         if self.keeps_closest() {
             self.keep_start();
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn march(
-        &mut self,
-        o: V4,
-        d: V4,
-        (t0, t1): (f32, f32),
-        steps: u32,
-        slope: f32,
-        bend: (f32, f32),
-        ray: u32,
-    ) {
+    fn march(&mut self, o: V4, d: V4, (t0, t1): (f32, f32), skips: Skips, ray: u32) {
+        let Skips {
+            steps,
+            slope,
+            bend,
+            one_signed,
+        } = skips;
         let dt = (t1 - t0) / steps as f32;
         // Samples per unit of t and per unit of |F| sure to keep its sign (0.999: a margin
         // for rounding).
@@ -287,10 +289,19 @@ impl Pixel<'_, '_> {
         let along = [dot(d, self.u.n1), dot(d, self.u.n2)];
         let mut ta = t0;
         let [mut fa, mut ga] = self.sample(add(o, scale(d, ta)), ta, d, along, bent);
+        // The first one-signed stretch that does not end before ta.
+        let mut next = 0;
         let mut s = 1;
         loop {
             let m = fa.abs() * reach;
             let m = m.max(zero_ahead(fa, ga, bend) * per_t);
+            while next < one_signed.len() && one_signed[next].1 < ta {
+                next += 1;
+            }
+            let m = match one_signed.get(next) {
+                Some(&(from, to)) if from <= ta => m.max((to - ta) * per_t),
+                _ => m,
+            };
             if m >= 1.0 {
                 s += m.min(steps as f32) as u32;
                 ta = t0 + (s - 1) as f32 * dt;
@@ -350,9 +361,14 @@ impl Pixel<'_, '_> {
             (t0, t1) = clip_to_slab(self.u, (t0, t1), self.plane_dir(k)[1]);
         }
         if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
-            let along = slope_along(slope, d.map(f64::from));
-            let bend = curvature.along(d.map(f64::from));
-            self.find_roots(o, d, (t0, t1), steps, along, bend, k);
+            let (first, end) = b.one_signed;
+            let skips = Skips {
+                steps,
+                slope: slope_along(slope, d.map(f64::from)),
+                bend: curvature.along(d.map(f64::from)),
+                one_signed: &self.one_signed[first as usize..end as usize],
+            };
+            self.find_roots(o, d, (t0, t1), skips, k);
         }
     }
 

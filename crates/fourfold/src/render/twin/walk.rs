@@ -12,11 +12,19 @@ use super::pixel::Marched;
 use super::section::Band;
 use super::shading::{V4, add, dot, sub};
 
-/// A node the tile's walk kept, and the index in the list past its subtree.
+/// A node the tile's walk kept, the index in the list past its subtree, and for a marched
+/// box of a slice the range of the tile's one-signed stretches in it (see `frame`).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Kept {
     node: u32,
     skip: u32,
+    pub(super) one_signed: (u32, u32),
+}
+
+impl Kept {
+    pub(super) fn node(&self) -> usize {
+        self.node as usize
+    }
 }
 
 /// A square of pixels around `centre` (a pixel origin, in f64, as each pixel's is made),
@@ -62,6 +70,7 @@ pub(super) fn tile_nodes(
         kept.push(Kept {
             node: i as u32,
             skip: 0,
+            one_signed: (0, 0),
         });
         let entry = kept.len() - 1;
         if node.is_marched() {
@@ -131,12 +140,17 @@ pub(super) fn boxes_of(
             slope: [f32::INFINITY; 4],
             curvature: Curvature::NONE,
             node: None,
+            one_signed: (0, 0),
         });
         return;
     }
     let mut e = 0usize;
     while e < kept.len() {
-        let Kept { node: i, skip } = kept[e];
+        let Kept {
+            node: i,
+            skip,
+            one_signed,
+        } = kept[e];
         let i = i as usize;
         let node = &h.nodes[i];
         let level = node.level() as usize;
@@ -150,18 +164,26 @@ pub(super) fn boxes_of(
             boxes.push(Marched {
                 lo: sub(node.center, half),
                 hi: add(node.center, half),
-                steps: if node.is_leaf() {
-                    u.control.steps
-                } else {
-                    march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
-                },
+                steps: steps_of(h, u, i),
                 slope: h.slope(i),
                 curvature: h.curvature(i),
                 node: Some(i),
+                one_signed,
             });
             e = skip as usize;
             continue;
         }
         e += 1;
+    }
+}
+
+/// The steps a marched box `i` of `h` is marched in: a leaf's m, a coarser box's as many as
+/// its leaves would get (the shader's `visit`).
+pub(super) fn steps_of(h: &Hierarchy, u: &Uniforms, i: usize) -> u32 {
+    let node = &h.nodes[i];
+    if node.is_leaf() {
+        u.control.steps
+    } else {
+        march_steps(u.control.steps, u.march.finest.saturating_sub(node.level()))
     }
 }
