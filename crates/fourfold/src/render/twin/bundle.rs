@@ -204,6 +204,44 @@ mod tests {
         ]
     }
 
+    /// A slice seen turned by `a` and `b` (see [`turned`]), at `offset` along n2, its lines
+    /// starting 2 before the slice's place along n1.
+    struct TurnedSlice {
+        axes: [V4; 4],
+        offset: f32,
+    }
+
+    impl TurnedSlice {
+        fn new(a: f32, b: f32, offset: f32) -> Self {
+            Self {
+                axes: turned(a, b),
+                offset,
+            }
+        }
+
+        /// A pixel's plane origin at `p` along (v1, v2) (as the twin's `origins`).
+        fn origin(&self, p: [f32; 2]) -> V4 {
+            let [v1, v2, _, _] = self.axes;
+            std::array::from_fn(|k| p[0] * v1[k] + p[1] * v2[k])
+        }
+
+        /// The start of the line of the pixel whose plane origin is `o`.
+        fn start(&self, o: V4) -> V4 {
+            let [_, _, n1, n2] = self.axes;
+            std::array::from_fn(|k| (o[k] + self.offset * n2[k]) - 2.0 * n1[k])
+        }
+
+        /// The bundle of the lines of the square of pixels from `corner`, `side` wide.
+        fn bundle(&self, corner: [f32; 2], side: f32) -> Bundle {
+            let mut u = Uniforms::zeroed();
+            (u.n1, u.n2) = (self.axes[2], self.axes[3]);
+            u.root.section_offset = self.offset;
+            let corners = [[0.0, 0.0], [side, 0.0], [0.0, side], [side, side]]
+                .map(|d| self.start(self.origin([corner[0] + d[0], corner[1] + d[1]])));
+            Bundle::of(&u, corners, 2.0)
+        }
+    }
+
     proptest! {
         /// Every point of a tile's lines that lies in a box lies in the bundle's box there,
         /// whichever way the view is turned.
@@ -214,19 +252,12 @@ mod tests {
             at in prop::array::uniform2(0.0f32..1.0), s in -3.0f32..3.0,
             half in 0.01f32..0.5, shift in prop::array::uniform4(-1.0f32..1.0),
         ) {
-            let [v1, v2, n1, n2] = turned(a, b);
-            let mut u = Uniforms::zeroed();
-            (u.n1, u.n2) = (n1, n2);
-            u.root.section_offset = offset;
-            // A pixel's plane origin, and its line's start (as the twin's `origins`).
-            let origin = |p: [f32; 2]| -> V4 { std::array::from_fn(|k| p[0] * v1[k] + p[1] * v2[k]) };
-            let start = |o: V4| -> V4 { std::array::from_fn(|k| (o[k] + offset * n2[k]) - 2.0 * n1[k]) };
-            let corners = [[0.0, 0.0], [side, 0.0], [0.0, side], [side, side]]
-                .map(|d| start(origin([corner[0] + d[0], corner[1] + d[1]])));
-            let bundle = Bundle::of(&u, corners, 2.0);
+            let slice = TurnedSlice::new(a, b, offset);
+            let [_, _, n1, n2] = slice.axes;
+            let bundle = slice.bundle(corner, side);
             // A point of a pixel's line as the certified search has it, from its plane's
             // origin (the march's, from its start, differ by rounding only).
-            let o = origin([corner[0] + at[0] * side, corner[1] + at[1] * side]);
+            let o = slice.origin([corner[0] + at[0] * side, corner[1] + at[1] * side]);
             let p: V4 = std::array::from_fn(|k| o[k] + offset * n2[k] + s * n1[k]);
             // A box around p, p anywhere in it.
             let lo: V4 = std::array::from_fn(|k| p[k] - half * (1.0 + shift[k]));
@@ -250,17 +281,11 @@ mod tests {
             let formula = CompiledFormula::compile("x^2 + y^2 + z^2 + w^2 - 1").unwrap();
             let f = |p: [f64; 4]| p.iter().map(|v| v * v).sum::<f64>() - 1.0;
             let mut free = RootFree::new(&formula, &[]);
-            let [v1, v2, n1, n2] = turned(a, b);
-            let mut u = Uniforms::zeroed();
-            (u.n1, u.n2) = (n1, n2);
-            u.root.section_offset = offset;
-            let origin = |p: [f32; 2]| -> V4 { std::array::from_fn(|k| p[0] * v1[k] + p[1] * v2[k]) };
-            let start = |o: V4| -> V4 { std::array::from_fn(|k| (o[k] + offset * n2[k]) - 2.0 * n1[k]) };
-            let corners = [[0.0, 0.0], [side, 0.0], [0.0, side], [side, side]]
-                .map(|d| start(origin([corner[0] + d[0], corner[1] + d[1]])));
-            let bundle = Bundle::of(&u, corners, 2.0);
+            let slice = TurnedSlice::new(a, b, offset);
+            let n1 = slice.axes[2];
+            let bundle = slice.bundle(corner, side);
             // A box around the middle of the lines' part in the ball of radius 1.5.
-            let mid = start(origin([corner[0] + 0.5 * side, corner[1] + 0.5 * side]));
+            let mid = slice.start(slice.origin([corner[0] + 0.5 * side, corner[1] + 0.5 * side]));
             let c: V4 = std::array::from_fn(|k| mid[k] + 2.0 * n1[k] + shift[k]);
             let (lo, hi) = (c.map(|v| v - half), c.map(|v| v + half));
             let mut stretches = Vec::new();
@@ -269,7 +294,7 @@ mod tests {
             for &(from, to) in &stretches {
                 prop_assert!(from < to);
                 for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.3, 0.7)] {
-                    let o = start(origin([corner[0] + i * side, corner[1] + j * side]));
+                    let o = slice.start(slice.origin([corner[0] + i * side, corner[1] + j * side]));
                     let signs: Vec<bool> = (0..=64)
                         .map(|k| from + (to - from) * k as f32 / 64.0)
                         .map(|t| std::array::from_fn(|m| f64::from(o[m]) + f64::from(t * n1[m])))

@@ -10,6 +10,21 @@ use crate::tree::build::Tree16;
 
 use super::data::COARSEN_LOOSENESS;
 
+/// The boxes of `tree`'s first `depth` levels that are marched whole whatever their bounds:
+/// leaves, and the boxes at level `depth - 1` (the march level).
+pub(super) fn always_marched(tree: &Tree16, depth: usize) -> Vec<Vec<bool>> {
+    tree.levels[..depth]
+        .iter()
+        .enumerate()
+        .map(|(l, boxes)| {
+            boxes
+                .iter()
+                .map(|b| b.child_count == 0 || l + 1 == depth)
+                .collect()
+        })
+        .collect()
+}
+
 /// Which boxes of `tree`'s first `depth` levels are marched whole: leaves, the boxes at
 /// level `depth - 1` (the march level), and, where `slopes` are given (per level), every
 /// box whose bound (the sum of its four) and its descendants' at the march level or leaves
@@ -24,16 +39,7 @@ pub(super) fn cut(
     curvature: impl Fn(&mut IntervalEvaluator, usize, usize) -> Curvature + Sync,
 ) -> (Vec<Vec<bool>>, Vec<Vec<Option<Curvature>>>) {
     let total = |s: &[f32; 4]| s.iter().sum::<f32>();
-    let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
-        .iter()
-        .enumerate()
-        .map(|(l, boxes)| {
-            boxes
-                .iter()
-                .map(|b| b.child_count == 0 || l + 1 == depth)
-                .collect()
-        })
-        .collect();
+    let mut marched = always_marched(tree, depth);
     let mut known: Vec<Vec<Option<Curvature>>> =
         marched.iter().map(|m| vec![None; m.len()]).collect();
     if slopes.is_empty() {

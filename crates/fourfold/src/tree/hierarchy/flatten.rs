@@ -11,7 +11,7 @@ use crate::gpu_layout::{Curvature, LEAF_BIT, LevelInfo, MARCH_BIT, SphereNode};
 use crate::tree::build::Tree16;
 
 use super::bounds::{box_curvature, box_slope};
-use super::cut::cut;
+use super::cut::{always_marched, cut};
 use super::data::{
     CERTIFY_LEVELS_ABOVE, CoverBox, Hierarchy, MARCH_BOXES, MARCH_LEVELS_ABOVE_FINEST, level_half,
 };
@@ -221,16 +221,7 @@ fn only_root(
     depth: usize,
     curvature: Curvature,
 ) -> (Vec<Vec<bool>>, Vec<Vec<Option<Curvature>>>) {
-    let mut marched: Vec<Vec<bool>> = tree.levels[..depth]
-        .iter()
-        .enumerate()
-        .map(|(l, boxes)| {
-            boxes
-                .iter()
-                .map(|b| b.child_count == 0 || l + 1 == depth)
-                .collect()
-        })
-        .collect();
+    let mut marched = always_marched(tree, depth);
     let mut known: Vec<Vec<Option<Curvature>>> =
         marched.iter().map(|m| vec![None; m.len()]).collect();
     marched[0][0] = true;
