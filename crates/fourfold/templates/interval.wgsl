@@ -373,11 +373,18 @@ fn iv_cbrt(a: vec2<f32>) -> vec2<f32> {
 }
 
 // a^b = e^(b ln a) over the part of a that is > 0 (a = 0 adds 0 or 1 where they belong).
+// Where a reaches 0, e^(b ln a) is taken over a's part from 2^-119 (ln's lower bound is
+// -inf below 2^-120, which made b ln a the whole line and a^b every value: pow(x, 2.5) over
+// [-2^-125, 2^-125] was [0, +inf]). Below 2^-119, a^b lies between 0 and its value there
+// for b > 0, beyond it for b < 0, and is 1 for b = 0: what a = 0 adds below covers it.
 fn iv_pow(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     let none = iv_is_empty(a) | iv_is_empty(b) | (a.y < 0.0);
     let positive = (a.y > 0.0) & !none;
     let jump = iv_jump;
-    var r = iv_exp(iv_mul(iv_or_one(b, !positive), iv_ln(iv_or_one(a, !positive))));
+    let least = 1.50463276905252801020e-36; // 2^-119
+    let from_least = vec2<f32>(least, max(a.y, least));
+    let base = select(a, from_least, a.x <= 0.0);
+    var r = iv_exp(iv_mul(iv_or_one(b, !positive), iv_ln(iv_or_one(base, !positive))));
     iv_jump = select(jump, iv_jump, positive);
     r = select(IV_EMPTY, r, positive);
     let zero = (a.x <= 0.0) & !none;

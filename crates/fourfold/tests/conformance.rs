@@ -336,6 +336,34 @@ fn gpu_quotients_by_a_divisor_from_zero_are_half_lines() {
     }
 }
 
+/// A real power of a base that reaches 0 is bounded on the GPU as on the CPU: ln a's lower
+/// bound of -inf made b ln a the whole line, and a^b [0, +inf] (fuzzed: tau^2 = pow(xy, e)
+/// left the pixels along xy = 0 undecided on the GPU, proved empty by the CPU twin).
+#[test]
+fn gpu_real_powers_of_a_base_from_zero_are_bounded() {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let cases = [
+        ("pow(x, 2.5) - 1.5", (-1e-38, 1e-38), (-1.5, -1.5)),
+        ("pow(x, 2.5)", (-1.0, 4.0), (0.0, 32.0)),
+        ("pow(x, 2.718)", (0.0, 1e-30), (0.0, 0.0)),
+        ("pow(x, -1.5)", (-1.0, 4.0), (0.125, f64::INFINITY)),
+        ("pow(x, 0.5 + 0*y)", (-2.0, 0.0), (0.0, 0.0)),
+    ];
+    for (text, (lo, hi), (want_lo, want_hi)) in cases {
+        let got = gpu_enclosure_over_x(&gpu, text, lo, hi);
+        // (Sound, and within a thousandth, or 1e-12 near 0, past the exact range.)
+        let outside = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-3 * b.abs() + 1e-12;
+        assert!(
+            got.lo() <= want_lo && got.hi() >= want_hi,
+            "{text} over x in [{lo}, {hi}]: {got} does not hold [{want_lo}, {want_hi}]"
+        );
+        assert!(
+            outside(got.lo(), want_lo) && outside(got.hi(), want_hi),
+            "{text} over x in [{lo}, {hi}]: {got}, not about [{want_lo}, {want_hi}]"
+        );
+    }
+}
+
 /// sinh and cosh keep their sign on the GPU where e^x has no f32 upper bound (|x| beyond
 /// 42): there they were the whole line, and a fuzzed formula, sinh(1000 y) = 0, had pixels
 /// left undecided that the CPU twin proved empty.
