@@ -243,7 +243,11 @@ pub struct March {
     pub finest: u32,
     /// Certified pixels: the most cells of its observer plane a pixel evaluates F over.
     pub cert_budget: u32,
-    pub unused: [u32; 2],
+    /// Bit i (of x, then y): parameter i's value is an f32 (not a subnormal), so the
+    /// shader's interval of it is that point rather than widened by f32's rounding (a
+    /// widened 0 made pow(x, R) at R = 0 every value at x = 0). Here, not beside `params`,
+    /// because these two words were free.
+    pub exact_params: [u32; 2],
 }
 
 /// With `FLAG_HIDDEN`: the coordinates along n2 (from the domain's centre) that the colour

@@ -64,7 +64,7 @@ struct Uniforms {
     counts: vec4<u32>,    // node count, frame, NaN bit pattern, brute-force steps
     tiling: vec4<u32>,    // tile side, tiles per row, tile lists bound, start of the entries
     half0: vec4<f32>,     // a level-l box's half extents are half0 2^-l + root.y (as levels[l].half)
-    march: vec4<u32>,     // x the finest level (see box_steps), y certified pixels' budget of cells, unused x2
+    march: vec4<u32>,     // x the finest level (see box_steps), y certified pixels' budget of cells, zw which parameters are exact (iv_param)
     hidden: vec4<f32>,    // the n2 coordinates the colour map's ends stand for (flag 128), unused x2
     cert_tiling: vec4<u32>, // as tiling, for the certifying lists (bindings 5 and 6)
     levels: array<LevelInfo, 16>,
@@ -176,6 +176,14 @@ fn ff_undefined(v: f32) -> bool {
 
 fn ff_param(i: u32) -> f32 {
     return u.params[i / 4u][i % 4u];
+}
+
+// A parameter as an interval: the point where its value is an f32 (bit i of march.zw), else
+// within half an ulp of f32's rounding of it.
+fn iv_param(i: u32) -> vec2<f32> {
+    let x = ff_param(i);
+    let exact = ((u.march[2u + i / 32u] >> (i % 32u)) & 1u) != 0u;
+    return select(iv_around(x), vec2<f32>(x), exact);
 }
 
 //@FOURFOLD_F@

@@ -168,7 +168,7 @@ fn interval_expression(instr: Instr, constants: &Constants) -> String {
             let c = ["x", "y", "z", "w"][a as usize & 3];
             format!("vec2<f32>(lo.{c}, hi.{c})")
         }
-        Instr::Param(i) => format!("iv_around(ff_param({i}u))"),
+        Instr::Param(i) => format!("iv_param({i}u)"),
         Instr::Powi(..) => unreachable!("integer powers are written by interval_powi_lets"),
         Instr::Unary(op, a) => format!("{}({})", op.spec().wgsl_interval, s(a)),
         Instr::Binary(op, a, b) => format!("{}({}, {})", op.spec().wgsl_interval, s(a), s(b)),

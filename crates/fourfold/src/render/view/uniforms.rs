@@ -175,7 +175,7 @@ impl Uniforms {
             march: March {
                 finest,
                 cert_budget: render.cert_budget,
-                unused: [0; 2],
+                exact_params: exact_params(params),
             },
             hidden,
             cert_tiling: Tiling::zeroed(),
@@ -241,4 +241,34 @@ pub fn pack_params(params: &[f64]) -> [[f32; 4]; 16] {
         packed[i / 4][i % 4] = *p as f32;
     }
     packed
+}
+
+/// Which of the formula's parameter values (at most 64) the shader holds exactly: bit i of
+/// the two words is set where parameter i is an f32 that is 0 or normal (a subnormal may be
+/// flushed to 0 by a device's arithmetic, so its interval stays widened).
+pub fn exact_params(params: &[f64]) -> [u32; 2] {
+    let mut bits = [0u32; 2];
+    for (i, &p) in params.iter().take(64).enumerate() {
+        let f = p as f32;
+        if f64::from(f) == p && (f == 0.0 || f.is_normal()) {
+            bits[i / 32] |= 1 << (i % 32);
+        }
+    }
+    bits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// f32 values that are 0 or normal are exact; others, and the 65th on, are not.
+    #[test]
+    fn a_parameter_is_exact_where_its_value_is_a_normal_f32() {
+        let mut params = vec![0.0, -0.0, 1.0, -0.5, 0.1, 1e-40, 1e300, 3.0e38];
+        params.resize(40, 0.1);
+        params[37] = 2.5;
+        let bits = exact_params(&params);
+        assert_eq!(bits, [0b1111, 1 << 5]);
+        assert_eq!(exact_params(&[1.0; 70]), [u32::MAX; 2]);
+    }
 }
