@@ -117,6 +117,9 @@ pub fn draw(
             picture.cut_pixels.len()
         ));
     }
+    if picture.tree.one_signed {
+        warnings.push(fourfold::render::verdict::TOUCHING_NOTE.to_string());
+    }
     Ok(Drawn {
         picture,
         scene: core,

@@ -107,6 +107,11 @@ def test_missing_parameter_warns_as_the_command_line_does():
         fourfold.render(GLOME, size=(8, 8), cpu=True, params={"Q": 1.0})
 
 
+def test_a_formula_that_only_touches_zero_warns_as_the_command_line_says():
+    with pytest.warns(UserWarning, match=r"F does not change sign where it may be 0"):
+        fourfold.render("(x^2 + y^2 + z^2 + w^2 - 1)^2", size=(8, 8), cpu=True)
+
+
 def test_bad_arguments():
     with pytest.raises(fourfold.FormulaError):
         fourfold.render("x^^2", size=(8, 8))

@@ -341,6 +341,7 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
                 },
                 fourfold::render::verdict::undecided_advice(
                     prepared.hierarchy.continuous,
+                    picture.tree.one_signed,
                     "--cert-budget"
                 )
             ));
@@ -348,6 +349,12 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     }
     if picture.tree.nodes == 0 {
         out.push_str("\nno surface in this domain: the picture shows only the background");
+    }
+    if picture.tree.one_signed {
+        out.push_str(&format!(
+            "\nnote: {}",
+            fourfold::render::verdict::TOUCHING_NOTE
+        ));
     }
     if cut > 0 {
         out.push_str(&cut_warning(&format!(

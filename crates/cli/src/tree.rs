@@ -94,6 +94,12 @@ pub fn tree(args: &TreeArgs, warn: Warn) -> Result<String, Failure> {
             "no surface in this domain: F has no zero in the box (try a larger --domain)\n",
         );
     }
+    if s.one_signed {
+        out.push_str(&format!(
+            "note: {}\n",
+            fourfold::render::verdict::TOUCHING_NOTE
+        ));
+    }
     if s.budget_hit {
         out.push_str(&format!(
             "node budget hit: refinement stopped after level {} (raise --node-budget or lower --max-level)\n",

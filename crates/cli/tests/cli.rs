@@ -386,6 +386,43 @@ fn certified_render_says_why_pixels_stay_undecided() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+#[test]
+fn a_formula_that_only_touches_zero_is_told_so() {
+    // (r − 1)^2 and |y| never change sign: the rays' sign changes cannot show their zeros,
+    // and no budget proves them, so render says so instead of advising a larger budget.
+    // x·|x| changes sign across x = 0, where no box's enclosure does: no note.
+    let dir = std::env::temp_dir().join(format!("fourfold-touch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = |formula: &str| {
+        let out = dir.join("touch.png");
+        let argv = [
+            "render",
+            formula,
+            "--size",
+            "24x24",
+            "--cpu",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        fourfold_cli::render(&parse_render(&argv), &mut |_| {})
+            .unwrap_or_else(|f| panic!("{}", f.message))
+    };
+    let note = fourfold::render::verdict::TOUCHING_NOTE;
+    for touching in ["(x^2 + y^2 + z^2 + w^2 - 1)^2", "|y|", "-(x - 0.3)^2"] {
+        let said = report(touching);
+        assert!(said.contains(note), "{touching}: {said}");
+        assert!(
+            !said.contains("a larger --cert-budget"),
+            "{touching}: {said}"
+        );
+    }
+    for crossing in ["x^2 + y^2 + z^2 + w^2 - 1", "x*|x|", "y"] {
+        let said = report(crossing);
+        assert!(!said.contains(note), "{crossing}: {said}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn animate_args(flags: &[&str]) -> fourfold_cli::AnimateArgs {
     let argv = ["fourfold", "animate"].iter().chain(flags).copied();
     match Cli::try_parse_from(argv).unwrap_or_else(|e| panic!("{flags:?}: {e}")) {

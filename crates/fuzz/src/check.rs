@@ -29,10 +29,13 @@ const RAW_MARKERS: &[&str] = &[
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
 /// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`],
-/// values beyond [`GPU_RANGE_BOUND`], or pixels the driver cut short.
+/// values beyond [`GPU_RANGE_BOUND`], pixels the driver cut short, or an F that only
+/// touches 0 (render's note: what shows of M is where f32's rounding lands on an exact
+/// zero, which differs between the GPU and the twin).
 pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
 pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range";
 pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
+pub const UNCOMPARED_TOUCHING: &str = "F touches 0 without changing sign";
 
 /// Beyond this, the GPU's sin, cos and tan are not the twin's to compare: WGSL bounds their
 /// error on [−π, π] only, and each implementation reduces a larger argument with its own
@@ -161,6 +164,9 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
             // warns of them, and they are not the twin's to match.)
             if gpu_said.contains(fourfold_cli::CUT_WARNING) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_CUT));
+            }
+            if gpu_said.contains(fourfold::render::verdict::TOUCHING_NOTE) {
+                return Ok(Verdict::DrewUncompared(UNCOMPARED_TOUCHING));
             }
             let compiled = scene_of(case);
             if compiled.as_ref().is_some_and(precision_unspecified) {

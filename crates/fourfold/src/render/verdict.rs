@@ -77,9 +77,12 @@ impl std::fmt::Display for VerdictCounts {
 /// F may be discontinuous in the domain (`continuous` false: interval evaluation over the
 /// domain could not rule out a pole, a jump or an edge of F's definition), a cell holding a
 /// pole encloses every value however small it is, so a pixel whose plane crosses one may
-/// stay undecided whatever the budget.
-pub fn undecided_advice(continuous: bool, knob: &str) -> String {
-    if continuous {
+/// stay undecided whatever the budget. Where F does not change sign on any box of the tree
+/// (`one_signed`, `TreeStats::one_signed`), none is decided ([`TOUCHING_NOTE`] says why).
+pub fn undecided_advice(continuous: bool, one_signed: bool, knob: &str) -> String {
+    if one_signed {
+        "no budget decides them: F does not change sign (see the note)".to_string()
+    } else if continuous {
         format!("a larger {knob} decides more")
     } else {
         format!(
@@ -89,6 +92,13 @@ pub fn undecided_advice(continuous: bool, knob: &str) -> String {
         )
     }
 }
+
+/// What a user is told where F does not change sign on any box of the tree
+/// (`TreeStats::one_signed`): the rays and the certified search look for sign changes.
+pub const TOUCHING_NOTE: &str = "F does not change sign where it may be 0 (F ≥ 0 on every \
+    box of the tree, or F ≤ 0 on every one): M is where F touches 0, which the search for \
+    sign changes can neither find nor prove, so what shows of it is chance; write F so that \
+    it changes sign across M (x^2 + y^2 + z^2 + w^2 - 1, not its square; y, not |y|)";
 
 /// The marks a frame leaves in its alpha channel, made opaque: the pixels whose work the
 /// GPU driver cut short (odd 255 − alpha), and each pixel's verdict ((255 − alpha) / 2; a

@@ -273,6 +273,19 @@ impl FourfoldApp {
                 egui::FontId::proportional(18.0),
                 Color32::from_rgb(255, 210, 90),
             );
+        } else if self.session.stats.as_ref().is_some_and(|s| s.one_signed) {
+            // (Wrapped to the picture: the note is long.)
+            let galley = painter.layout(
+                fourfold::render::verdict::TOUCHING_NOTE.to_string(),
+                egui::FontId::proportional(13.0),
+                Color32::from_rgb(255, 210, 90),
+                (rect.width() - 16.0).max(80.0),
+            );
+            painter.galley(
+                rect.left_top() + egui::vec2(8.0, 8.0),
+                galley,
+                Color32::WHITE,
+            );
         }
     }
 

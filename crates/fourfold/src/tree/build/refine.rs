@@ -49,6 +49,9 @@ struct Candidate {
     /// ∂F/∂x_k□ over it, when the gradient is evaluated.
     gradient: [Interval; 4],
     critical: bool,
+    /// F□ over it (holding 0) reached below 0, and above.
+    below: bool,
+    above: bool,
     /// The mean-value form proved 0 ∉ F(B).
     discarded: bool,
 }
@@ -61,6 +64,8 @@ impl Default for Candidate {
             continuous: false,
             gradient: [Interval::ENTIRE; 4],
             critical: false,
+            below: false,
+            above: false,
             discarded: false,
         }
     }
@@ -125,11 +130,14 @@ impl Refinement<'_> {
                     let mut candidates = [Candidate::default(); LANES];
                     let mut n = 0;
                     for (k, bx) in boxes.iter().enumerate() {
-                        if contains_manifold(eval.output(&formula.tape_f, 0, k)) {
+                        let f = eval.output(&formula.tape_f, 0, k);
+                        if contains_manifold(f) {
                             candidates[n] = Candidate {
                                 child: k,
                                 bx: *bx,
                                 continuous: mean_value && eval.continuous(&formula.tape_f, k),
+                                below: f.lo() < 0.0,
+                                above: f.hi() > 0.0,
                                 ..Candidate::default()
                             };
                             n += 1;
@@ -172,6 +180,8 @@ impl Refinement<'_> {
                         first_child: 0,
                         child_count: 0,
                         critical: c.critical,
+                        below: c.below,
+                        above: c.above,
                     }));
                 }
                 Ok(Refined {

@@ -99,6 +99,8 @@ impl TreeSteps {
             first_child: 0,
             child_count: 0,
             critical: all[1..].iter().all(|g| g.contains_zero()),
+            below: root_f.lo() < 0.0,
+            above: root_f.hi() > 0.0,
         };
         let mut total: u64 = 0;
         if contains_manifold(root_f) {

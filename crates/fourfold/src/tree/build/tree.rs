@@ -30,6 +30,9 @@ pub struct TreeBox {
     pub child_count: u8,
     /// The topological criterion (0 ∈ every partial) held at this box.
     pub critical: bool,
+    /// F□ over it reached below 0, and above 0 (it holds 0: one of them may not).
+    pub below: bool,
+    pub above: bool,
 }
 
 /// What a build did, for users and benchmarks.
@@ -50,6 +53,10 @@ pub struct TreeStats {
     /// Boxes whose natural interval extension held 0 and whose mean-value form did not
     /// (see `mean_value_may_vanish`): discarded.
     pub mean_value_discarded: u64,
+    /// F□ over every leaf lies in [0, +∞), or over every leaf in (−∞, 0]: F does not change
+    /// sign where it may vanish, so M is where it touches 0 (`(r − 1)^2`, `|y|`), which no
+    /// search for sign changes finds or proves.
+    pub one_signed: bool,
     pub build_ms: f64,
     pub bytes: u64,
 }
@@ -110,6 +117,10 @@ impl Tree16 {
             .get(settings.max_level as usize)
             .map_or(0, |l| l.iter().filter(|b| b.critical).count() as u64);
         s.bytes = s.nodes * std::mem::size_of::<TreeBox>() as u64;
+        let (below, above) = self.leaves().fold((false, false), |(lo, hi), (_, b)| {
+            (lo | b.below, hi | b.above)
+        });
+        self.stats.one_signed = self.stats.leaves > 0 && !(below && above);
     }
 }
 
