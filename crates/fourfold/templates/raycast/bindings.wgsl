@@ -178,14 +178,6 @@ fn ff_param(i: u32) -> f32 {
     return u.params[i / 4u][i % 4u];
 }
 
-// A parameter as an interval: the point where its value is an f32 (bit i of march.zw), else
-// within half an ulp of f32's rounding of it.
-fn iv_param(i: u32) -> vec2<f32> {
-    let x = ff_param(i);
-    let exact = ((u.march[2u + i / 32u] >> (i % 32u)) & 1u) != 0u;
-    return select(iv_around(x), vec2<f32>(x), exact);
-}
-
 //@FOURFOLD_F@
 
 //@FOURFOLD_GRAD@

@@ -33,6 +33,16 @@ const INTERVAL_MARKER: &str = "//@FOURFOLD_INTERVAL@";
 /// Rigorous interval arithmetic in WGSL (certified pixels), spliced in before `ff_f_box`.
 pub const INTERVAL_LIBRARY: &str = include_str!("../../../templates/interval.wgsl");
 
+/// A parameter as an interval, beside the tapes' interval functions (the interpreting
+/// shader, which has none, has no interval library to call): the point where its value is
+/// an f32 (bit i of `march.zw`, `exact_params`), else within half an ulp of f32's rounding.
+const PARAM_INTERVAL: &str = "\
+fn iv_param(i: u32) -> vec2<f32> {
+    let x = ff_param(i);
+    let exact = ((u.march[2u + i / 32u] >> (i % 32u)) & 1u) != 0u;
+    return select(iv_around(x), vec2<f32>(x), exact);
+}";
+
 /// The most parameters a shader can read (the uniform holds 16 × vec4).
 pub const MAX_PARAMS: usize = 64;
 
@@ -117,7 +127,7 @@ fn generate_with_constants(formula: &CompiledFormula) -> Result<(Shader, Constan
         )
     });
     let interval = format!(
-        "{INTERVAL_LIBRARY}\n{}\n\n{}",
+        "{INTERVAL_LIBRARY}\n{PARAM_INTERVAL}\n\n{}\n\n{}",
         tape_function(interval, "ff_f_box", "vec2<f32>", &formula.tape_f, |v| v[0]
             .clone()),
         tape_function(
