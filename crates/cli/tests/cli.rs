@@ -350,6 +350,16 @@ fn render_certifies_by_default_and_uncertified_draws_the_plain_pencil() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// What `fourfold render ARGS…` prints (run in this process), its picture written in `dir`.
+fn render_report(dir: &std::path::Path, args: &[&str]) -> String {
+    let out = dir.join("report.png");
+    let mut argv = vec!["render"];
+    argv.extend_from_slice(args);
+    argv.extend(["-o", out.to_str().unwrap()]);
+    fourfold_cli::render(&parse_render(&argv), &mut |_| {})
+        .unwrap_or_else(|f| panic!("{}", f.message))
+}
+
 #[test]
 fn certified_render_says_why_pixels_stay_undecided() {
     // y = 1/x turned so that the plane x = 0 crosses many pixels' observer planes: a cell
@@ -358,26 +368,23 @@ fn certified_render_says_why_pixels_stay_undecided() {
     let dir = std::env::temp_dir().join(format!("fourfold-pole-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let report = |formula: &str| {
-        let out = dir.join("pole.png");
-        let argv = [
-            "render",
-            formula,
-            "--domain=-2,2,-2,2,-2,2,-2,2",
-            "--angles",
-            "0.5,0.3,0.7,0.2,0.4,0.6",
-            "--size",
-            "40x40",
-            "--rays",
-            "4",
-            "--certified",
-            "--cert-budget",
-            "64",
-            "--cpu",
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        fourfold_cli::render(&parse_render(&argv), &mut |_| {})
-            .unwrap_or_else(|f| panic!("{}", f.message))
+        render_report(
+            &dir,
+            &[
+                formula,
+                "--domain=-2,2,-2,2,-2,2,-2,2",
+                "--angles",
+                "0.5,0.3,0.7,0.2,0.4,0.6",
+                "--size",
+                "40x40",
+                "--rays",
+                "4",
+                "--certified",
+                "--cert-budget",
+                "64",
+                "--cpu",
+            ],
+        )
     };
     let pole = report("1/x - y = 0");
     assert!(pole.contains("may have a pole"), "{pole}");
@@ -393,20 +400,7 @@ fn a_formula_that_only_touches_zero_is_told_so() {
     // x·|x| changes sign across x = 0, where no box's enclosure does: no note.
     let dir = std::env::temp_dir().join(format!("fourfold-touch-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let report = |formula: &str| {
-        let out = dir.join("touch.png");
-        let argv = [
-            "render",
-            formula,
-            "--size",
-            "24x24",
-            "--cpu",
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        fourfold_cli::render(&parse_render(&argv), &mut |_| {})
-            .unwrap_or_else(|f| panic!("{}", f.message))
-    };
+    let report = |formula: &str| render_report(&dir, &[formula, "--size", "24x24", "--cpu"]);
     let note = fourfold::render::verdict::TOUCHING_NOTE;
     for touching in ["(x^2 + y^2 + z^2 + w^2 - 1)^2", "|y|", "-(x - 0.3)^2"] {
         let said = report(touching);

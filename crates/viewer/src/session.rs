@@ -592,6 +592,9 @@ impl Session {
         if s.singular_boxes > 0 {
             line.push_str(&format!(", {} singular boxes", s.singular_boxes));
         }
+        if s.one_signed {
+            line.push_str(", F does not change sign (see the note over the picture)");
+        }
         line.push_str(&format!(", built in {:.0} ms", s.build_ms));
         line
     }

@@ -55,6 +55,16 @@ fn settle_without_error(h: &mut Harness<'static, FourfoldApp>, what: &str) {
     assert!(error.is_none(), "{what}: {error:?}");
 }
 
+/// Steps the UI until the tree is built (within 60 s), and once more.
+fn built(h: &mut Harness<'static, FourfoldApp>) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.state().session.building() {
+        h.step();
+        assert!(Instant::now() < deadline, "the tree took over 60 s");
+    }
+    h.step();
+}
+
 /// Steps the UI until the picture has taken all its passes.
 fn converge(h: &mut Harness<'static, FourfoldApp>) {
     let deadline = Instant::now() + Duration::from_secs(120);
@@ -318,16 +328,27 @@ fn every_preset_loads() {
 }
 
 #[test]
+fn a_formula_that_only_touches_zero_says_so() {
+    let mut h = harness(small_scene());
+    settle(&mut h);
+    replace_formula(&mut h, "(x^2 + y^2 + z^2 + w^2 - 1)^2");
+    built(&mut h);
+    let summary = h.state().session.tree_summary();
+    assert!(summary.contains("F does not change sign"), "{summary}");
+    h.get_by_label_contains("F does not change sign");
+    // The glome changes sign: no note.
+    replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 - 1");
+    built(&mut h);
+    let summary = h.state().session.tree_summary();
+    assert!(!summary.contains("F does not change sign"), "{summary}");
+}
+
+#[test]
 fn a_formula_with_no_zero_set_says_so_and_nothing_freezes() {
     let mut h = harness(small_scene());
     settle(&mut h);
     replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 + 1");
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while h.state().session.building() {
-        h.step();
-        assert!(Instant::now() < deadline);
-    }
-    h.step();
+    built(&mut h);
     let app = h.state();
     assert!(app.session.error.is_none());
     assert_eq!(app.session.stats.as_ref().unwrap().leaves, 0);
