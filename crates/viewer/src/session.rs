@@ -22,6 +22,7 @@ use crate::job::{JobInputs, Settling, ms};
 use crate::platform::{self, BuildWork};
 
 mod measures;
+mod summary;
 pub use measures::{Counters, EditTimes};
 
 /// A background build in flight.
@@ -568,34 +569,5 @@ impl Session {
             scene.params.retain(|name, _| names.contains(name));
         }
         scene.to_link()
-    }
-
-    /// A one-line summary of the tree for the status bar.
-    pub fn tree_summary(&self) -> String {
-        let Some(s) = &self.stats else {
-            return "no tree yet".to_string();
-        };
-        if s.leaves == 0 {
-            return "no surface in this domain (the tree kept no box)".to_string();
-        }
-        let mut line = format!("{} nodes, {} leaves", s.nodes, s.leaves);
-        if let Some(cut) = self
-            .marched
-            .as_ref()
-            .filter(|_| !self.scene.render.brute_force)
-        {
-            line.push_str(&format!(" (marched as {cut})"));
-        }
-        if s.budget_hit {
-            line.push_str(", node budget hit (tree coarser than max level)");
-        }
-        if s.singular_boxes > 0 {
-            line.push_str(&format!(", {} singular boxes", s.singular_boxes));
-        }
-        if s.one_signed {
-            line.push_str(", F does not change sign (see the note over the picture)");
-        }
-        line.push_str(&format!(", built in {:.0} ms", s.build_ms));
-        line
     }
 }
