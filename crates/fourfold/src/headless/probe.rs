@@ -11,7 +11,7 @@ use crate::formula::CompiledFormula;
 use crate::interval::Interval;
 use crate::render::gpu::{Gpu, GpuError};
 use crate::render::shader;
-use crate::render::view::{Uniforms, exact_params, pack_params};
+use crate::render::view::Uniforms;
 
 use super::wait::read_back;
 
@@ -80,8 +80,7 @@ pub fn enclose(
     }
     let mut settings = Uniforms::zeroed();
     settings.counts.nan_bits = f32::NAN.to_bits();
-    settings.params = pack_params(params);
-    settings.march.exact_params = exact_params(params);
+    settings.set_params(params);
     let settings = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("fourfold probe settings"),
         contents: bytemuck::bytes_of(&settings),

@@ -19,5 +19,5 @@ pub use uniforms::{
     Control, Counts, FLAG_BORDER, FLAG_BRUTE_FORCE, FLAG_CERTIFIED, FLAG_CONTINUOUS, FLAG_HATCH,
     FLAG_HIDDEN, FLAG_KEEP_MISSES, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE,
     FLAG_SLAB, FLAG_SLICE, FrameOptions, Hidden, LEVEL_SLOTS, March, Misc, Root, Shading, Size,
-    Tiling, Uniforms, exact_params, hidden_range, pack_params, scene_hidden_range,
+    Tiling, Uniforms, hidden_range, scene_hidden_range,
 };

@@ -121,7 +121,7 @@ impl Uniforms {
         for (slot, info) in levels.iter_mut().zip(&hierarchy.levels) {
             *slot = *info;
         }
-        Self {
+        let mut uniforms = Self {
             v1: v4(camera.v1),
             v2: v4(camera.v2),
             n1: v4(camera.n1),
@@ -175,12 +175,30 @@ impl Uniforms {
             march: March {
                 finest,
                 cert_budget: render.cert_budget,
-                exact_params: exact_params(params),
+                exact_params: [0; 2],
             },
             hidden,
             cert_tiling: Tiling::zeroed(),
             levels,
-            params: pack_params(params),
+            params: [[0.0; 4]; 16],
+        };
+        uniforms.set_params(params);
+        uniforms
+    }
+
+    /// The formula's parameter values (at most 64), four to a vec4, and which of them the
+    /// shader may take as exact: bit i of `march.exact_params` where parameter i is an f32
+    /// that is 0 or normal (a subnormal may be flushed to 0 by a device's arithmetic, so
+    /// its interval stays widened).
+    pub fn set_params(&mut self, params: &[f64]) {
+        self.params = [[0.0; 4]; 16];
+        self.march.exact_params = [0; 2];
+        for (i, &p) in params.iter().take(64).enumerate() {
+            let f = p as f32;
+            self.params[i / 4][i % 4] = f;
+            if f64::from(f) == p && (f == 0.0 || f.is_normal()) {
+                self.march.exact_params[i / 32] |= 1 << (i % 32);
+            }
         }
     }
 }
@@ -234,29 +252,6 @@ fn section_fields(camera: &Camera, domain: &crate::scene::Domain, flags: &mut u3
     }
 }
 
-/// The formula's parameter values as the shader reads them: four to a vec4, at most 64.
-pub fn pack_params(params: &[f64]) -> [[f32; 4]; 16] {
-    let mut packed = [[0f32; 4]; 16];
-    for (i, p) in params.iter().take(64).enumerate() {
-        packed[i / 4][i % 4] = *p as f32;
-    }
-    packed
-}
-
-/// Which of the formula's parameter values (at most 64) the shader holds exactly: bit i of
-/// the two words is set where parameter i is an f32 that is 0 or normal (a subnormal may be
-/// flushed to 0 by a device's arithmetic, so its interval stays widened).
-pub fn exact_params(params: &[f64]) -> [u32; 2] {
-    let mut bits = [0u32; 2];
-    for (i, &p) in params.iter().take(64).enumerate() {
-        let f = p as f32;
-        if f64::from(f) == p && (f == 0.0 || f.is_normal()) {
-            bits[i / 32] |= 1 << (i % 32);
-        }
-    }
-    bits
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,8 +262,12 @@ mod tests {
         let mut params = vec![0.0, -0.0, 1.0, -0.5, 0.1, 1e-40, 1e300, 3.0e38];
         params.resize(40, 0.1);
         params[37] = 2.5;
-        let bits = exact_params(&params);
-        assert_eq!(bits, [0b1111, 1 << 5]);
-        assert_eq!(exact_params(&[1.0; 70]), [u32::MAX; 2]);
+        let mut uniforms = Uniforms::zeroed();
+        uniforms.set_params(&params);
+        assert_eq!(uniforms.march.exact_params, [0b1111, 1 << 5]);
+        assert_eq!(uniforms.params[9], [0.1, 2.5, 0.1, 0.1]);
+        uniforms.set_params(&[1.0; 70]);
+        assert_eq!(uniforms.march.exact_params, [u32::MAX; 2]);
+        assert_eq!(uniforms.params[15], [1.0; 4]);
     }
 }
