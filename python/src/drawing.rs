@@ -117,9 +117,7 @@ pub fn draw(
             picture.cut_pixels.len()
         ));
     }
-    if picture.tree.one_signed {
-        warnings.push(fourfold::render::verdict::TOUCHING_NOTE.to_string());
-    }
+    warnings.extend(fourfold::render::verdict::touching_note(&picture.tree));
     Ok(Drawn {
         picture,
         scene: core,

@@ -110,6 +110,8 @@ def test_missing_parameter_warns_as_the_command_line_does():
 def test_a_formula_that_only_touches_zero_warns_as_the_command_line_says():
     with pytest.warns(UserWarning, match=r"F does not change sign where it may be 0"):
         fourfold.render("(x^2 + y^2 + z^2 + w^2 - 1)^2", size=(8, 8), cpu=True)
+    with pytest.warns(UserWarning, match=r"F does not change sign across part of M"):
+        fourfold.render("x*y^2", size=(8, 8), cpu=True)
 
 
 def test_bad_arguments():

@@ -341,7 +341,7 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
                 },
                 fourfold::render::verdict::undecided_advice(
                     prepared.hierarchy.continuous,
-                    picture.tree.one_signed,
+                    picture.tree.touching(),
                     "--cert-budget"
                 )
             ));
@@ -350,11 +350,8 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     if picture.tree.nodes == 0 {
         out.push_str("\nno surface in this domain: the picture shows only the background");
     }
-    if picture.tree.one_signed {
-        out.push_str(&format!(
-            "\nnote: {}",
-            fourfold::render::verdict::TOUCHING_NOTE
-        ));
+    if let Some(note) = fourfold::render::verdict::touching_note(&picture.tree) {
+        out.push_str(&format!("\nnote: {note}"));
     }
     if cut > 0 {
         out.push_str(&cut_warning(&format!(

@@ -94,11 +94,8 @@ pub fn tree(args: &TreeArgs, warn: Warn) -> Result<String, Failure> {
             "no surface in this domain: F has no zero in the box (try a larger --domain)\n",
         );
     }
-    if s.one_signed {
-        out.push_str(&format!(
-            "note: {}\n",
-            fourfold::render::verdict::TOUCHING_NOTE
-        ));
+    if let Some(note) = fourfold::render::verdict::touching_note(s) {
+        out.push_str(&format!("note: {note}\n"));
     }
     if s.budget_hit {
         out.push_str(&format!(

@@ -410,9 +410,20 @@ fn a_formula_that_only_touches_zero_is_told_so() {
             "{touching}: {said}"
         );
     }
-    for crossing in ["x^2 + y^2 + z^2 + w^2 - 1", "x*|x|", "y"] {
+    // x·y² changes sign across x = 0 and touches 0 along y = 0; (r − 1)·w² the other way
+    // round: the note names the part, and the advice the budget for the rest.
+    for partly in ["x*y^2", "(x^2 + y^2 + z^2 - 1)*w^2"] {
+        let said = report(partly);
+        assert!(
+            said.contains("note: F does not change sign across part of M") && !said.contains(note),
+            "{partly}: {said}"
+        );
+    }
+    // x, x·y and x³ change sign across faces of the tree's boxes (each box of x is [0, h]
+    // or [−h, 0]): no note.
+    for crossing in ["x^2 + y^2 + z^2 + w^2 - 1", "x*|x|", "y", "x", "x*y", "x^3"] {
         let said = report(crossing);
-        assert!(!said.contains(note), "{crossing}: {said}");
+        assert!(!said.contains("note: F"), "{crossing}: {said}");
     }
     std::fs::remove_dir_all(&dir).ok();
 }

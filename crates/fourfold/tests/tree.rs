@@ -73,8 +73,14 @@ fn every_point_of_m_lies_in_a_leaf_and_every_leaf_may_hold_m() {
         };
         let (f, params, tree) = build(&scene, settings);
         assert!(!tree.is_empty(), "{name}: no tree");
-        // (Each changes sign across M: none is told it only touches 0.)
-        assert!(!tree.stats.one_signed, "{name}: one-signed");
+        // (Each changes sign across M: none is told it only touches 0, anywhere.)
+        assert_eq!(
+            tree.stats.touching(),
+            fourfold::tree::Touching::Nowhere,
+            "{name}: {} of {} leaves touching",
+            tree.stats.touching_leaves,
+            tree.stats.leaves
+        );
         let leaves: Vec<_> = tree.leaves().map(|(l, b)| tree.box_of(l, b)).collect();
         let mut eval = IntervalEvaluator::new();
         for bx in &leaves {

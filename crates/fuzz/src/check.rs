@@ -165,7 +165,7 @@ pub fn check_formula(case: &FormulaCase, dir: &Path) -> Result<Verdict, String> 
             if gpu_said.contains(fourfold_cli::CUT_WARNING) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_CUT));
             }
-            if gpu_said.contains(fourfold::render::verdict::TOUCHING_NOTE) {
+            if gpu_said.contains(fourfold::render::verdict::TOUCHING_OPENING) {
                 return Ok(Verdict::DrewUncompared(UNCOMPARED_TOUCHING));
             }
             let compiled = scene_of(case);

@@ -336,6 +336,15 @@ fn a_formula_that_only_touches_zero_says_so() {
     let summary = h.state().session.tree_summary();
     assert!(summary.contains("F does not change sign"), "{summary}");
     h.get_by_label_contains("F does not change sign");
+    // x·y² changes sign across x = 0 and touches 0 along y = 0.
+    replace_formula(&mut h, "x*y^2");
+    built(&mut h);
+    let summary = h.state().session.tree_summary();
+    assert!(
+        summary.contains("F does not change sign across part of M"),
+        "{summary}"
+    );
+    h.get_by_label_contains("F does not change sign across part of M");
     // The glome changes sign: no note.
     replace_formula(&mut h, "x^2 + y^2 + z^2 + w^2 - 1");
     built(&mut h);

@@ -273,10 +273,12 @@ impl FourfoldApp {
                 egui::FontId::proportional(18.0),
                 Color32::from_rgb(255, 210, 90),
             );
-        } else if self.session.stats.as_ref().is_some_and(|s| s.one_signed) {
+        } else if let Some(note) =
+            (self.session.stats.as_ref()).and_then(fourfold::render::verdict::touching_note)
+        {
             // (Wrapped to the picture: the note is long.)
             let galley = painter.layout(
-                fourfold::render::verdict::TOUCHING_NOTE.to_string(),
+                note,
                 egui::FontId::proportional(13.0),
                 Color32::from_rgb(255, 210, 90),
                 (rect.width() - 16.0).max(80.0),

@@ -118,12 +118,13 @@ impl FourfoldApp {
         let label = ui.add(egui::Label::new(RichText::new(text).small().color(color)).truncate());
         if undecided {
             let continuous = self.session.hierarchy.as_ref().is_none_or(|h| h.continuous);
-            let one_signed = self.session.stats.as_ref().is_some_and(|s| s.one_signed);
+            let touching = (self.session.stats.as_ref())
+                .map_or(fourfold::tree::Touching::Nowhere, |s| s.touching());
             label.on_hover_text(format!(
                 "Undecided pixels are marked in magenta where no ray found a hit; {}.",
                 fourfold::render::verdict::undecided_advice(
                     continuous,
-                    one_signed,
+                    touching,
                     "budget (cells per pixel, under Rendering)"
                 )
             ));

@@ -1,5 +1,7 @@
 //! The tree's one-line summary for the status bar.
 
+use fourfold::tree::Touching;
+
 use super::Session;
 
 impl Session {
@@ -25,8 +27,14 @@ impl Session {
         if s.singular_boxes > 0 {
             line.push_str(&format!(", {} singular boxes", s.singular_boxes));
         }
-        if s.one_signed {
-            line.push_str(", F does not change sign (see the note over the picture)");
+        match s.touching() {
+            Touching::Everywhere => {
+                line.push_str(", F does not change sign (see the note over the picture)")
+            }
+            Touching::Partly => line.push_str(
+                ", F does not change sign across part of M (see the note over the picture)",
+            ),
+            Touching::Nowhere => {}
         }
         line.push_str(&format!(", built in {:.0} ms", s.build_ms));
         line

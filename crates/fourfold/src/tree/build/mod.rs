@@ -12,5 +12,5 @@ mod tree;
 
 pub use steps::TreeSteps;
 pub use tree::{
-    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Tree16, TreeBox, TreeStats,
+    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Touching, Tree16, TreeBox, TreeStats,
 };

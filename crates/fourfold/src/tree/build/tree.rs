@@ -57,8 +57,43 @@ pub struct TreeStats {
     /// sign where it may vanish, so M is where it touches 0 (`(r − 1)^2`, `|y|`), which no
     /// search for sign changes finds or proves.
     pub one_signed: bool,
+    /// Leaves over which F□ reaches 0 from one side only, also over the box widened by a
+    /// sliver: F does not change sign in or across them, so what of M lies there is where F
+    /// touches 0 (`x·y²` along y = 0).
+    pub touching_leaves: u64,
     pub build_ms: f64,
     pub bytes: u64,
+}
+
+/// Where F only touches 0 (reaches it from one side) over the tree's leaves: there no
+/// search for sign changes finds or proves M.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Touching {
+    /// F changes sign across M in (nearly) every leaf.
+    Nowhere,
+    /// In a share of the leaves (at least [`TreeStats::TOUCHING_SHARE`]) and not all.
+    Partly,
+    /// F keeps one sign over every leaf (`TreeStats::one_signed`).
+    Everywhere,
+}
+
+impl TreeStats {
+    /// The share of the leaves, touching 0 from one side, from which F is said to touch 0
+    /// in part of the domain: below it a leaf or two where interval rounding meets 0 exactly
+    /// raise no note.
+    pub const TOUCHING_SHARE: f64 = 0.01;
+
+    pub fn touching(&self) -> Touching {
+        if self.one_signed {
+            Touching::Everywhere
+        } else if self.touching_leaves as f64 >= Self::TOUCHING_SHARE * self.leaves as f64
+            && self.touching_leaves > 0
+        {
+            Touching::Partly
+        } else {
+            Touching::Nowhere
+        }
+    }
 }
 
 /// A built 16-tree: kept boxes per level.
@@ -121,6 +156,8 @@ impl Tree16 {
             (lo | b.below, hi | b.above)
         });
         self.stats.one_signed = self.stats.leaves > 0 && !(below && above);
+        self.stats.touching_leaves =
+            self.leaves().filter(|(_, b)| !(b.below && b.above)).count() as u64;
     }
 }
 
