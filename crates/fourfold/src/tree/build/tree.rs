@@ -30,7 +30,9 @@ pub struct TreeBox {
     pub child_count: u8,
     /// The topological criterion (0 ∈ every partial) held at this box.
     pub critical: bool,
-    /// F□ over it reached below 0, and above 0 (it holds 0: one of them may not).
+    /// F□ over it reached below 0, and above 0 (it holds 0: one of them may not); where it
+    /// reached one side only, F□ over the box widened by a sliver is taken (a zero on its
+    /// face across which F changes sign counts as both: `refine::two_sided_around`).
     pub below: bool,
     pub above: bool,
 }
