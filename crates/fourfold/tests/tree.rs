@@ -2,6 +2,8 @@
 //! cancellation.
 
 mod common;
+#[path = "support/unseen.rs"]
+mod unseen;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -13,7 +15,7 @@ use fourfold::gpu_layout::MARCH_BIT;
 use fourfold::render::Rotation4;
 use fourfold::scene::{Domain, Scene};
 use fourfold::tree::hierarchy::MARCH_LEVELS_ABOVE_FINEST;
-use fourfold::tree::{BuildError, BuildSettings, Hierarchy, SphereNode, Tree16};
+use fourfold::tree::{BuildError, BuildSettings, Hierarchy, SphereNode, Touching, Tree16};
 
 /// Points of M found by bisection on random segments of the domain where F changes sign.
 fn points_on_manifold(
@@ -76,7 +78,7 @@ fn every_point_of_m_lies_in_a_leaf_and_every_leaf_may_hold_m() {
         // (Each changes sign across M: none is told it only touches 0, anywhere.)
         assert_eq!(
             tree.stats.touching(),
-            fourfold::tree::Touching::Nowhere,
+            Touching::Nowhere,
             "{name}: {} of {} leaves touching",
             tree.stats.touching_leaves,
             tree.stats.leaves
@@ -131,6 +133,55 @@ fn the_mean_value_form_discards_what_the_natural_extension_cannot_and_keeps_m() 
             let inside = leaves.iter().any(|bx| (0..4).all(|i| bx[i].contains(p[i])));
             assert!(inside, "{name}: {p:?} on M is in no leaf");
         }
+    }
+}
+
+/// The leaves where F only touches 0 (one-signed over the box and a sliver around it):
+/// none where F changes sign across all of M, the unseen scenes among them, and none where
+/// M lies on the boxes' faces (x = 0 on a grid through 0, whose boxes are [0, h] and
+/// [−h, 0]); about half of x·y²'s (it crosses 0 along x = 0, touches it along y = 0), all of
+/// a square's.
+#[test]
+fn leaves_where_f_only_touches_zero_are_counted() {
+    let settings = BuildSettings {
+        max_level: 4,
+        min_level: 2,
+        node_budget: 2_000_000,
+    };
+    let mut scenes = unseen::unseen_scenes();
+    for formula in ["x", "x*y", "x^3", "x*|x|"] {
+        scenes.push((formula.to_string(), Scene::from_formula(formula)));
+    }
+    for (name, scene) in scenes {
+        let (_, _, tree) = build(&scene, settings);
+        let s = &tree.stats;
+        assert!(s.leaves > 0, "{name}: no leaves");
+        assert_eq!(
+            s.touching_leaves, 0,
+            "{name}: {} of {}",
+            s.touching_leaves, s.leaves
+        );
+        assert_eq!(s.touching(), Touching::Nowhere, "{name}");
+    }
+    for (formula, touching, share) in [
+        ("x*y^2", Touching::Partly, 0.3..0.7),
+        ("(x^2 + y^2 + z^2 - 1)*w^2", Touching::Partly, 0.5..1.0),
+        (
+            "(x^2 + y^2 + z^2 + w^2 - 1)^2",
+            Touching::Everywhere,
+            1.0..1.01,
+        ),
+    ] {
+        let (_, _, tree) = build(&Scene::from_formula(formula), settings);
+        let s = &tree.stats;
+        let of = s.touching_leaves as f64 / s.leaves as f64;
+        assert!(
+            s.touching() == touching && share.contains(&of),
+            "{formula}: {:?}, {} of {} leaves",
+            s.touching(),
+            s.touching_leaves,
+            s.leaves
+        );
     }
 }
 

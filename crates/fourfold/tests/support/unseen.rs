@@ -1,7 +1,7 @@
 //! Scenes the certified search was not tuned for (tests/data/unseen: a thin shell, a
 //! tube around a helix, sqrt and ln of arguments that turn negative inside the domain,
 //! kinks of abs and max, saddles, trigonometric lattices, parameters), for the certified
-//! tests and the certified bench (both include this file with `#[path]`).
+//! tests, the tree's and the certified bench (each includes this file with `#[path]`).
 
 use fourfold::scene::Scene;
 
