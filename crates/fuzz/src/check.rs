@@ -30,8 +30,8 @@ pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
 /// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`],
 /// values beyond [`GPU_RANGE_BOUND`], pixels the driver cut short, or an F that only
-/// touches 0 (render's note: what shows of M is where f32's rounding lands on an exact
-/// zero, which differs between the GPU and the twin).
+/// touches 0, on all of M or a part (render's note: what shows of it is where f32's
+/// rounding lands on an exact zero, which differs between the GPU and the twin).
 pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
 pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range";
 pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
