@@ -149,7 +149,7 @@ fn leaves_where_f_only_touches_zero_are_counted() {
         node_budget: 2_000_000,
     };
     let mut scenes = unseen::unseen_scenes();
-    for formula in ["x", "x*y", "x^3", "x*|x|"] {
+    for formula in ["x", "x*y", "x^3", "x*|x|", "x + y", "x*y - z*w", "sin(x)"] {
         scenes.push((formula.to_string(), Scene::from_formula(formula)));
     }
     for (name, scene) in scenes {
