@@ -79,9 +79,8 @@ fn every_point_of_m_lies_in_a_leaf_and_every_leaf_may_hold_m() {
         assert_eq!(
             tree.stats.touching(),
             Touching::Nowhere,
-            "{name}: {} of {} leaves touching",
-            tree.stats.touching_leaves,
-            tree.stats.leaves
+            "{name}: {} of the leaves touching",
+            tree.stats.touching_share
         );
         let leaves: Vec<_> = tree.leaves().map(|(l, b)| tree.box_of(l, b)).collect();
         let mut eval = IntervalEvaluator::new();
@@ -157,9 +156,9 @@ fn leaves_where_f_only_touches_zero_are_counted() {
         let s = &tree.stats;
         assert!(s.leaves > 0, "{name}: no leaves");
         assert_eq!(
-            s.touching_leaves, 0,
-            "{name}: {} of {}",
-            s.touching_leaves, s.leaves
+            s.touching_share, 0.0,
+            "{name}: {} of the leaves",
+            s.touching_share
         );
         assert_eq!(s.touching(), Touching::Nowhere, "{name}");
     }
@@ -174,13 +173,11 @@ fn leaves_where_f_only_touches_zero_are_counted() {
     ] {
         let (_, _, tree) = build(&Scene::from_formula(formula), settings);
         let s = &tree.stats;
-        let of = s.touching_leaves as f64 / s.leaves as f64;
         assert!(
-            s.touching() == touching && share.contains(&of),
-            "{formula}: {:?}, {} of {} leaves",
+            s.touching() == touching && share.contains(&s.touching_share),
+            "{formula}: {:?}, {} of the leaves",
             s.touching(),
-            s.touching_leaves,
-            s.leaves
+            s.touching_share
         );
     }
 }

@@ -121,7 +121,7 @@ pub fn touching_note(stats: &TreeStats) -> Option<String> {
              tree's boxes): the search for sign changes can neither find nor prove that \
              part, so what shows of it is chance; write F so that it changes sign across \
              each part of M (x·y, not x·y^2; a factor z, not z^2)",
-            100.0 * stats.touching_leaves as f64 / stats.leaves as f64
+            100.0 * stats.touching_share
         )),
     }
 }

@@ -8,6 +8,7 @@
 
 mod refine;
 mod steps;
+mod touching;
 mod tree;
 
 pub use steps::TreeSteps;

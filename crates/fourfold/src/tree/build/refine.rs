@@ -38,47 +38,6 @@ fn centre(bx: &Box4) -> Box4 {
     bx.map(|a| Interval::point(a.midpoint()))
 }
 
-/// A sixty-fourth of a box's width on each side: the sliver `two_sided_around` widens by.
-const SLIVER: f64 = 1.0 / 64.0;
-
-/// Where F□ over a candidate reaches 0 from one side only, whether it reaches past 0 over
-/// the box widened by a sliver: F changes sign across a zero on the box's face (x = 0 on a
-/// grid whose faces lie on it: its boxes are [0, h] and [−h, 0]), and the candidate then
-/// counts as reaching both sides. Where F touches 0 (`y²` along y = 0) the widened box
-/// stays one-sided. The interval evaluations made.
-fn two_sided_around(
-    eval: &mut BatchEvaluator,
-    formula: &CompiledFormula,
-    params: &[f64],
-    candidates: &mut [Candidate],
-) -> u64 {
-    let mut one_sided = [0usize; LANES];
-    let mut m = 0;
-    for (i, c) in candidates.iter().enumerate() {
-        if !(c.below && c.above) {
-            one_sided[m] = i;
-            m += 1;
-        }
-    }
-    if m == 0 {
-        return 0;
-    }
-    let widened: [Box4; LANES] = std::array::from_fn(|j| {
-        candidates[one_sided[j.min(m - 1)]].bx.map(|a| {
-            let w = SLIVER * a.width();
-            Interval::new(a.lo() - w, a.hi() + w)
-        })
-    });
-    eval.eval(&formula.tape_f, &widened[..m], params);
-    for (lane, &i) in one_sided[..m].iter().enumerate() {
-        let f = eval.output(&formula.tape_f, 0, lane);
-        let c = &mut candidates[i];
-        c.below |= f.lo() < 0.0;
-        c.above |= f.hi() > 0.0;
-    }
-    m as u64
-}
-
 /// A child whose F□ holds 0, while `Refinement::children` decides on it.
 #[derive(Debug, Clone, Copy)]
 struct Candidate {
@@ -188,7 +147,6 @@ impl Refinement<'_> {
                     if candidates.is_empty() {
                         continue;
                     }
-                    evaluations += two_sided_around(eval, formula, params, candidates);
                     if gradient {
                         let bxs: [Box4; LANES] =
                             std::array::from_fn(|j| candidates[j.min(n - 1)].bx);

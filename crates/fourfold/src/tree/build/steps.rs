@@ -147,7 +147,7 @@ impl TreeSteps {
         let result = self.advance(formula, params, cancel, boxes);
         self.busy += started.elapsed();
         match result {
-            Ok(true) => Ok(Some(self.finish())),
+            Ok(true) => Ok(Some(self.finish(formula, params))),
             Ok(false) => Ok(None),
             Err(e) => Err(e),
         }
@@ -243,7 +243,7 @@ impl TreeSteps {
         Ok(done)
     }
 
-    fn finish(&mut self) -> Tree16 {
+    fn finish(&mut self, formula: &CompiledFormula, params: &[f64]) -> Tree16 {
         let started = Instant::now();
         self.done = true;
         let mut levels = std::mem::take(&mut self.levels);
@@ -254,6 +254,7 @@ impl TreeSteps {
             stats: std::mem::take(&mut self.stats),
         };
         tree.count(self.settings);
+        tree.measure_touching(formula, params);
         tree.stats.build_ms = (self.busy + started.elapsed()).as_secs_f64() * 1e3;
         tree
     }

@@ -30,9 +30,7 @@ pub struct TreeBox {
     pub child_count: u8,
     /// The topological criterion (0 ∈ every partial) held at this box.
     pub critical: bool,
-    /// F□ over it reached below 0, and above 0 (it holds 0: one of them may not); where it
-    /// reached one side only, F□ over the box widened by a sliver is taken (a zero on its
-    /// face across which F changes sign counts as both: `refine::two_sided_around`).
+    /// F□ over it reached below 0, and above 0 (it holds 0: one of them may not).
     pub below: bool,
     pub above: bool,
 }
@@ -59,10 +57,11 @@ pub struct TreeStats {
     /// sign where it may vanish, so M is where it touches 0 (`(r − 1)^2`, `|y|`), which no
     /// search for sign changes finds or proves.
     pub one_signed: bool,
-    /// Leaves over which F□ reaches 0 from one side only, also over the box widened by a
-    /// sliver: F does not change sign in or across them, so what of M lies there is where F
-    /// touches 0 (`x·y²` along y = 0).
-    pub touching_leaves: u64,
+    /// The share of the leaves over which F□ reaches 0 from one side only, also over the
+    /// leaf widened by a sliver: F does not change sign in or across them, so what of M lies
+    /// there is where F touches 0 (`x·y²` along y = 0). Estimated from a sample of the
+    /// one-sided leaves (`touching::touching_share`).
+    pub touching_share: f64,
     pub build_ms: f64,
     pub bytes: u64,
 }
@@ -88,9 +87,7 @@ impl TreeStats {
     pub fn touching(&self) -> Touching {
         if self.one_signed {
             Touching::Everywhere
-        } else if self.touching_leaves as f64 >= Self::TOUCHING_SHARE * self.leaves as f64
-            && self.touching_leaves > 0
-        {
+        } else if self.touching_share >= Self::TOUCHING_SHARE {
             Touching::Partly
         } else {
             Touching::Nowhere
@@ -158,8 +155,6 @@ impl Tree16 {
             (lo | b.below, hi | b.above)
         });
         self.stats.one_signed = self.stats.leaves > 0 && !(below && above);
-        self.stats.touching_leaves =
-            self.leaves().filter(|(_, b)| !(b.below && b.above)).count() as u64;
     }
 }
 
