@@ -8,6 +8,7 @@ mod certify;
 mod forms;
 mod frame;
 mod pixel;
+mod root;
 mod section;
 mod seek;
 mod shading;

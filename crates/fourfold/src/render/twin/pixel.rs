@@ -1,6 +1,6 @@
 //! One pixel of the CPU twin: its rays through the observer plane, the march of each across
-//! the boxes it meets, the roots found by bisection, and the shading of the nearest hits,
-//! step for step as `templates/raycast.wgsl` does them.
+//! the boxes it meets, the roots found on it, and the shading of the nearest hits, step for
+//! step as `templates/raycast.wgsl` does them (but for the roots' steps: `root`).
 
 use crate::eval::PointEvaluator;
 use crate::formula::CompiledFormula;
@@ -10,6 +10,7 @@ use crate::render::view::{
 };
 use crate::tree::Curvature;
 
+use super::root;
 use super::shading::{MARK_COLOR, V4, add, base_color, clip_to_slab, dot, rand01, scale, sub};
 
 /// The ray index of a hit along the ray aimed through a certified root (the shader's
@@ -230,34 +231,23 @@ impl Pixel<'_, '_> {
         }
     }
 
-    /// The root of F on p + t d in [lo, hi], where F changes sign (F(lo) < 0 iff `neg_lo`),
-    /// by at most `bisection_iters` bisections, as the shader's `bisect`: stopping at a
-    /// tiny |F|, or once f32 cannot split the bracket (every further midpoint is this one).
-    /// F(lo) stays on its side of 0, so its sign is not carried.
-    pub(super) fn bisect(
+    /// The root of F on p + t d in [lo, hi], where F changes sign from `f_lo` to `f_hi`
+    /// (`root::refine`; the shader's `bisect` takes more steps to the same tolerance).
+    pub(super) fn refine_root(
         &mut self,
         p: V4,
         d: V4,
-        (mut lo, mut hi): (f32, f32),
-        neg_lo: bool,
+        bracket: (f32, f32),
+        ends: (f32, f32),
     ) -> f32 {
-        let mut tm = 0.5 * (lo + hi);
-        for _ in 0..self.u.control.bisection_iters {
-            tm = 0.5 * (lo + hi);
-            if tm == lo || tm == hi {
-                break;
-            }
-            let fm = self.f(add(p, scale(d, tm)));
-            if fm.abs() < self.u.root.approximation {
-                break;
-            }
-            if (fm < 0.0) == neg_lo {
-                lo = tm;
-            } else {
-                hi = tm;
-            }
-        }
-        tm
+        let (iters, approximation) = (self.u.control.bisection_iters, self.u.root.approximation);
+        root::refine(
+            |t| self.f(add(p, scale(d, t))),
+            bracket,
+            ends,
+            iters,
+            approximation,
+        )
     }
 
     /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
@@ -292,6 +282,8 @@ impl Pixel<'_, '_> {
         // The first one-signed stretch that does not end before ta.
         let mut next = 0;
         let mut s = 1;
+        // Whether fa is F at ta (after a skip, it is F's sign there, from an earlier sample).
+        let mut fresh = true;
         loop {
             let m = fa.abs() * reach;
             let m = m.max(zero_ahead(fa, ga, bend) * per_t);
@@ -305,6 +297,7 @@ impl Pixel<'_, '_> {
             if m >= 1.0 {
                 s += m.min(steps as f32) as u32;
                 ta = t0 + (s - 1) as f32 * dt;
+                fresh = false;
             }
             if s > steps || (self.full() && ta >= self.farthest()) {
                 return;
@@ -319,12 +312,20 @@ impl Pixel<'_, '_> {
                     };
                     self.bracket = Some((at(ta), at(tb)));
                 }
-                let root = self.bisect(o, d, (ta, tb), fa < 0.0);
+                // The root's steps need F's value at ta, of which a skip kept the sign only.
+                let f_ta = if fresh {
+                    fa
+                } else {
+                    self.f(add(o, scale(d, ta)))
+                };
+                let f_lo = if same_side(fa, f_ta) { f_ta } else { fa };
+                let root = self.refine_root(o, d, (ta, tb), (f_lo, fb));
                 self.insert(root, ray);
             }
             ta = tb;
             fa = fb;
             ga = gb;
+            fresh = true;
             s += 1;
         }
     }

@@ -26,17 +26,18 @@ fn in_box(p: V4, lo: V4, hi: V4) -> bool {
 }
 
 /// Where a search from one start ended: at a, with F(a) (NaN where F is undefined at the
-/// start: the search never moves from there), and the sign change from a to b it found.
+/// start: the search never moves from there), and the sign change from a to b it found,
+/// with F(b).
 #[derive(Clone, Copy)]
 struct Seek {
     a: [f32; 2],
     fa: f32,
-    b: Option<[f32; 2]>,
+    b: Option<([f32; 2], f32)>,
 }
 
 impl Seek {
-    fn change(self) -> Option<([f32; 2], f32, [f32; 2])> {
-        self.b.map(|b| (self.a, self.fa, b))
+    fn change(self) -> Option<([f32; 2], f32, [f32; 2], f32)> {
+        self.b.map(|(b, fb)| (self.a, self.fa, b, fb))
     }
 }
 
@@ -227,7 +228,7 @@ impl Pixel<'_, '_> {
             let b = [a[0] + reached * step[0], a[1] + reached * step[1]];
             let (mut b, (mut fb, mut gb)) = (b, self.f_grad(self.in_plane(o, b)));
             if !same_side(fa, fb) {
-                found = Some(b);
+                found = Some((b, fb));
                 break;
             }
             // Across a valley's floor: the point where the tangents at a and b meet, too.
@@ -241,7 +242,7 @@ impl Pixel<'_, '_> {
                 let (fm, gm) = self.f_grad(self.in_plane(o, m));
                 evals += 1;
                 if !same_side(fa, fm) {
-                    found = Some(m);
+                    found = Some((m, fm));
                     break;
                 }
                 if fm.abs() < fb.abs() {
@@ -338,7 +339,7 @@ impl Pixel<'_, '_> {
                 }
             }
         }
-        let Some((a, fa, b)) = seek else {
+        let Some((a, fa, b, fb)) = seek else {
             return;
         };
         if self.u.control.flags & FLAG_CERTIFIED != 0
@@ -351,7 +352,7 @@ impl Pixel<'_, '_> {
         // The root on the segment from a to b, as a ray's.
         let ab = [b[0] - a[0], b[1] - a[1]];
         let d = add(scale(self.u.n1, ab[0]), scale(self.u.n2, ab[1]));
-        let tau = self.bisect(self.in_plane(o, a), d, (0.0, 1.0), fa < 0.0);
+        let tau = self.refine_root(self.in_plane(o, a), d, (0.0, 1.0), (fa, fb));
         let m = [a[0] + tau * ab[0], a[1] + tau * ab[1]];
         let t = dot2(m, m).sqrt();
         if t > 0.0 && inside(self.in_plane(o, m)) && self.in_slab(m) {

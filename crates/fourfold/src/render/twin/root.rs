@@ -1,0 +1,220 @@
+//! A root of F on a ray's segment where F changes sign (docs/method.md §5.3): Algorithm 3.1's
+//! bisection, with the secant's zero in place of the midpoint wherever that keeps the
+//! bracket near bisection's. The twin's own: the shader bisects (its `bisect`), as a SIMD
+//! group's lanes wait for the slowest one's root: with these steps lavapipe's plain frame
+//! of fig. 3.9 was 9% later, where the CPU's slices are 6–36% sooner (docs/benchmarks.md).
+//! Both stop at the same |F|, so their hits agree to the tolerance.
+
+/// How far a root's bracket may lag behind bisection's: after k steps from a width W it is
+/// at most 2·FALSI_SLACK·W/2^k wide, 8 times what k bisections leave. With 1 or 2 the peer
+/// bench's slices took 2–90% more evaluations a root, with 16 at most 2% fewer.
+const FALSI_SLACK: f32 = 4.0;
+
+/// The root of `f` in [lo, hi], where it changes sign from `f_lo` to `f_hi`: at most
+/// `iters` steps, stopping once |f| < `approximation` or once f32 cannot split the bracket;
+/// the last point tried (the bracket's middle with no steps). Each step is `falsi_step`'s,
+/// and an end kept by two steps in a row has its value scaled down by `kept_scale` (the
+/// Anderson–Björck rule: so both ends move). f(lo) stays on its side of 0, so its sign is
+/// not carried.
+pub(super) fn refine(
+    mut f: impl FnMut(f32) -> f32,
+    (mut lo, mut hi): (f32, f32),
+    (mut f_lo, mut f_hi): (f32, f32),
+    iters: u32,
+    approximation: f32,
+) -> f32 {
+    let neg_lo = f_lo < 0.0;
+    let mut tm = 0.5 * (lo + hi);
+    let mut cap = FALSI_SLACK * (hi - lo);
+    // Which end the last step moved.
+    let mut moved_lo = None;
+    for _ in 0..iters {
+        tm = falsi_step((lo, hi), (f_lo, f_hi), cap);
+        cap *= 0.5;
+        if tm == lo || tm == hi {
+            break;
+        }
+        let fm = f(tm);
+        if fm.abs() < approximation {
+            break;
+        }
+        let to_lo = (fm < 0.0) == neg_lo;
+        if to_lo {
+            if moved_lo == Some(true) {
+                f_hi *= kept_scale(fm, f_lo);
+            }
+            (lo, f_lo) = (tm, fm);
+        } else {
+            if moved_lo == Some(false) {
+                f_lo *= kept_scale(fm, f_hi);
+            }
+            (hi, f_hi) = (tm, fm);
+        }
+        moved_lo = Some(to_lo);
+    }
+    tm
+}
+
+/// How much the value at the end a step kept is scaled when the other end moved twice in a
+/// row, from `f_old` to `f_new` (Anderson and Björck, 1973): 1 − f_new/f_old, or a half
+/// where that is not positive (or not a number).
+fn kept_scale(f_new: f32, f_old: f32) -> f32 {
+    let m = 1.0 - f_new / f_old;
+    if m > 0.0 { m } else { 0.5 }
+}
+
+/// One step in the bracket (lo, hi), with f's values at its ends: the secant's zero (regula
+/// falsi), moved to within `cap` − width/2 of the midpoint (the projection of the ITP
+/// method, Oliveira and Takahashi 2020; `cap` is halved at each step). The midpoint where
+/// the secant's zero is not in the bracket (a value not finite) or the result is not
+/// strictly inside.
+fn falsi_step((lo, hi): (f32, f32), (f_lo, f_hi): (f32, f32), cap: f32) -> f32 {
+    let mid = 0.5 * (lo + hi);
+    let width = hi - lo;
+    let secant = lo + width * (f_lo / (f_lo - f_hi));
+    let falsi = if secant >= lo && secant <= hi {
+        secant
+    } else {
+        mid
+    };
+    let reach = cap - 0.5 * width;
+    let t = if (falsi - mid).abs() <= reach {
+        falsi
+    } else if falsi < mid {
+        mid - reach
+    } else {
+        mid + reach
+    };
+    if t > lo && t < hi { t } else { mid }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// `refine` on `f` over [lo, hi], with its count of evaluations.
+    fn counted(f: impl Fn(f32) -> f32, (lo, hi): (f32, f32), iters: u32, tol: f32) -> (f32, u32) {
+        let mut n = 0;
+        let t = refine(
+            |t| {
+                n += 1;
+                f(t)
+            },
+            (lo, hi),
+            (f(lo), f(hi)),
+            iters,
+            tol,
+        );
+        (t, n)
+    }
+
+    /// Bisection as Algorithm 3.1 (and fourfold before the secant steps) runs it.
+    fn bisected(
+        f: impl Fn(f32) -> f32,
+        (mut lo, mut hi): (f32, f32),
+        iters: u32,
+        tol: f32,
+    ) -> (f32, u32) {
+        let (neg_lo, mut tm, mut n) = (f(lo) < 0.0, 0.5 * (lo + hi), 0);
+        for _ in 0..iters {
+            tm = 0.5 * (lo + hi);
+            if tm == lo || tm == hi {
+                break;
+            }
+            n += 1;
+            let fm = f(tm);
+            if fm.abs() < tol {
+                break;
+            }
+            if (fm < 0.0) == neg_lo {
+                lo = tm;
+            } else {
+                hi = tm;
+            }
+        }
+        (tm, n)
+    }
+
+    /// A simple root of a smooth F (a sphere's, a sextic's, a quartic's, a cosine's along a
+    /// ray) is found within the tolerance in a few evaluations, where bisection takes many.
+    #[test]
+    fn smooth_roots_take_few_evaluations() {
+        let (mut ours, mut bisection, mut cases) = (0, 0, 0);
+        for k in 0..=8 {
+            let root = 0.4 + 0.05 * k as f32;
+            let kinds: [&dyn Fn(f32) -> f32; 4] = [
+                &|t| (t * t + 0.3) - (root * root + 0.3),
+                &|t| t.powi(6) - root.powi(6),
+                &|t| (t * t + 0.2).powi(2) - (root * root + 0.2).powi(2),
+                &|t| (8.0 * (t - root)).sin() + 0.1 * (t - root),
+            ];
+            for f in kinds {
+                for below in [0.001, 0.01, 0.05, 0.2] {
+                    for above in [0.002, 0.02, 0.07, 0.15] {
+                        let bracket = (root - below, root + above);
+                        let (t, n) = counted(f, bracket, 24, 1e-6);
+                        assert!(t > bracket.0 && t < bracket.1);
+                        assert!(
+                            f(t).abs() < 1e-6,
+                            "root {root}, {bracket:?}: t {t}, F {}",
+                            f(t)
+                        );
+                        ours += n;
+                        bisection += bisected(f, bracket, 24, 1e-6).1;
+                        cases += 1;
+                    }
+                }
+            }
+        }
+        let (ours, bisection) = (ours as f32 / cases as f32, bisection as f32 / cases as f32);
+        eprintln!("evaluations a root: {ours:.2}, bisection {bisection:.2}");
+        assert!(
+            ours < 4.5 && bisection > 10.0,
+            "{ours} against bisection's {bisection}"
+        );
+    }
+
+    proptest! {
+        /// Where F jumps or kinks at c, the bracket narrows at least as bisection's does, but
+        /// for the slack: after k steps the point is within 8·W/2^k of c.
+        #[test]
+        fn jumps_and_kinks_narrow_as_bisection_does(
+            c in 0.1f32..0.9,
+            steep in 1.0f32..1000.0,
+            kind in 0usize..3,
+            iters in 1u32..20,
+        ) {
+            let f = move |t: f32| match kind {
+                0 => if t < c { -1.0 } else { steep },
+                1 => if t < c { t - c } else { steep * (t - c) },
+                _ => 1.0 / (c - t),
+            };
+            let (t, _) = counted(f, (0.0, 1.0), iters, 0.0);
+            let bound = 8.0 / 2f32.powi(iters as i32) + 1e-6;
+            prop_assert!((t - c).abs() <= bound, "t {t}, c {c}, bound {bound}");
+        }
+    }
+
+    #[test]
+    fn values_that_are_not_finite_bisect() {
+        // Infinite or NaN ends make no secant: the step is the midpoint, as bisection's.
+        let (t, _) = counted(
+            |t| {
+                if t < 0.3 {
+                    f32::NEG_INFINITY
+                } else {
+                    f32::INFINITY
+                }
+            },
+            (0.0, 1.0),
+            2,
+            0.0,
+        );
+        assert_eq!(t, 0.25);
+        let mid = falsi_step((0.0, 1.0), (f32::NAN, 1.0), 4.0);
+        assert_eq!(mid, 0.5);
+        // No steps: the bracket's middle.
+        assert_eq!(counted(|t| t - 0.1, (0.0, 1.0), 0, 1e-6), (0.5, 0));
+    }
+}
