@@ -9,6 +9,9 @@
 // A hit's ray with this bit was found by seek_in_plane: its low 24 bits hold the ray's
 // angle in the observer plane as a fraction of a turn (fourfold's `plane_ray`).
 const PLANE_ROOT: u32 = 0x80000000u;
+// How far outside its box, as a share of the domain's extent along each axis, a root the
+// search found may lie and still be kept (the twin's ROOT_MARGIN).
+const ROOT_MARGIN: f32 = 1e-5;
 // Evaluations of F and its gradient (a step's, a valley floor's) from each start, and how
 // much each Newton step is lengthened (so that a step that nears a root crosses it, which
 // gives the sign change; 1 would only approach it).
@@ -359,7 +362,11 @@ fn seek_in_plane(tr: ptr<function, Tracer>, lo: vec4<f32>, hi: vec4<f32>) {
     let ab = s.b - s.a;
     let m = s.a + bisect(in_plane(tr, s.a), ab.x * u.n1 + ab.y * u.n2, 0.0, 1.0, s.fa < 0.0) * ab;
     let t = length(m);
-    if ((t > 0.0) & (t < (*tr).hits.far) & in_box(in_plane(tr, m), lo, hi) & in_slab(m)) {
+    // (In the box widened past rounding: a search along the box's side finds roots on it,
+    // and the point worked out from m may round to either side.)
+    let margin = ROOT_MARGIN * (u.domain_hi - u.domain_lo);
+    let near = in_box(in_plane(tr, m), lo - margin, hi + margin);
+    if ((t > 0.0) & (t < (*tr).hits.far) & near & in_slab(m)) {
         (*tr).k = plane_ray(m / t);
         insert_hit(tr, t);
     }

@@ -20,6 +20,11 @@ fn dot2(a: [f32; 2], b: [f32; 2]) -> f32 {
     a[0] * b[0] + a[1] * b[1]
 }
 
+/// How far outside its box, as a share of the domain's extent along each axis, the search's
+/// root may lie and still be kept (the shader's ROOT_MARGIN): about 170 units of f32's
+/// rounding of the domain's coordinates, a two-hundredth of a pixel of a 512² picture.
+const ROOT_MARGIN: f32 = 1e-5;
+
 /// Whether `p` lies in the box [lo, hi] (the shader's `in_box`).
 fn in_box(p: V4, lo: V4, hi: V4) -> bool {
     (0..4).all(|k| p[k] >= lo[k] && p[k] <= hi[k])
@@ -355,7 +360,11 @@ impl Pixel<'_, '_> {
         let tau = self.refine_root(self.in_plane(o, a), d, (0.0, 1.0), (fa, fb));
         let m = [a[0] + tau * ab[0], a[1] + tau * ab[1]];
         let t = dot2(m, m).sqrt();
-        if t > 0.0 && inside(self.in_plane(o, m)) && self.in_slab(m) {
+        // (In the box widened past rounding: a search along the box's side finds roots on
+        // it, and the point worked out from m may round to either side.)
+        let margin = scale(sub(self.u.domain_hi, self.u.domain_lo), ROOT_MARGIN);
+        let near = in_box(self.in_plane(o, m), sub(lo, margin), add(hi, margin));
+        if t > 0.0 && near && self.in_slab(m) {
             self.insert(t, plane_ray([m[0] / t, m[1] / t]));
         }
     }
