@@ -60,7 +60,7 @@ pub struct TreeStats {
     /// The share of the leaves over which F□ reaches 0 from one side only, also over the
     /// leaf widened by a sliver: F does not change sign in or across them, so what of M lies
     /// there is where F touches 0 (`x·y²` along y = 0). Estimated from a sample of the
-    /// one-sided leaves (`touching::touching_share`).
+    /// one-sided leaves (`Tree16::measure_touching`, tree/build/touching.rs).
     pub touching_share: f64,
     pub build_ms: f64,
     pub bytes: u64,
