@@ -422,6 +422,37 @@ fn gpu_sinh_and_cosh_keep_their_sign_beyond_e_s_range() {
     }
 }
 
+/// A product with an unbounded operand keeps the sign and the bound nearest 0 that the
+/// CPU's intervals give where both operands are one-signed, and is the whole line where
+/// they are not: it was the whole line always, and fuzzed formulas (2.29·x^x + 3,
+/// cosh(e^(xyz))·τ) had pixels left undecided on the GPU that the CPU twin proved empty.
+#[test]
+fn gpu_products_with_an_unbounded_operand_keep_their_sign() {
+    let gpu = Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let inf = f64::INFINITY;
+    let cases = [
+        ("2.29 * (1 / sqrt(x)) + 3", (0.0, 4.0), (4.145, inf)),
+        ("(1 / sqrt(x)) * (x + 1)", (0.0, 4.0), (0.5, inf)),
+        ("-(1 / sqrt(x)) * (x + 1)", (0.0, 4.0), (-inf, -0.5)),
+        ("(1 / sqrt(x)) * (-2 - x)", (0.0, 4.0), (-inf, -1.0)),
+        ("(-1 / sqrt(x)) * (-1 / sqrt(x))", (0.0, 4.0), (0.25, inf)),
+        ("(1 / sqrt(x)) * (x - 1)", (0.0, 4.0), (-inf, inf)),
+        ("(1 / x) * 2", (-1.0, 1.0), (-inf, inf)),
+    ];
+    for (text, (lo, hi), (want_lo, want_hi)) in cases {
+        let got = gpu_enclosure_over_x(&gpu, text, lo, hi);
+        let near = |a: f64, b: f64| a == b || (a - b).abs() <= 1e-5 * b.abs();
+        assert!(
+            got.lo() <= want_lo && got.hi() >= want_hi,
+            "{text} over x in [{lo}, {hi}]: {got} does not hold [{want_lo}, {want_hi}]"
+        );
+        assert!(
+            near(got.lo(), want_lo) && near(got.hi(), want_hi),
+            "{text} over x in [{lo}, {hi}]: {got}, not about [{want_lo}, {want_hi}]"
+        );
+    }
+}
+
 /// The GPU's sin and cos are tight as well as sound: over a point (an f32 x) the enclosure
 /// is within 1e-5 + 4e-7 |x| of the value on each side (a few ulps of x: cos adds pi/2
 /// first), for |x| up to 100 (WGSL's own sin promises only 2^-11, which left
