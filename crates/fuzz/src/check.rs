@@ -29,11 +29,11 @@ const RAW_MARKERS: &[&str] = &[
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
 /// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`],
-/// values beyond [`GPU_RANGE_BOUND`], pixels the driver cut short, or an F that only
+/// values beyond [`GPU_RANGE_BOUND`] or nearer 0 than [`GPU_PRECISION_BOUND`], pixels the driver cut short, or an F that only
 /// touches 0, on all of M or a part (render's note: what shows of it is where f32's
 /// rounding lands on an exact zero, which differs between the GPU and the twin).
 pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
-pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range";
+pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range or precision";
 pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
 pub const UNCOMPARED_TOUCHING: &str = "F touches 0 without changing sign";
 
@@ -47,6 +47,11 @@ pub const TRIG_ARGUMENT_BOUND: f64 = 1e4;
 /// ∇F gets there (`1e300 z`, `y exp(100 x)`), the GPU may leave undecided what the twin's
 /// f64 intervals prove.
 pub const GPU_RANGE_BOUND: f64 = 2305843009213693952.0;
+
+/// Below this (2^-125) a bound of the GPU's f32 intervals may have been a flushed
+/// subnormal, and is widened past 0: a value of F or ∇F this close to 0 but not 0
+/// (`1e-320`, which f32 rounds to 0) may be undecided on the GPU where the twin proves it.
+pub const GPU_PRECISION_BOUND: f64 = 2.350_988_701_644_575e-38;
 
 /// What a case did.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -293,13 +298,12 @@ fn scene_of(case: &FormulaCase) -> Option<Compiled> {
     Some((scene, formula))
 }
 
-/// The nodes of F and ∇F, and the most |v| each of `of` may reach over the domain (an
-/// interval enclosure over the whole domain), among all its bounds or its finite ones.
-fn reach(
+/// The bounds of the enclosures over the domain (interval evaluations over the whole
+/// domain) of the nodes of F and ∇F that `of` picks, as magnitudes.
+fn magnitudes(
     (scene, formula): &Compiled,
     of: impl Fn(usize, &fourfold::expr::Node) -> Option<fourfold::expr::NodeId>,
-    finite_only: bool,
-) -> f64 {
+) -> Vec<f64> {
     use fourfold::eval::{IntervalEvaluator, Tape};
     let graph = &formula.graph;
     let mut roots = vec![formula.f];
@@ -314,7 +318,7 @@ fn reach(
         .filter_map(|((i, node), _)| of(i, node))
         .collect();
     if nodes.is_empty() {
-        return 0.0;
+        return Vec::new();
     }
     let tape = Tape::new(graph, &nodes);
     let params = scene.param_values(&formula.param_names());
@@ -322,9 +326,20 @@ fn reach(
     IntervalEvaluator::new().eval_into(&tape, &scene.domain.to_box(), &params, &mut out);
     out.iter()
         .filter(|v| !v.is_empty())
-        .flat_map(|v| [v.lo(), v.hi()])
+        .flat_map(|v| [v.lo().abs(), v.hi().abs()])
+        .collect()
+}
+
+/// The most |v| that any node `of` picks may reach over the domain, among all its bounds
+/// or its finite ones.
+fn reach(
+    compiled: &Compiled,
+    of: impl Fn(usize, &fourfold::expr::Node) -> Option<fourfold::expr::NodeId>,
+    finite_only: bool,
+) -> f64 {
+    magnitudes(compiled, of)
+        .into_iter()
         .filter(|b| !finite_only || b.is_finite())
-        .map(f64::abs)
         .fold(0.0, f64::max)
 }
 
@@ -343,11 +358,14 @@ fn precision_unspecified(compiled: &Compiled) -> bool {
 
 /// Whether a difference between the GPU's picture of a case (its `compiled` scene and
 /// formula) and the twin's may be the GPU's intervals' range: a finite value of F or ∇F
-/// beyond ±[`GPU_RANGE_BOUND`] over the domain (a pole's infinite bound is ±∞ to both).
+/// beyond ±[`GPU_RANGE_BOUND`] over the domain (a pole's infinite bound is ±∞ to both), or
+/// a bound other than 0 within ±[`GPU_PRECISION_BOUND`] of it (`1e-320` is 0 to the GPU).
 /// Asked only of pictures that differ, so that every other one is still compared.
 fn beyond_gpu_range(compiled: &Compiled) -> bool {
     let every = |i: usize, _: &_| Some(fourfold::expr::NodeId(i as u32));
-    reach(compiled, every, true) > GPU_RANGE_BOUND
+    magnitudes(compiled, every)
+        .into_iter()
+        .any(|b| b.is_finite() && (b > GPU_RANGE_BOUND || (b > 0.0 && b < GPU_PRECISION_BOUND)))
 }
 
 /// The GPU's picture and the CPU twin's cover the same pixels, but for a few.

@@ -148,24 +148,35 @@ fn huge_trigonometry_draws_on_the_gpu_but_is_not_compared_with_the_twin() {
 
 #[test]
 fn values_beyond_the_gpu_s_range_draw_but_are_not_compared_with_the_twin() {
-    // Found by a long run (seed 77): 1e300 is beyond f32, and a product with an interval
-    // the GPU cannot bound is the whole line there, so the GPU left undecided (magenta)
-    // pixels the twin's f64 proves. It must still draw cleanly on both; where the pictures
+    // Found by a long run (seed 77): 1e300 is beyond f32, and the GPU left undecided
+    // (magenta) pixels of 1e300 z that the twin's f64 proves; since the GPU's products keep
+    // a one-signed operand's sign it proves them too. 1e30 z^3's gradient still reaches
+    // beyond the GPU's range (2^61). Both must draw cleanly on both; where the pictures
     // differ they are not compared, and the run counts it. Pictures that agree are still
     // compared, values beyond f32 or not.
     let dir = std::env::temp_dir().join("fourfold-beyond-f32");
     std::fs::create_dir_all(&dir).unwrap();
-    let found = FormulaCase {
+    let found = |text: &str| FormulaCase {
         gpu: true,
         size: [7, 5],
         angles: [3.0401, 0.8213, -3.4069, 1.5021, -2.4956, 2.4999],
         mode: Mode::Slice(0.085),
-        ..case("((1e300 z))")
+        ..case(text)
     };
-    let verdict = check_formula(&found, &dir);
+    let beyond = FormulaCase {
+        gpu: true,
+        size: [12, 10],
+        mode: Mode::Slice(0.1),
+        ..case("1e30 z^3 - 1e30 x")
+    };
+    let verdict = check_formula(&beyond, &dir);
     assert!(
         verdict == Ok(Verdict::DrewUncompared(UNCOMPARED_RANGE)),
         "{verdict:?}"
+    );
+    assert_eq!(
+        check_formula(&found("((1e300 z))"), &dir),
+        Ok(Verdict::Drew)
     );
     let agreeing = FormulaCase {
         gpu: true,
@@ -173,4 +184,26 @@ fn values_beyond_the_gpu_s_range_draw_but_are_not_compared_with_the_twin() {
         ..case("1e300 z")
     };
     assert_eq!(check_formula(&agreeing, &dir), Ok(Verdict::Drew));
+}
+
+#[test]
+fn values_nearer_0_than_the_gpu_can_tell_draw_but_are_not_compared_with_the_twin() {
+    // Found by a long run (seed 4242): 1e-320 is 0 in f32, so the GPU cannot prove that
+    // F = 1e-320 has no zero, which the twin's f64 does: undecided pixels against empty
+    // ones. Drawn cleanly on both, not compared where they differ, counted.
+    let dir = std::env::temp_dir().join("fourfold-below-f32");
+    std::fs::create_dir_all(&dir).unwrap();
+    let found = FormulaCase {
+        gpu: true,
+        size: [7, 7],
+        angles: [2.7038, 2.4976, 2.3582, 1.2644, -0.7326, -1.4046],
+        max_level: 5,
+        mode: Mode::BruteForce,
+        ..case("1e-320")
+    };
+    let verdict = check_formula(&found, &dir);
+    assert!(
+        verdict == Ok(Verdict::DrewUncompared(UNCOMPARED_RANGE)),
+        "{verdict:?}"
+    );
 }
