@@ -91,12 +91,11 @@ pub fn draw(
     };
     let core = scene.clone();
     let drawn = run_quiet(py, move |job| {
-        let prepared = Prepared::build(&formula, &core, core.tree.into(), job.stop, None).map_err(
-            |e| match e {
+        let prepared =
+            Prepared::for_picture(&formula, &core, fit, job.stop).map_err(|e| match e {
                 BuildError::Cancelled => None,
                 e => Some(e.to_string()),
-            },
-        )?;
+            })?;
         let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
         let (picture, core) = render_fitted(core, &formula, &prepared, width, height, device, fit)
             .map_err(|e: RenderError| Some(e.to_string()))?;

@@ -3,14 +3,16 @@
 //! their ranges and messages), and what the picture's making says.
 
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 use clap::Args;
 
 use fourfold::headless::render_fitted;
 use fourfold::render::gpu::CacheUse;
-use fourfold::render::view::scene_hidden_range;
+use fourfold::render::view::{Section, scene_hidden_range};
 use fourfold::render::{
     CPU_SLICE_PIXELS_PER_THREAD, Device, Gpu, Prepared, cpu_slice_pixels, sooner_on_cpu,
+    view_region,
 };
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 
@@ -261,7 +263,9 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     };
     let open_ms = t.elapsed().as_secs_f64() * 1e3;
     let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
-    let prepared = Prepared::new(&formula, &scene).map_err(|e| Failure::runtime(e.to_string()))?;
+    let within = !args.fit && view_region(&scene).is_some();
+    let prepared = Prepared::for_picture(&formula, &scene, args.fit, &AtomicBool::new(false))
+        .map_err(|e| Failure::runtime(e.to_string()))?;
     let (mut picture, scene) =
         render_fitted(scene, &formula, &prepared, width, height, device, args.fit)
             .map_err(|e| Failure::runtime(e.to_string()))?;
@@ -277,10 +281,15 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
+        "adapter: {}\ntree: {} nodes, {} leaves{}{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
         picture.tree.nodes,
         picture.tree.leaves,
+        match Section::of(&scene.view) {
+            _ if !within => "",
+            Section::Slab { .. } => " (within the slab)",
+            _ => " (within the slice's hyperplane)",
+        },
         if picture.tree.budget_hit {
             " (node budget hit)"
         } else {

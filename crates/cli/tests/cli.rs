@@ -969,6 +969,55 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
     );
 }
 
+/// `render` of a slice or a slab builds its tree within the slice's hyperplane or the
+/// slab's band, and says so; a projection's, and a slice framed with `--fit` (which frames
+/// all of M), cover the domain, as `fourfold tree` does.
+#[test]
+fn render_builds_a_slice_s_tree_within_its_hyperplane() {
+    let out = std::env::temp_dir().join(format!("fourfold-cli-within-{}.png", std::process::id()));
+    let glome = "x^2 + y^2 + z^2 + w^2 = 1";
+    let tree_line = |flags: &[&str]| {
+        let mut args = vec!["render", glome, "--size", "48x36", "--cpu", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(flags);
+        let (code, stdout, stderr) = fourfold(&args);
+        assert_eq!(code, Some(0), "{flags:?}: {stderr}");
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("tree: "))
+            .unwrap_or_default();
+        let nodes: u64 = line["tree: ".len()..]
+            .split(' ')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{flags:?}: no node count in {line:?}"));
+        (nodes, line.to_string())
+    };
+    let (whole, line) = tree_line(&[]);
+    assert!(!line.contains("within"), "{line}");
+    let (fitted, line) = tree_line(&["--slice", "0.3", "--fit"]);
+    assert!(
+        !line.contains("within") && fitted == whole,
+        "{line}: {whole} nodes projected"
+    );
+    for (flags, said) in [
+        (&["--slice", "0.3"][..], "(within the slice's hyperplane)"),
+        (
+            &["--slice", "-0.5", "--angles", "0.3,0.5,0.7,0.1,0.2,0.3"],
+            "(within the slice's hyperplane)",
+        ),
+        (&["--slab", "0.2,0.1"], "(within the slab)"),
+    ] {
+        let (nodes, line) = tree_line(flags);
+        assert!(line.contains(said), "{flags:?}: {line}");
+        assert!(
+            0 < nodes && nodes * 2 < whole,
+            "{flags:?}: {nodes} nodes, {whole} in all"
+        );
+    }
+    let _ = std::fs::remove_file(&out);
+}
+
 /// A small slice is drawn on the CPU unless `--gpu` asks for the GPU, and `render` says
 /// which; a projection, a slab and a slice beyond 2^17 pixels a thread stay on the GPU.
 #[test]

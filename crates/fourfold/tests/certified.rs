@@ -16,6 +16,7 @@ use fourfold::render::view::{FLAG_SLAB, FLAG_SLICE};
 use fourfold::render::{Gpu, Prepared, Uniforms};
 use fourfold::scene::{DEFAULT_CERT_BUDGET, Scene};
 use rayon::prelude::*;
+use std::sync::atomic::AtomicBool;
 use unseen::unseen_scenes;
 
 fn gpu() -> Gpu {
@@ -106,19 +107,33 @@ fn certified_picture(
     .unwrap()
 }
 
+/// The tree a picture is drawn from: `render`'s and Python's (a slice's or a slab's holds
+/// only the boxes that meet its hyperplane or band), or the viewer's, over the whole domain.
+#[derive(Clone, Copy, Debug)]
+enum Tree {
+    ForPicture,
+    WholeDomain,
+}
+
 /// Certified pictures' verdicts for `scene` at `side`², on the GPU and the CPU twin.
 fn certified_pictures(
     gpu: &Gpu,
     scene: &Scene,
     side: u32,
     budget: u32,
+    tree: Tree,
 ) -> (Uniforms, [Vec<Verdict>; 2]) {
     let mut scene = scene.clone();
     scene.render.certified = true;
     scene.render.cert_budget = budget;
     scene.render.rays = 4;
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
-    let prepared = Prepared::new(&formula, &scene).unwrap();
+    let prepared = match tree {
+        Tree::ForPicture => {
+            Prepared::for_picture(&formula, &scene, false, &AtomicBool::new(false)).unwrap()
+        }
+        Tree::WholeDomain => Prepared::new(&formula, &scene).unwrap(),
+    };
     let (_, uniforms) = prepared.frame(&scene, side, side, Default::default());
     let verdicts = [Device::Gpu(gpu), Device::Cpu].map(|device| {
         certified_picture(&scene, &formula, &prepared, side, device)
@@ -144,7 +159,7 @@ fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
         .iter()
         .flat_map(|s| [(s, DEFAULT_CERT_BUDGET), (s, 8)]);
     for ((name, scene), budget) in runs {
-        let (u, verdicts) = certified_pictures(&gpu, scene, side, budget);
+        let (u, verdicts) = certified_pictures(&gpu, scene, side, budget, Tree::ForPicture);
         let formula = CompiledFormula::compile(&scene.formula).unwrap();
         let params = scene.param_values(&formula.param_names());
         for (k, device) in ["GPU", "CPU"].iter().enumerate() {
@@ -186,7 +201,7 @@ fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
 fn unseen_scenes_are_sound_and_decided() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, (96, 1), 50);
+        assert_sound_and_decided(&gpu, &name, &scene, (96, 1), 50, Tree::ForPicture);
     }
 }
 
@@ -196,23 +211,33 @@ fn unseen_scenes_are_sound_and_decided() {
 fn unseen_scenes_are_sound_and_decided_at_512() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, (512, 8), 50);
+        assert_sound_and_decided(&gpu, &name, &scene, (512, 8), 50, Tree::ForPicture);
     }
 }
 
 /// The unseen scenes' slices, which `render --slice` draws on the CPU twin when small, at
-/// 96² and at two places: as sound and as decided as their projections.
+/// 96² and at two places, from the tree `render` builds within the slice's hyperplane and
+/// at one of them from the viewer's, over the whole domain; and a slab within its band: as
+/// sound and as decided as their projections.
 #[test]
 fn unseen_slices_are_sound_and_decided() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        for c in [0.15, -0.4] {
+        for (c, tree) in [
+            (0.15, Tree::ForPicture),
+            (-0.4, Tree::ForPicture),
+            (0.15, Tree::WholeDomain),
+        ] {
             let mut sliced = scene.clone();
             sliced.view.slice = Some(c);
-            let name = format!("{name}, slice {c}");
+            let name = format!("{name}, slice {c}, {tree:?}");
             // (A slice of a thin tube covers a few pixels only.)
-            assert_sound_and_decided(&gpu, &name, &sliced, (96, 1), 10);
+            assert_sound_and_decided(&gpu, &name, &sliced, (96, 1), 10, tree);
         }
+        let mut slab = scene.clone();
+        slab.view.slab = Some([0.1, 0.2]);
+        let name = format!("{name}, slab 0.1 ± 0.2");
+        assert_sound_and_decided(&gpu, &name, &slab, (96, 1), 10, Tree::ForPicture);
     }
 }
 
@@ -226,8 +251,9 @@ fn assert_sound_and_decided(
     scene: &Scene,
     (side, stride): (u32, u32),
     least_hits: usize,
+    tree: Tree,
 ) {
-    let (u, verdicts) = certified_pictures(gpu, scene, side, DEFAULT_CERT_BUDGET);
+    let (u, verdicts) = certified_pictures(gpu, scene, side, DEFAULT_CERT_BUDGET, tree);
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
     let params = scene.param_values(&formula.param_names());
     // (A finer look near covered pixels, where thin parts would be missed; the planes
@@ -458,7 +484,8 @@ fn plain_frames_see_what_lies_between_their_rays() {
         .map(|(name, scene)| (name.to_string(), scene))
         .chain(unseen_scenes());
     for (name, scene) in scenes {
-        let (_, verdicts) = certified_pictures(&gpu, &scene, side, DEFAULT_CERT_BUDGET);
+        let (_, verdicts) =
+            certified_pictures(&gpu, &scene, side, DEFAULT_CERT_BUDGET, Tree::ForPicture);
         let mut plain = scene.clone();
         plain.render.certified = false;
         let formula = CompiledFormula::compile(&plain.formula).unwrap();

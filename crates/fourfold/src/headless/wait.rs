@@ -2,6 +2,8 @@
 //! polled meanwhile (which a web page cannot do), and the whole pipeline of one picture,
 //! from a scene to its pixels.
 
+use std::sync::atomic::AtomicBool;
+
 use web_time::Instant;
 
 use crate::formula::CompiledFormula;
@@ -117,7 +119,7 @@ pub fn render_compiled(
     options: FrameOptions,
 ) -> Result<Picture, RenderError> {
     check_size(width, height)?;
-    let prepared = Prepared::new(formula, scene)?;
+    let prepared = Prepared::for_picture(formula, scene, false, &AtomicBool::new(false))?;
     render_prepared(scene, formula, &prepared, width, height, device, options)
 }
 

@@ -24,7 +24,7 @@ pub use picture::{
     CPU_SLICE_PIXELS_PER_THREAD, Device, Painter, PendingPicture, Picture, RenderError, Source,
     StageTimes, cpu_slice_pixels, sooner_on_cpu,
 };
-pub use prepare::{PrepareSteps, Prepared};
+pub use prepare::{PrepareSteps, Prepared, view_region};
 pub use program::{Program, ProgramError};
 pub use shader::{CodegenError, Shader};
 pub use view::{Camera, FrameOptions, Rotation4, TileLists, Uniforms};

@@ -8,10 +8,10 @@ use std::sync::atomic::AtomicBool;
 use web_time::{Duration, Instant};
 
 use crate::formula::CompiledFormula;
-use crate::scene::Scene;
-use crate::tree::{BuildError, BuildSettings, Hierarchy, Progress, Tree16, TreeSteps};
+use crate::scene::{ColorBy, Scene};
+use crate::tree::{BuildError, BuildSettings, Hierarchy, Progress, Region, Tree16, TreeSteps};
 
-use super::view::{Camera, FrameOptions, Uniforms, frame};
+use super::view::{Camera, FrameOptions, Rotation4, Section, Uniforms, frame};
 
 /// What the ray caster draws a scene from, apart from the view.
 #[derive(Debug, Clone)]
@@ -49,12 +49,39 @@ impl Prepared {
         cancel: &AtomicBool,
         progress: Option<Progress<'_>>,
     ) -> Result<Self, BuildError> {
+        Self::build_within(formula, scene, None, settings, cancel, progress)
+    }
+
+    /// For one picture of the scene's own view (`render`'s, Python's): where it is a slice
+    /// or a slab, the tree holds only the boxes that meet its hyperplane or band
+    /// ([`view_region`]), which is all that picture's rays reach. With `fit` (the view framed
+    /// to all of M first) the tree covers the domain. A view turned or moved afterwards needs
+    /// a preparation of its own.
+    pub fn for_picture(
+        formula: &CompiledFormula,
+        scene: &Scene,
+        fit: bool,
+        cancel: &AtomicBool,
+    ) -> Result<Self, BuildError> {
+        let region = if fit { None } else { view_region(scene) };
+        Self::build_within(formula, scene, region, scene.tree.into(), cancel, None)
+    }
+
+    fn build_within(
+        formula: &CompiledFormula,
+        scene: &Scene,
+        region: Option<Region>,
+        settings: BuildSettings,
+        cancel: &AtomicBool,
+        progress: Option<Progress<'_>>,
+    ) -> Result<Self, BuildError> {
         let started = Instant::now();
         let params = scene.param_values(&formula.param_names());
-        let tree = Tree16::build(
+        let tree = Tree16::build_within(
             formula,
             &params,
             &scene.domain.to_box(),
+            region,
             settings,
             cancel,
             progress,
@@ -119,6 +146,27 @@ impl Prepared {
             options,
         )
     }
+}
+
+/// The part of the domain a picture of the scene's view reaches: a slice's hyperplane or a
+/// slab's band across n2 (from the domain's centre, as the camera places them), widened by
+/// [`crate::tree::REGION_MARGIN`] of the domain's size and distance from the origin, the most by which
+/// a ray's points worked out in f32 may stray; `None` for a projection, and for a picture
+/// coloured by the hidden direction (its colours span M's whole range along n2).
+pub fn view_region(scene: &Scene) -> Option<Region> {
+    if scene.render.color_by == ColorBy::Hidden {
+        return None;
+    }
+    let (offset, half) = match Section::of(&scene.view) {
+        Section::Plane => return None,
+        Section::Slice { offset } => (offset, 0.0),
+        Section::Slab { center, half } => (center, half),
+    };
+    let n2 = Rotation4::from_angles(scene.view.angles).row(3);
+    let centre = scene.domain.center();
+    let far = centre.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    let reach = scene.domain.half_diagonal() + far;
+    Some(Region::band(n2, centre, offset, half, reach))
 }
 
 /// A preparation that runs a little at a time, between the frames of a window that has no

@@ -6,7 +6,7 @@ pub mod hierarchy;
 
 pub use crate::gpu_layout::{Curvature, LevelInfo, NodeBounds, SphereNode};
 pub use build::{
-    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Touching, Tree16, TreeBox, TreeStats,
-    TreeSteps,
+    BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, REGION_MARGIN, Region, Touching,
+    Tree16, TreeBox, TreeStats, TreeSteps,
 };
 pub use hierarchy::{CoverBox, Hierarchy};

@@ -7,10 +7,12 @@
 //! the domain starves the others.
 
 mod refine;
+mod region;
 mod steps;
 mod touching;
 mod tree;
 
+pub use region::{REGION_MARGIN, Region};
 pub use steps::TreeSteps;
 pub use tree::{
     BuildError, BuildSettings, Geometry, MAX_LEVEL, Progress, Touching, Tree16, TreeBox, TreeStats,

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use crate::eval::{BatchEvaluator, Box4, Interval, LANES};
 use crate::formula::CompiledFormula;
 
+use super::region::Region;
 use super::tree::{BuildError, Geometry, TreeBox};
 
 /// The component criterion: F□(B) may contain 0 (an empty F□ means F is undefined on B).
@@ -89,6 +90,9 @@ pub(super) struct Refinement<'a> {
     pub(super) geometry: &'a Geometry,
     pub(super) level: u32,
     pub(super) parents: &'a [TreeBox],
+    /// Where the tree is built within, if not the whole domain: children that miss it are
+    /// left out unevaluated.
+    pub(super) region: Option<&'a Region>,
     pub(super) cancel: &'a AtomicBool,
 }
 
@@ -122,20 +126,33 @@ impl Refinement<'_> {
                     let coords: [[u16; 4]; LANES] = std::array::from_fn(|k| {
                         std::array::from_fn(|i| 2 * c[i] + ((k as u16 >> i) & 1))
                     });
-                    let boxes = coords.map(|child| self.geometry.box_at(self.level + 1, child));
-                    eval.eval(&formula.tape_f, &boxes, params);
-                    evaluations += LANES as u64;
+                    // The children within the region (all of them without one), `m` of
+                    // them: `child[j]` is the index of the j-th.
+                    let (mut child, mut boxes) = ([0; LANES], [[Interval::EMPTY; 4]; LANES]);
+                    let mut m = 0;
+                    for (k, &at) in coords.iter().enumerate() {
+                        let bx = self.geometry.box_at(self.level + 1, at);
+                        if self.region.is_none_or(|r| r.meets(&bx)) {
+                            (child[m], boxes[m]) = (k, bx);
+                            m += 1;
+                        }
+                    }
+                    if m == 0 {
+                        continue;
+                    }
+                    eval.eval(&formula.tape_f, &boxes[..m], params);
+                    evaluations += m as u64;
                     // The children whose F□ holds 0, in order (`n` of them), and whether F is
                     // continuous on each (read now: the next evaluation replaces F's).
                     let mut candidates = [Candidate::default(); LANES];
                     let mut n = 0;
-                    for (k, bx) in boxes.iter().enumerate() {
-                        let f = eval.output(&formula.tape_f, 0, k);
+                    for (j, bx) in boxes[..m].iter().enumerate() {
+                        let f = eval.output(&formula.tape_f, 0, j);
                         if contains_manifold(f) {
                             candidates[n] = Candidate {
-                                child: k,
+                                child: child[j],
                                 bx: *bx,
-                                continuous: mean_value && eval.continuous(&formula.tape_f, k),
+                                continuous: mean_value && eval.continuous(&formula.tape_f, j),
                                 below: f.lo() < 0.0,
                                 above: f.hi() > 0.0,
                                 ..Candidate::default()

@@ -10,6 +10,7 @@ use crate::eval::{Box4, Interval, IntervalEvaluator};
 use crate::formula::CompiledFormula;
 
 use super::refine::{Refinement, contains_manifold};
+use super::region::Region;
 use super::tree::{
     BuildError, BuildSettings, Geometry, Progress, Tree16, TreeBox, TreeStats, validate,
 };
@@ -25,7 +26,21 @@ impl Tree16 {
         cancel: &AtomicBool,
         progress: Option<Progress<'_>>,
     ) -> Result<Self, BuildError> {
-        let mut steps = TreeSteps::new(formula, params, domain, settings)?;
+        Self::build_within(formula, params, domain, None, settings, cancel, progress)
+    }
+
+    /// As [`Tree16::build`], keeping only the boxes that meet `region` (all where it is
+    /// `None`): the tree of a picture that looks at part of the domain.
+    pub fn build_within(
+        formula: &CompiledFormula,
+        params: &[f64],
+        domain: &Box4,
+        region: Option<Region>,
+        settings: BuildSettings,
+        cancel: &AtomicBool,
+        progress: Option<Progress<'_>>,
+    ) -> Result<Self, BuildError> {
+        let mut steps = TreeSteps::within(formula, params, domain, region, settings)?;
         loop {
             if cancel.load(Ordering::Relaxed) {
                 return Err(BuildError::Cancelled);
@@ -49,6 +64,7 @@ impl Tree16 {
 pub struct TreeSteps {
     geometry: Geometry,
     domain: Box4,
+    region: Option<Region>,
     settings: BuildSettings,
     stats: TreeStats,
     levels: Vec<Vec<TreeBox>>,
@@ -80,6 +96,18 @@ impl TreeSteps {
         domain: &Box4,
         settings: BuildSettings,
     ) -> Result<Self, BuildError> {
+        Self::within(formula, params, domain, None, settings)
+    }
+
+    /// As [`TreeSteps::new`], for a tree of the boxes that meet `region` (see
+    /// [`Tree16::build_within`]).
+    pub fn within(
+        formula: &CompiledFormula,
+        params: &[f64],
+        domain: &Box4,
+        region: Option<Region>,
+        settings: BuildSettings,
+    ) -> Result<Self, BuildError> {
         let started = Instant::now();
         validate(settings)?;
         let geometry = Geometry::new(domain);
@@ -103,7 +131,7 @@ impl TreeSteps {
             above: root_f.hi() > 0.0,
         };
         let mut total: u64 = 0;
-        if contains_manifold(root_f) {
+        if contains_manifold(root_f) && region.is_none_or(|r| r.meets(&root_box)) {
             levels.push(vec![root]);
             total = 1;
         } else {
@@ -112,6 +140,7 @@ impl TreeSteps {
         Ok(Self {
             geometry,
             domain: *domain,
+            region,
             settings,
             stats,
             levels,
@@ -172,6 +201,7 @@ impl TreeSteps {
             geometry: &self.geometry,
             level,
             parents: current,
+            region: self.region.as_ref(),
             cancel,
         };
         let mut pending = match self.pending.take() {
