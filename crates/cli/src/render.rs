@@ -15,6 +15,7 @@ use fourfold::render::{
     view_region,
 };
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
+use fourfold::tree::TreeStats;
 
 use crate::failure::Failure;
 use crate::input::{Input, Warn, checked, compile_warning, load_scene, override_tree};
@@ -247,6 +248,33 @@ pub(crate) fn parse_angles(text: &str) -> Result<[f64; 6], Failure> {
     })
 }
 
+/// What `render` says of the tree it drew from: its size, whether it was built within the
+/// slice's hyperplane or the slab's band (`within`), and the cut the rays march.
+fn tree_line(tree: &TreeStats, marched: Option<&str>, within: Option<Section>) -> String {
+    format!(
+        "tree: {} nodes, {} leaves{}{}{}",
+        tree.nodes,
+        tree.leaves,
+        match within {
+            None | Some(Section::Plane) => "",
+            Some(Section::Slab { .. }) => " (within the slab)",
+            Some(Section::Slice { .. }) => " (within the slice's hyperplane)",
+        },
+        if tree.budget_hit {
+            " (node budget hit)"
+        } else {
+            ""
+        },
+        match marched {
+            Some(cut) => format!("; marched as {cut}"),
+            None if tree.nodes > 0 => {
+                "; brute force: every ray marched across the domain".to_string()
+            }
+            None => String::new(),
+        },
+    )
+}
+
 /// `fourfold render`.
 pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let scene = render_scene_of(args)?;
@@ -281,27 +309,13 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;
     let mut out = format!(
-        "adapter: {}\ntree: {} nodes, {} leaves{}{}{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
+        "adapter: {}\n{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
-        picture.tree.nodes,
-        picture.tree.leaves,
-        match Section::of(&scene.view) {
-            _ if !within => "",
-            Section::Slab { .. } => " (within the slab)",
-            _ => " (within the slice's hyperplane)",
-        },
-        if picture.tree.budget_hit {
-            " (node budget hit)"
-        } else {
-            ""
-        },
-        match picture.marched {
-            Some(cut) => format!("; marched as {cut}"),
-            None if picture.tree.nodes > 0 => {
-                "; brute force: every ray marched across the domain".to_string()
-            }
-            None => String::new(),
-        },
+        tree_line(
+            &picture.tree,
+            picture.marched.as_deref(),
+            within.then(|| Section::of(&scene.view))
+        ),
         if gpu.is_some() {
             format!("GPU opened {open_ms:.1}, ")
         } else {
