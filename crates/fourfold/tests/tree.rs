@@ -846,3 +846,105 @@ fn a_build_in_slices_is_the_build_in_one_go() {
         }
     }
 }
+
+/// A tree built within a slice's hyperplane (`render --slice`'s) holds only boxes that meet
+/// it, less than half the whole domain's, and every point of M on the hyperplane (found by
+/// bisection on segments within it) lies in one of its leaves; on the examples, each seen
+/// through its own turned view, sliced at 0.2 and at −0.35.
+#[test]
+fn a_tree_within_a_slice_holds_the_slice_of_m_and_little_else() {
+    let settings = BuildSettings {
+        max_level: 5,
+        min_level: 3,
+        node_budget: 2_000_000,
+    };
+    for (name, mut scene) in example_scenes() {
+        for offset in [0.2, -0.35] {
+            scene.view.slice = Some(offset);
+            let region = fourfold::render::view_region(&scene).expect("a slice has a region");
+            let f = CompiledFormula::compile(&scene.formula).unwrap();
+            let params = scene.param_values(&f.param_names());
+            let domain = scene.domain.to_box();
+            let cancel = AtomicBool::new(false);
+            let within =
+                Tree16::build_within(&f, &params, &domain, Some(region), settings, &cancel, None)
+                    .unwrap();
+            let whole = Tree16::build(&f, &params, &domain, settings, &cancel, None).unwrap();
+            let boxes: Vec<_> = (0..within.levels.len())
+                .flat_map(|l| within.levels[l].iter().map(move |b| (l as u32, b)))
+                .map(|(l, b)| within.box_of(l, b))
+                .collect();
+            assert!(
+                boxes.iter().all(|bx| region.meets(bx)),
+                "{name}: a box off the slice"
+            );
+            assert!(
+                within.stats.nodes * 2 < whole.stats.nodes,
+                "{name}, slice {offset}: {} nodes within, {} in all",
+                within.stats.nodes,
+                whole.stats.nodes
+            );
+            let leaves: Vec<_> = within.leaves().map(|(l, b)| within.box_of(l, b)).collect();
+            let points = points_on_slice(&f, &params, &scene, 100);
+            assert!(
+                points.len() >= 20,
+                "{name}, slice {offset}: {} points",
+                points.len()
+            );
+            for p in points {
+                let inside = leaves.iter().any(|bx| (0..4).all(|i| bx[i].contains(p[i])));
+                assert!(inside, "{name}, slice {offset}: {p:?} on M is in no leaf");
+            }
+        }
+    }
+}
+
+/// Points of M on the scene's slice: bisection on segments between random points of the
+/// domain moved onto the slice's hyperplane along n2.
+fn points_on_slice(f: &CompiledFormula, params: &[f64], scene: &Scene, n: usize) -> Vec<[f64; 4]> {
+    let n2 = Rotation4::from_angles(scene.view.angles).row(3);
+    let (c, offset) = (scene.domain.center(), scene.view.slice.unwrap());
+    let axes = scene.domain.axes();
+    let mut rng = Rng(91);
+    let mut eval = PointEvaluator::new();
+    let mut on_slice = || {
+        let p: [f64; 4] = std::array::from_fn(|i| rng.range(axes[i].lo, axes[i].hi));
+        let along: f64 = (0..4).map(|i| (p[i] - c[i]) * n2[i]).sum();
+        let q: [f64; 4] = std::array::from_fn(|i| p[i] + (offset - along) * n2[i]);
+        (0..4)
+            .all(|i| (axes[i].lo..=axes[i].hi).contains(&q[i]))
+            .then_some(q)
+    };
+    let mut found = Vec::new();
+    for _ in 0..n * 100 {
+        if found.len() >= n {
+            break;
+        }
+        let (Some(a), Some(b)) = (on_slice(), on_slice()) else {
+            continue;
+        };
+        let at = |t: f64| -> [f64; 4] { std::array::from_fn(|i| a[i] + t * (b[i] - a[i])) };
+        let mut fa = eval.eval(&f.tape_f, a, params);
+        if !(fa * eval.eval(&f.tape_f, b, params) < 0.0) {
+            continue;
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            let fm = eval.eval(&f.tape_f, at(mid), params);
+            if fm.is_nan() {
+                break;
+            }
+            if (fm < 0.0) == (fa < 0.0) {
+                (lo, fa) = (mid, fm);
+            } else {
+                hi = mid;
+            }
+        }
+        let p = at(0.5 * (lo + hi));
+        if eval.eval(&f.tape_f, p, params).abs() < 1e-6 {
+            found.push(p);
+        }
+    }
+    found
+}
