@@ -34,35 +34,41 @@ fn points_on_manifold(
         }
         let a: [f64; 4] = std::array::from_fn(|i| rng.range(axes[i].lo, axes[i].hi));
         let b: [f64; 4] = std::array::from_fn(|i| rng.range(axes[i].lo, axes[i].hi));
-        let (mut fa, fb) = (
-            eval.eval(&f.tape_f, a, params),
-            eval.eval(&f.tape_f, b, params),
-        );
-        if !(fa * fb < 0.0) {
-            continue;
-        }
-        let (mut lo, mut hi) = (0.0, 1.0);
-        let at = |t: f64| -> [f64; 4] { std::array::from_fn(|i| a[i] + t * (b[i] - a[i])) };
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            let fm = eval.eval(&f.tape_f, at(mid), params);
-            if fm.is_nan() {
-                break;
-            }
-            if (fm < 0.0) == (fa < 0.0) {
-                lo = mid;
-                fa = fm;
-            } else {
-                hi = mid;
-            }
-        }
-        let p = at(0.5 * (lo + hi));
-        // Only a true root (F continuous across it) is a point of M.
-        if eval.eval(&f.tape_f, p, params).abs() < 1e-6 {
-            found.push(p);
-        }
+        found.extend(root_between(&mut eval, f, params, a, b));
     }
     found
+}
+
+/// A point of M on the segment from `a` to `b`, where F takes opposite signs at its ends:
+/// found by bisection, and kept only where F is about 0 there (a true root, F continuous
+/// across it, not a pole).
+fn root_between(
+    eval: &mut PointEvaluator,
+    f: &CompiledFormula,
+    params: &[f64],
+    a: [f64; 4],
+    b: [f64; 4],
+) -> Option<[f64; 4]> {
+    let mut fa = eval.eval(&f.tape_f, a, params);
+    if !(fa * eval.eval(&f.tape_f, b, params) < 0.0) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let at = |t: f64| -> [f64; 4] { std::array::from_fn(|i| a[i] + t * (b[i] - a[i])) };
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        let fm = eval.eval(&f.tape_f, at(mid), params);
+        if fm.is_nan() {
+            break;
+        }
+        if (fm < 0.0) == (fa < 0.0) {
+            (lo, fa) = (mid, fm);
+        } else {
+            hi = mid;
+        }
+    }
+    let p = at(0.5 * (lo + hi));
+    (eval.eval(&f.tape_f, p, params).abs() < 1e-6).then_some(p)
 }
 
 #[test]
@@ -920,30 +926,8 @@ fn points_on_slice(f: &CompiledFormula, params: &[f64], scene: &Scene, n: usize)
         if found.len() >= n {
             break;
         }
-        let (Some(a), Some(b)) = (on_slice(), on_slice()) else {
-            continue;
-        };
-        let at = |t: f64| -> [f64; 4] { std::array::from_fn(|i| a[i] + t * (b[i] - a[i])) };
-        let mut fa = eval.eval(&f.tape_f, a, params);
-        if !(fa * eval.eval(&f.tape_f, b, params) < 0.0) {
-            continue;
-        }
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            let fm = eval.eval(&f.tape_f, at(mid), params);
-            if fm.is_nan() {
-                break;
-            }
-            if (fm < 0.0) == (fa < 0.0) {
-                (lo, fa) = (mid, fm);
-            } else {
-                hi = mid;
-            }
-        }
-        let p = at(0.5 * (lo + hi));
-        if eval.eval(&f.tape_f, p, params).abs() < 1e-6 {
-            found.push(p);
+        if let (Some(a), Some(b)) = (on_slice(), on_slice()) {
+            found.extend(root_between(&mut eval, f, params, a, b));
         }
     }
     found
