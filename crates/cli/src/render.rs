@@ -12,7 +12,6 @@ use fourfold::render::gpu::CacheUse;
 use fourfold::render::view::{Section, scene_hidden_range};
 use fourfold::render::{
     CPU_SLICE_PIXELS_PER_THREAD, Device, Gpu, Prepared, cpu_slice_pixels, sooner_on_cpu,
-    view_region,
 };
 use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecided};
 use fourfold::tree::TreeStats;
@@ -291,7 +290,6 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     };
     let open_ms = t.elapsed().as_secs_f64() * 1e3;
     let device = gpu.as_ref().map_or(Device::Cpu, Device::Gpu);
-    let within = !args.fit && view_region(&scene).is_some();
     let prepared = Prepared::for_picture(&formula, &scene, args.fit, &AtomicBool::new(false))
         .map_err(|e| Failure::runtime(e.to_string()))?;
     let (mut picture, scene) =
@@ -314,7 +312,7 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         tree_line(
             &picture.tree,
             picture.marched.as_deref(),
-            within.then(|| Section::of(&scene.view))
+            prepared.region.map(|_| Section::of(&scene.view))
         ),
         if gpu.is_some() {
             format!("GPU opened {open_ms:.1}, ")

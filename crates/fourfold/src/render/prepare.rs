@@ -20,6 +20,9 @@ pub struct Prepared {
     pub params: Vec<f64>,
     pub tree: Tree16,
     pub hierarchy: Hierarchy,
+    /// The part of the domain the tree was built within ([`Prepared::for_picture`]), or
+    /// `None`: all of it.
+    pub region: Option<Region>,
     /// Milliseconds for the tree and the hierarchy.
     pub build_ms: f64,
     /// The boxes certified pixels search (`Hierarchy::for_certifying`), made when first
@@ -91,6 +94,7 @@ impl Prepared {
             params,
             tree,
             hierarchy,
+            region,
             build_ms: started.elapsed().as_secs_f64() * 1e3,
             certifying: OnceLock::new(),
         })
@@ -150,9 +154,9 @@ impl Prepared {
 
 /// The part of the domain a picture of the scene's view reaches: a slice's hyperplane or a
 /// slab's band across n2 (from the domain's centre, as the camera places them), widened by
-/// [`crate::tree::REGION_MARGIN`] of the domain's size and distance from the origin, the most by which
-/// a ray's points worked out in f32 may stray; `None` for a projection, and for a picture
-/// coloured by the hidden direction (its colours span M's whole range along n2).
+/// [`crate::tree::REGION_MARGIN`] of the domain's half-diagonal plus its distance from the
+/// origin, far more than a ray's points worked out in f32 stray; `None` for a projection,
+/// and for a picture coloured by the hidden direction (its colours span M's range along n2).
 pub fn view_region(scene: &Scene) -> Option<Region> {
     if scene.render.color_by == ColorBy::Hidden {
         return None;
@@ -202,6 +206,7 @@ impl PrepareSteps {
                     params: std::mem::take(&mut self.params),
                     tree,
                     hierarchy,
+                    region: None,
                     build_ms,
                     certifying: OnceLock::new(),
                 }));

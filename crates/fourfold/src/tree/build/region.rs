@@ -15,15 +15,16 @@ pub struct Region {
     pub hi: f64,
 }
 
-/// How far past the region a box may lie and still be kept, as a share of the domain's
-/// half-diagonal: a ray's points are worked out in f32 on the GPU (and rounded in the twin),
-/// so they stray from the exact hyperplane by a few ulps of the domain's size; a box they
-/// may reach must be in the tree, or a pixel would prove nothing there.
+/// How far past the region a box may lie and still be kept, as a share of the reach given
+/// to [`Region::band`] (the domain's half-diagonal plus its distance from the origin): a
+/// ray's points are worked out in f32 on the GPU (and rounded in the twin), so they stray
+/// from the exact hyperplane by a few ulps of their coordinates; a box they may reach must
+/// be in the tree, or a pixel would prove nothing there.
 pub const REGION_MARGIN: f64 = 1e-4;
 
 impl Region {
     /// The band within `half` of `offset` along `normal` from `origin`, widened by
-    /// [`REGION_MARGIN`] of `reach` (the domain's half-diagonal).
+    /// [`REGION_MARGIN`] of `reach`.
     pub fn band(normal: [f64; 4], origin: [f64; 4], offset: f64, half: f64, reach: f64) -> Self {
         let margin = REGION_MARGIN * reach;
         Self {
