@@ -369,7 +369,17 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         }
     }
     if picture.tree.nodes == 0 {
-        out.push_str("\nno surface in this domain: the picture shows only the background");
+        out.push_str(match prepared.region.map(|_| Section::of(&scene.view)) {
+            Some(Section::Slice { .. }) => {
+                "\nno surface in this slice of the domain: the picture shows only the background \
+                 (the projection, without --slice, shows where M lies along n2)"
+            }
+            Some(Section::Slab { .. }) => {
+                "\nno surface in this slab of the domain: the picture shows only the background \
+                 (the projection, without --slab, shows where M lies along n2)"
+            }
+            _ => "\nno surface in this domain: the picture shows only the background",
+        });
     }
     if let Some(note) = fourfold::render::verdict::touching_note(&picture.tree) {
         out.push_str(&format!("\nnote: {note}"));

@@ -1015,6 +1015,22 @@ fn render_builds_a_slice_s_tree_within_its_hyperplane() {
             "{flags:?}: {nodes} nodes, {whole} in all"
         );
     }
+    // A slice that misses M: nothing to build, and render says where to look instead.
+    let (code, stdout, stderr) = fourfold(&[
+        "render",
+        glome,
+        "--slice",
+        "1.4",
+        "--size",
+        "24x18",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("tree: 0 nodes") && stdout.contains("no surface in this slice"),
+        "{stdout}"
+    );
     let _ = std::fs::remove_file(&out);
 }
 
