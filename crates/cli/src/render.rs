@@ -306,14 +306,12 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
     let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;
+    // The slice or slab the tree was built within, if any.
+    let within = prepared.region.map(|_| Section::of(&scene.view));
     let mut out = format!(
         "adapter: {}\n{}\ntimes (ms): {}parse {:.1}, tree {:.1}, codegen+validate {:.1}, pipeline {:.1}{}, frame {:.1}{}, PNG {png_ms:.1}\nwrote {} ({width}x{height})",
         picture.adapter,
-        tree_line(
-            &picture.tree,
-            picture.marched.as_deref(),
-            prepared.region.map(|_| Section::of(&scene.view))
-        ),
+        tree_line(&picture.tree, picture.marched.as_deref(), within),
         if gpu.is_some() {
             format!("GPU opened {open_ms:.1}, ")
         } else {
@@ -369,16 +367,17 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
         }
     }
     if picture.tree.nodes == 0 {
-        out.push_str(match prepared.region.map(|_| Section::of(&scene.view)) {
-            Some(Section::Slice { .. }) => {
-                "\nno surface in this slice of the domain: the picture shows only the background \
-                 (the projection, without --slice, shows where M lies along n2)"
-            }
-            Some(Section::Slab { .. }) => {
-                "\nno surface in this slab of the domain: the picture shows only the background \
-                 (the projection, without --slab, shows where M lies along n2)"
-            }
-            _ => "\nno surface in this domain: the picture shows only the background",
+        let part = match within {
+            Some(Section::Slice { .. }) => Some("slice"),
+            Some(Section::Slab { .. }) => Some("slab"),
+            _ => None,
+        };
+        out.push_str(&match part {
+            Some(part) => format!(
+                "\nno surface in this {part} of the domain: the picture shows only the \
+                 background (the projection, without --{part}, shows where M lies along n2)"
+            ),
+            None => "\nno surface in this domain: the picture shows only the background".into(),
         });
     }
     if let Some(note) = fourfold::render::verdict::touching_note(&picture.tree) {

@@ -111,8 +111,9 @@ fn iv_sub(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
 }
 
 // (Bounds are within ±2^62, so every product is finite. An unbounded operand makes the
-// product unbounded, but only on a side where some corner's product lies: F is bilinear in
-// the two operands, so the least and the most corner bound it, ±2^62 standing in for ±inf.
+// product unbounded, but only on a side where some corner's product lies: the product is
+// bilinear in its operands, so the least and the most corner bound it, ±2^62 standing in
+// for ±inf.
 // Where every corner is >= 0 the lower bound is kept (2.29·x^x + 3 over x^x's [0, inf]
 // stays >= 3). Exact products with infinite bounds, as iv_div's quotients, cost the
 // certified pass a tenth on lavapipe, products being its commonest operation.)

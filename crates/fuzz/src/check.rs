@@ -29,9 +29,10 @@ const RAW_MARKERS: &[&str] = &[
 pub const MAX_COVERAGE_DISAGREEMENT: f64 = 0.1;
 
 /// Why a GPU's picture was not compared: trigonometry beyond [`TRIG_ARGUMENT_BOUND`],
-/// values beyond [`GPU_RANGE_BOUND`] or nearer 0 than [`GPU_PRECISION_BOUND`], pixels the driver cut short, or an F that only
-/// touches 0, on all of M or a part (render's note: what shows of it is where f32's
-/// rounding lands on an exact zero, which differs between the GPU and the twin).
+/// values beyond [`GPU_RANGE_BOUND`] or nearer 0 than [`GPU_PRECISION_BOUND`], pixels the
+/// driver cut short, or an F that only touches 0, on all of M or a part (render's note:
+/// what shows of it is where f32's rounding lands on an exact zero, which differs between
+/// the GPU and the twin).
 pub const UNCOMPARED_TRIG: &str = "sin, cos or tan of large arguments";
 pub const UNCOMPARED_RANGE: &str = "values beyond the GPU's intervals' range or precision";
 pub const UNCOMPARED_CUT: &str = "pixels cut short by the driver";
@@ -330,19 +331,6 @@ fn magnitudes(
         .collect()
 }
 
-/// The most |v| that any node `of` picks may reach over the domain, among all its bounds
-/// or its finite ones.
-fn reach(
-    compiled: &Compiled,
-    of: impl Fn(usize, &fourfold::expr::Node) -> Option<fourfold::expr::NodeId>,
-    finite_only: bool,
-) -> f64 {
-    magnitudes(compiled, of)
-        .into_iter()
-        .filter(|b| !finite_only || b.is_finite())
-        .fold(0.0, f64::max)
-}
-
 /// Whether the GPU's picture of a case (its `compiled` scene and formula) is not the
 /// twin's to compare: a sin, cos or tan whose argument reaches beyond
 /// ±[`TRIG_ARGUMENT_BOUND`] in the domain (an enclosure over the whole domain, so a formula
@@ -353,7 +341,9 @@ fn precision_unspecified(compiled: &Compiled) -> bool {
         Node::Unary(UnaryOp::Sin | UnaryOp::Cos | UnaryOp::Tan, a) => Some(a),
         _ => None,
     };
-    reach(compiled, argument, false) > TRIG_ARGUMENT_BOUND
+    magnitudes(compiled, argument)
+        .into_iter()
+        .any(|b| b > TRIG_ARGUMENT_BOUND)
 }
 
 /// Whether a difference between the GPU's picture of a case (its `compiled` scene and
