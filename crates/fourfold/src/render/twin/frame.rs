@@ -76,6 +76,18 @@ pub fn render_rgba(
                     let tile = tile_around(u, (columns.clone(), rows.clone()), k == 0);
                     tile_nodes(h, u, (tile, &bands[k]), &mut free, &mut scratch.kept[k]);
                 }
+                // A tile whose walks kept no node has no box to march or search: each of
+                // its pixels is the background, proved empty (what `render_pixel` finds).
+                if !u.brute_force() && scratch.kept[..walked].iter().all(Vec::is_empty) {
+                    let bg = u.background.map(unorm8);
+                    let empty = [bg[0], bg[1], bg[2], Verdict::Empty.alpha()];
+                    for py in rows.clone() {
+                        let at = (((py - rows.start) * width + columns.start) * 4) as usize;
+                        let row = &mut out[at..at + columns.len() * 4];
+                        row.chunks_exact_mut(4).for_each(|p| p.copy_from_slice(&empty));
+                    }
+                    continue;
+                }
                 scratch.one_signed.clear();
                 if let Some(bundle) = &bundle {
                     one_signed_stretches(hierarchy, u, bundle, &mut scratch);
