@@ -53,6 +53,7 @@ pub fn render_rgba(
                 one_signed: Vec::new(),
                 stretches: Vec::new(),
                 evals: Evaluators::new(),
+                hits: Vec::with_capacity(16),
                 boxes: Vec::new(),
                 forms: &forms,
                 bands: &bands,
@@ -215,6 +216,8 @@ struct Scratch<'a> {
     one_signed: Vec<(f32, f32)>,
     stretches: Vec<(f32, f32)>,
     evals: Evaluators,
+    /// The pixel's hits (see [`Pixel::hits`]), kept for its storage.
+    hits: Vec<(f32, u32)>,
     /// The boxes of the pixel's rays.
     boxes: Vec<Marched>,
     /// The certifying hierarchy's forms, by node (see `render_rgba`).
@@ -243,6 +246,7 @@ fn render_pixel(
         .control
         .seed
         .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
+    scratch.hits.clear();
     let mut pixel = Pixel {
         u,
         formula,
@@ -250,7 +254,7 @@ fn render_pixel(
         eval: &mut scratch.evals,
         seed,
         offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
-        hits: Vec::with_capacity(16),
+        hits: &mut scratch.hits,
         k_max: u.size.hits.clamp(1, 16) as usize,
         aim: [1.0, 0.0],
         plane,
@@ -317,9 +321,9 @@ fn render_pixel(
         return (color, verdict);
     }
     let alpha = u.misc.alpha;
-    let hits = pixel.hits.clone();
     let mut color = [0.0f32; 3];
-    for (j, &(t, ray)) in hits.iter().rev().enumerate() {
+    for j in 0..pixel.hits.len() {
+        let (t, ray) = pixel.hits[pixel.hits.len() - 1 - j];
         let d = pixel.direction(ray);
         let c = pixel.shade(add(o, scale(d, t)), d);
         color = if j == 0 {

@@ -44,7 +44,8 @@ pub(super) struct Pixel<'a, 'e> {
     pub(super) eval: &'e mut Evaluators,
     pub(super) seed: u32,
     pub(super) offset: f32,
-    pub(super) hits: Vec<(f32, u32)>,
+    /// The nearest hits so far, (t, ray), nearest first (at most `k_max`).
+    pub(super) hits: &'e mut Vec<(f32, u32)>,
     pub(super) k_max: usize,
     /// The direction of ray AIMED in (n1, n2).
     pub(super) aim: [f32; 2],
