@@ -276,20 +276,24 @@ fn render_pixel(
     }
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
+        let (covered, bounds) = (&mut scratch.covered, &mut scratch.bounds);
         let walk = (&scratch.bands[1], scratch.kept[1].as_slice());
-        boxes_of(h[1], u, plane, walk, &mut scratch.covered);
         let forms = scratch.forms;
-        scratch.bounds.clear();
-        scratch
-            .bounds
-            .extend(scratch.covered.iter().map(|b| SearchBox {
+        let search_boxes = move || {
+            // (Moved out of the closure's capture, so that the slice returned may outlive it.)
+            let bounds = { bounds };
+            boxes_of(h[1], u, plane, walk, covered);
+            bounds.clear();
+            bounds.extend(covered.iter().map(|b| SearchBox {
                 lo: b.lo,
                 hi: b.hi,
                 form: b.node.map_or(UNBOUNDED, |i| forms[i]),
             }));
+            bounds.as_slice()
+        };
         let outcome = scratch
             .certifier
-            .pixel(plane, &scratch.bounds, pixel.bracket);
+            .pixel(plane, pixel.bracket, search_boxes);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.

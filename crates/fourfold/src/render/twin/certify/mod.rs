@@ -72,14 +72,15 @@ impl<'a> Certifier<'a> {
     }
 
     /// Certifies the pixel whose plane has origin `o` (its observer plane's point on the
-    /// (v1, v2) plane through the domain's centre), within `boxes` (boxes that together
-    /// hold every point of M in the domain that the plane may meet).
-    /// A ray's sign change, `bracket`'s two points (s, t), is tried first.
-    pub fn pixel(
+    /// (v1, v2) plane through the domain's centre), within the boxes `boxes` gives (boxes
+    /// that together hold every point of M in the domain that the plane may meet).
+    /// A ray's sign change, `bracket`'s two points (s, t), is tried first: where it proves
+    /// a hit, the boxes are not asked for (a pixel's walk of its hierarchy is not free).
+    pub fn pixel<'b>(
         &mut self,
         o: [f32; 4],
-        boxes: &[SearchBox],
         bracket: Option<([f64; 2], [f64; 2])>,
+        boxes: impl FnOnce() -> &'b [SearchBox],
     ) -> Outcome {
         let mut search = Search {
             budget: self.u.march.cert_budget,
@@ -94,6 +95,13 @@ impl<'a> Certifier<'a> {
                 search.note(sign, p);
             }
         }
+        if let Some(bracket) = search.hit() {
+            return Outcome {
+                verdict: Verdict::Hit,
+                bracket: Some(bracket),
+            };
+        }
+        let boxes = boxes();
         // As the shader: two passes, each box first held to an eighth of the budget, then
         // what stays undecided searched again, whole (brute force's one box whole at once).
         let (budget, brute_force) = (self.u.march.cert_budget, self.u.brute_force());
