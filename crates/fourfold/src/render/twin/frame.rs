@@ -85,7 +85,8 @@ pub fn render_rgba(
                     for py in rows.clone() {
                         let at = (((py - rows.start) * width + columns.start) * 4) as usize;
                         let row = &mut out[at..at + columns.len() * 4];
-                        row.chunks_exact_mut(4).for_each(|p| p.copy_from_slice(&empty));
+                        row.chunks_exact_mut(4)
+                            .for_each(|p| p.copy_from_slice(&empty));
                     }
                     continue;
                 }
@@ -291,9 +292,7 @@ fn render_pixel(
             }));
             bounds.as_slice()
         };
-        let outcome = scratch
-            .certifier
-            .pixel(plane, pixel.bracket, search_boxes);
+        let outcome = scratch.certifier.pixel(plane, pixel.bracket, search_boxes);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.

@@ -10,12 +10,24 @@
 /// bench's slices took 2–90% more evaluations a root, with 16 at most 2% fewer.
 const FALSI_SLACK: f32 = 4.0;
 
+/// How near (in units of f32's rounding of t) the secant must put the root to the point
+/// just tried for one probe to settle it (see [`near_root`]).
+const NEAR_ENOUGH: f32 = 2.0;
+
 /// The root of `f` in [lo, hi], where it changes sign from `f_lo` to `f_hi`: at most
 /// `iters` steps, stopping once |f| < `approximation` or once f32 cannot split the bracket;
 /// the last point tried (the bracket's middle with no steps). Each step is `falsi_step`'s,
 /// and an end kept by two steps in a row has its value scaled down by `kept_scale` (the
 /// Anderson–Björck rule: so both ends move). f(lo) stays on its side of 0, so its sign is
 /// not carried.
+///
+/// Where F's rounding in f32 is above `approximation` (the chapter's torus graph: |F| at
+/// 2^-16 near its roots, against 10^-6), the steps reach that floor in two or three and
+/// then crawl: the secant's zero rounds onto the end just found, and the bracket halves
+/// from the other side until f32 cannot split it (up to 20 evaluations). So once, where
+/// the secant puts the root within [`NEAR_ENOUGH`] units of rounding of the point just
+/// tried, one more evaluation a little beyond it (an evaluation more than `iters` steps'
+/// at most) most often leaves a bracket of a few units ([`near_root`]).
 pub(super) fn refine(
     mut f: impl FnMut(f32) -> f32,
     (mut lo, mut hi): (f32, f32),
@@ -28,6 +40,10 @@ pub(super) fn refine(
     let mut cap = FALSI_SLACK * (hi - lo);
     // Which end the last step moved.
     let mut moved_lo = None;
+    // F at the ends as evaluated (f_lo and f_hi may be scaled), and whether the probe was
+    // taken.
+    let (mut v_lo, mut v_hi) = (f_lo, f_hi);
+    let mut probed = false;
     for _ in 0..iters {
         tm = falsi_step((lo, hi), (f_lo, f_hi), cap);
         cap *= 0.5;
@@ -43,16 +59,57 @@ pub(super) fn refine(
             if moved_lo == Some(true) {
                 f_hi *= kept_scale(fm, f_lo);
             }
-            (lo, f_lo) = (tm, fm);
+            (lo, f_lo, v_lo) = (tm, fm, fm);
         } else {
             if moved_lo == Some(false) {
                 f_lo *= kept_scale(fm, f_hi);
             }
-            (hi, f_hi) = (tm, fm);
+            (hi, f_hi, v_hi) = (tm, fm, fm);
         }
         moved_lo = Some(to_lo);
+        let other = if to_lo { (hi, v_hi) } else { (lo, v_lo) };
+        if let Some(p) = near_root((tm, fm), other).filter(|_| !probed) {
+            probed = true;
+            let fp = f(p);
+            if fp.abs() < approximation {
+                return p;
+            }
+            // p is the end on its side: with a sign change, the bracket is now (tm, p),
+            // a few units of rounding wide.
+            let p_lo = (fp < 0.0) == neg_lo;
+            if p_lo {
+                (lo, f_lo, v_lo) = (p, fp, fp);
+            } else {
+                (hi, f_hi, v_hi) = (p, fp, fp);
+            }
+            moved_lo = Some(p_lo);
+            tm = p;
+        }
     }
     tm
+}
+
+/// Where the secant through the point just tried, (t, f), and the bracket's other end,
+/// (t_o, f_o), as evaluated, puts the root within [`NEAR_ENOUGH`] units of f32's rounding
+/// of t: the point twice as far from t towards t_o (at least the next float), if the
+/// bracket holds one.
+fn near_root((t, f): (f32, f32), (t_o, f_o): (f32, f32)) -> Option<f32> {
+    let away = f.abs() * ((t_o - t) / (f_o - f)).abs();
+    let unit = t.abs().max(t_o.abs()) * f32::EPSILON;
+    if !(away <= NEAR_ENOUGH * unit) {
+        return None;
+    }
+    let toward = (t_o - t).signum();
+    let mut p = t + toward * (2.0 * away).max(unit);
+    if p == t {
+        p = if toward > 0.0 {
+            t.next_up()
+        } else {
+            t.next_down()
+        };
+    }
+    let between = (p - t) * toward > 0.0 && (t_o - p) * toward > 0.0;
+    between.then_some(p)
 }
 
 /// How much the value at the end a step kept is scaled when the other end moved twice in a
@@ -173,6 +230,44 @@ mod tests {
             ours < 4.5 && bisection > 10.0,
             "{ours} against bisection's {bisection}"
         );
+    }
+
+    /// Where F's rounding is above the tolerance (the torus graph's |F| at 2^-16 near its
+    /// roots, against 10^-6), a root takes few evaluations more than a smooth one, not the
+    /// crawl of the bracket down to f32's last bit, and lies as near as the rounding allows.
+    #[test]
+    fn roots_in_rounding_noise_do_not_crawl() {
+        let noise = 2f32.powi(-16);
+        let (mut evaluations, mut cases) = (0, 0);
+        for k in 0..=8 {
+            let root = 7.8 + 0.15 * k as f32;
+            // 13 (t - root) + 3 (t - root)², give or take the rounding, never 0.
+            let f = |t: f32| {
+                let d = t - root;
+                let wobble = if t.to_bits().count_ones() % 2 == 0 {
+                    noise
+                } else {
+                    -noise
+                };
+                13.0 * d + 3.0 * d * d + wobble
+            };
+            for below in [0.001, 0.01, 0.05] {
+                for above in [0.002, 0.02, 0.05] {
+                    let bracket = (root - below, root + above);
+                    let (t, n) = counted(f, bracket, 24, 1e-6);
+                    let off = (t - root).abs();
+                    assert!(
+                        off < 2.0 * noise / 13.0 + 4.0 * root * f32::EPSILON,
+                        "{root}: {t}"
+                    );
+                    evaluations += n;
+                    cases += 1;
+                }
+            }
+        }
+        let mean = evaluations as f32 / cases as f32;
+        eprintln!("evaluations a root in rounding noise: {mean:.2}");
+        assert!(mean < 5.0, "{mean}");
     }
 
     proptest! {
