@@ -244,7 +244,7 @@ mod tests {
             // 13 (t - root) + 3 (t - root)², give or take the rounding, never 0.
             let f = |t: f32| {
                 let d = t - root;
-                let wobble = if t.to_bits().count_ones() % 2 == 0 {
+                let wobble = if t.to_bits().count_ones().is_multiple_of(2) {
                     noise
                 } else {
                     -noise
