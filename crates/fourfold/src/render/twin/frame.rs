@@ -13,7 +13,7 @@ use crate::tree::Hierarchy;
 
 use super::bundle::{Bundle, RootFree};
 use super::certify::{Certifier, SearchBox};
-use super::pixel::{AIMED, Evaluators, Marched, Pixel, SEEK_STARTS};
+use super::pixel::{AIMED, AxisSlope, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::section::Band;
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
 use super::walk::{Kept, Tile, boxes_of, steps_of, tile_nodes};
@@ -40,6 +40,8 @@ pub fn render_rgba(
     } else {
         Vec::new()
     };
+    // A slice seen square on: its samples' slopes from F and one partial (see AxisSlope).
+    let along = slice.then(|| AxisSlope::of(formula, u.n1)).flatten();
     // The section's bands from the rays' origin and from the plane's, once per frame.
     let bands = [Band::of(u, true), Band::of(u, false)];
     let (width, height) = (u.size.width, u.size.height);
@@ -52,7 +54,7 @@ pub fn render_rgba(
                 root_free: RootFree::new(formula, params),
                 one_signed: Vec::new(),
                 stretches: Vec::new(),
-                evals: Evaluators::new(),
+                evals: Evaluators::new(along.as_ref()),
                 hits: Vec::with_capacity(16),
                 boxes: Vec::new(),
                 forms: &forms,

@@ -2,7 +2,7 @@
 //! the boxes it meets, the roots found on it, and the shading of the nearest hits, step for
 //! step as `templates/raycast.wgsl` does them (but for the roots' steps: `root`).
 
-use crate::eval::PointEvaluator;
+use crate::eval::{PointEvaluator, Tape};
 use crate::formula::CompiledFormula;
 use crate::render::view::{
     FLAG_BORDER, FLAG_CERTIFIED, FLAG_LIGHTING, FLAG_MARK, FLAG_RANDOM, FLAG_SILHOUETTE, FLAG_SLAB,
@@ -26,14 +26,40 @@ pub(super) const SEEK_STARTS: usize = 4;
 pub(super) struct Evaluators {
     f: PointEvaluator,
     all: PointEvaluator,
+    along: Option<(AxisSlope, PointEvaluator)>,
 }
 
 impl Evaluators {
-    pub(super) fn new() -> Self {
+    /// With `along`, a slice's march takes its samples' slopes from that tape.
+    pub(super) fn new(along: Option<&AxisSlope>) -> Self {
         Self {
             f: PointEvaluator::single_precision(),
             all: PointEvaluator::single_precision(),
+            along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
         }
+    }
+}
+
+/// Where a slice's rays run along an axis (n1 = ±e_k: a slice seen square on), the tape of
+/// F and ∂F/∂x_k alone, so that a sample's slope along the ray costs no other partial
+/// (the sextic's three others are a third of F and ∇F's instructions that move along z).
+/// The slope is the same value as from the whole gradient wherever the others are finite:
+/// x·0 is 0 and the sum's other terms vanish.
+#[derive(Clone)]
+pub(super) struct AxisSlope {
+    axis: usize,
+    tape: Tape,
+}
+
+impl AxisSlope {
+    /// The tape for the rays along `n1`, if n1 is an axis.
+    pub(super) fn of(formula: &CompiledFormula, n1: V4) -> Option<Self> {
+        let axis = (0..4).find(|&k| n1[k].abs() == 1.0)?;
+        let others_zero = (0..4).all(|j| j == axis || n1[j] == 0.0);
+        others_zero.then(|| Self {
+            axis,
+            tape: Tape::new(&formula.graph, &[formula.f, formula.gradient[axis]]),
+        })
     }
 }
 
@@ -112,6 +138,12 @@ impl Pixel<'_, '_> {
     pub(super) fn f_slope(&mut self, p: V4, d: V4, bent: bool) -> [f32; 2] {
         if !bent {
             return [self.f(p), 0.0];
+        }
+        if let Some((along, eval)) = &mut self.eval.along {
+            let mut out = [0.0; 2];
+            eval.eval_into(&along.tape, p.map(f64::from), self.params, &mut out);
+            let k = along.axis;
+            return [out[0] as f32, (out[1] * f64::from(d[k])) as f32];
         }
         let (f, g) = self.f_grad(p);
         [f, slope(g, d)]
@@ -458,5 +490,61 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
         2.0 * f / (root - g)
     } else {
         f32::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Only an axis (either way) makes an [`AxisSlope`]; a turned direction does not.
+    #[test]
+    fn only_rays_along_an_axis_take_one_partial() {
+        let f = CompiledFormula::compile("x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1").unwrap();
+        assert_eq!(
+            AxisSlope::of(&f, [0.0, 0.0, 1.0, 0.0]).map(|a| a.axis),
+            Some(2)
+        );
+        assert_eq!(
+            AxisSlope::of(&f, [-1.0, 0.0, 0.0, 0.0]).map(|a| a.axis),
+            Some(0)
+        );
+        assert!(AxisSlope::of(&f, [0.0, 0.6, 0.8, 0.0]).is_none());
+        assert!(AxisSlope::of(&f, [1e-8, 0.0, 1.0, 0.0]).is_none());
+    }
+
+    proptest! {
+        /// F and the slope along the axis from the one partial's tape are, bit for bit, F
+        /// and `slope` of the whole gradient, as the GPU's f32 evaluation gives them.
+        #[test]
+        fn the_axis_slope_is_the_whole_gradient_s(
+            p in prop::array::uniform4(-2.0f32..2.0),
+            axis in 0usize..4,
+            reverse in prop::bool::ANY,
+        ) {
+            let sources = [
+                "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1",
+                "(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4R^2(x^2 + y^2) - w",
+                "cos(3x) + cos(3y) + cos(3z) + cos(3w)",
+                "sqrt(x^2 + y^2) * exp(z) - w/(1 + y^2)",
+            ];
+            let mut d = [0.0f32; 4];
+            d[axis] = if reverse { -1.0 } else { 1.0 };
+            for src in sources {
+                let f = CompiledFormula::compile(src).unwrap();
+                let params = [2.0, 1.0];
+                let along = AxisSlope::of(&f, d).unwrap();
+                let mut one = [0.0; 2];
+                PointEvaluator::single_precision().eval_into(&along.tape, p.map(f64::from), &params, &mut one);
+                let mut all = [0.0; 5];
+                PointEvaluator::single_precision().eval_into(&f.tape_all, p.map(f64::from), &params, &mut all);
+                let g: V4 = std::array::from_fn(|k| all[k + 1] as f32);
+                prop_assume!(g.iter().all(|v| v.is_finite()));
+                prop_assert_eq!((one[0] as f32).to_bits(), (all[0] as f32).to_bits(), "{}", src);
+                let mine = (one[1] * f64::from(d[axis])) as f32;
+                prop_assert_eq!(mine, slope(g, d), "{} at {:?}", src, p);
+            }
+        }
     }
 }
