@@ -154,8 +154,8 @@ impl Prepared {
 
 /// The part of the domain a picture of the scene's view reaches: a slice's hyperplane or a
 /// slab's band across n2 (from the domain's centre, as the camera places them), widened by
-/// [`crate::tree::REGION_MARGIN`] of the domain's half-diagonal plus its distance from the
-/// origin, far more than a ray's points worked out in f32 stray; `None` for a projection,
+/// [`crate::tree::REGION_MARGIN`] of the domain's half-diagonal plus its centre's largest
+/// coordinate (in magnitude), far more than a ray's points worked out in f32 stray; `None` for a projection,
 /// and for a picture coloured by the hidden direction (its colours span M's range along n2).
 pub fn view_region(scene: &Scene) -> Option<Region> {
     if scene.render.color_by == ColorBy::Hidden {

@@ -45,6 +45,9 @@ pub fn render_rgba(
     // The section's bands from the rays' origin and from the plane's, once per frame.
     let bands = [Band::of(u, true), Band::of(u, false)];
     let (width, height) = (u.size.width, u.size.height);
+    // A pixel of a tile with nothing to march: the background, proved empty.
+    let bg = u.background.map(unorm8);
+    let empty = [bg[0], bg[1], bg[2], Verdict::Empty.alpha()];
     // Bands of TILE rows in parallel, each walked a tile of TILE × TILE pixels at a time.
     let strips: Vec<Vec<u8>> = (0..height.div_ceil(TILE))
         .into_par_iter()
@@ -82,8 +85,6 @@ pub fn render_rgba(
                 // A tile whose walks kept no node has no box to march or search: each of
                 // its pixels is the background, proved empty (what `render_pixel` finds).
                 if !u.brute_force() && scratch.kept[..walked].iter().all(Vec::is_empty) {
-                    let bg = u.background.map(unorm8);
-                    let empty = [bg[0], bg[1], bg[2], Verdict::Empty.alpha()];
                     for py in rows.clone() {
                         let at = (((py - rows.start) * width + columns.start) * 4) as usize;
                         let row = &mut out[at..at + columns.len() * 4];

@@ -16,7 +16,7 @@ pub struct Region {
 }
 
 /// How far past the region a box may lie and still be kept, as a share of the reach given
-/// to [`Region::band`] (the domain's half-diagonal plus its distance from the origin): a
+/// to [`Region::band`] (the domain's half-diagonal plus its centre's largest coordinate): a
 /// ray's points are worked out in f32 on the GPU (and rounded in the twin), so they stray
 /// from the exact hyperplane by a few ulps of their coordinates; a box they may reach must
 /// be in the tree, or a pixel would prove nothing there.
