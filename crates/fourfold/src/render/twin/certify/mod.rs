@@ -56,6 +56,9 @@ pub struct Certifier<'a> {
     params: &'a [f64],
     u: &'a Uniforms,
     eval: IntervalEvaluator,
+    /// F's proved signs at points: a pixel's points share the sides of its box along the
+    /// axes its plane is square to, and their instructions are not run again.
+    at_points: IntervalEvaluator,
 }
 
 /// A cell: ranges of s and t.
@@ -68,6 +71,7 @@ impl<'a> Certifier<'a> {
             params,
             u,
             eval: IntervalEvaluator::new(),
+            at_points: IntervalEvaluator::keeping(),
         }
     }
 
@@ -310,7 +314,7 @@ impl<'a> Certifier<'a> {
         if !inside(&x, within) {
             return 0;
         }
-        proved_sign(self.eval.eval(&self.formula.tape_f, &x, self.params))
+        proved_sign(self.at_points.eval(&self.formula.tape_f, &x, self.params))
     }
 }
 
