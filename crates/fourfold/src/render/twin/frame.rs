@@ -48,26 +48,28 @@ pub fn render_rgba(
     // A pixel of a tile with nothing to march: the background, proved empty.
     let bg = u.background.map(unorm8);
     let empty = [bg[0], bg[1], bg[2], Verdict::Empty.alpha()];
-    // Bands of TILE rows in parallel, each walked a tile of TILE × TILE pixels at a time.
-    let strips: Vec<Vec<u8>> = (0..height.div_ceil(TILE))
-        .into_par_iter()
-        .map(|strip| {
-            let mut scratch = Scratch {
-                certifier: Certifier::new(formula, params, u),
-                root_free: RootFree::new(formula, params),
-                one_signed: Vec::new(),
-                stretches: Vec::new(),
-                evals: Evaluators::new(along.as_ref()),
-                hits: Vec::with_capacity(16),
-                boxes: Vec::new(),
-                forms: &forms,
-                bands: &bands,
-                kept: [Vec::new(), Vec::new()],
-                covered: Vec::new(),
-                bounds: Vec::new(),
-            };
+    // Bands of TILE rows in parallel, each walked a tile of TILE × TILE pixels at a time,
+    // each drawn into its part of the picture; a worker's scratch serves all its bands.
+    let mut rgba = vec![0u8; (width * height * 4) as usize];
+    let band_bytes = (TILE * width * 4) as usize;
+    rgba.par_chunks_mut(band_bytes).enumerate().for_each_init(
+        || Scratch {
+            certifier: Certifier::new(formula, params, u),
+            root_free: RootFree::new(formula, params),
+            one_signed: Vec::new(),
+            stretches: Vec::new(),
+            evals: Evaluators::new(along.as_ref()),
+            hits: Vec::with_capacity(16),
+            boxes: Vec::new(),
+            forms: &forms,
+            bands: &bands,
+            kept: [Vec::new(), Vec::new()],
+            covered: Vec::new(),
+            bounds: Vec::new(),
+        },
+        |scratch, (strip, out)| {
+            let strip = strip as u32;
             let rows = strip * TILE..((strip + 1) * TILE).min(height);
-            let mut out = vec![0u8; rows.len() * width as usize * 4];
             for x0 in (0..width).step_by(TILE as usize) {
                 let columns = x0..(x0 + TILE).min(width);
                 // (The certifying hierarchy's only where pixels are certified.)
@@ -95,7 +97,7 @@ pub fn render_rgba(
                 }
                 scratch.one_signed.clear();
                 if let Some(bundle) = &bundle {
-                    one_signed_stretches(hierarchy, u, bundle, &mut scratch);
+                    one_signed_stretches(hierarchy, u, bundle, scratch);
                 }
                 for py in rows.clone() {
                     for px in columns.clone() {
@@ -104,7 +106,7 @@ pub fn render_rgba(
                             params,
                             [hierarchy, certifying],
                             u,
-                            &mut scratch,
+                            scratch,
                             (px, py),
                         );
                         let at = (((py - rows.start) * width + px) * 4) as usize;
@@ -113,10 +115,9 @@ pub fn render_rgba(
                     }
                 }
             }
-            out
-        })
-        .collect();
-    strips.concat()
+        },
+    );
+    rgba
 }
 
 /// A channel in [0, 1] as a byte, rounded to nearest, halves up: `(v · 255).round()`, but
