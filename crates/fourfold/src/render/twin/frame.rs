@@ -12,7 +12,7 @@ use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
 use super::bundle::{Bundle, RootFree};
-use super::certify::{Certifier, SearchBox};
+use super::certify::{Bracket, Certifier, SearchBox};
 use super::pixel::{AIMED, AxisSlope, Evaluators, Marched, Pixel, SEEK_STARTS};
 use super::section::Band;
 use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
@@ -66,6 +66,10 @@ pub fn render_rgba(
             kept: [Vec::new(), Vec::new()],
             covered: Vec::new(),
             bounds: Vec::new(),
+            traced: Vec::new(),
+            tile_hits: Vec::new(),
+            brackets: Vec::new(),
+            signs: Vec::new(),
         },
         |scratch, (strip, out)| {
             let strip = strip as u32;
@@ -99,21 +103,44 @@ pub fn render_rgba(
                 if let Some(bundle) = &bundle {
                     one_signed_stretches(hierarchy, u, bundle, scratch);
                 }
+                // The tile's pixels' rays first, then their brackets' signs proved all
+                // together, then each pixel's verdict and colour.
+                let mut traced = std::mem::take(&mut scratch.traced);
+                traced.clear();
+                scratch.tile_hits.clear();
                 for py in rows.clone() {
                     for px in columns.clone() {
-                        let (c, verdict) = render_pixel(
+                        traced.push(trace_pixel(
                             formula,
                             params,
-                            [hierarchy, certifying],
+                            hierarchy,
                             u,
                             scratch,
                             (px, py),
-                        );
-                        let at = (((py - rows.start) * width + px) * 4) as usize;
-                        let rgb = c.map(unorm8);
-                        out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], verdict.alpha()]);
+                        ));
                     }
                 }
+                let mut signs = std::mem::take(&mut scratch.signs);
+                signs.clear();
+                if certified {
+                    scratch.brackets.clear();
+                    scratch
+                        .brackets
+                        .extend(traced.iter().map(|t| (t.plane, t.bracket)));
+                    scratch
+                        .certifier
+                        .bracket_signs(&scratch.brackets, &mut signs);
+                }
+                for (k, t) in traced.iter().enumerate() {
+                    let signs = signs.get(k).copied().flatten();
+                    let h = [hierarchy, certifying];
+                    let (c, verdict) = finish_pixel(formula, params, h, u, scratch, t, signs);
+                    let (px, py) = t.at;
+                    let at = (((py - rows.start) * width + px) * 4) as usize;
+                    let rgb = c.map(unorm8);
+                    out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], verdict.alpha()]);
+                }
+                (scratch.traced, scratch.signs) = (traced, signs);
             }
         },
     );
@@ -234,23 +261,43 @@ struct Scratch<'a> {
     /// The boxes of the pixel's certified search, walked and then with their forms.
     covered: Vec<Marched>,
     bounds: Vec<SearchBox>,
+    /// The tile's pixels after their rays, their hits, and their brackets with F's signs
+    /// at their ends (see `render_rgba`).
+    traced: Vec<Traced>,
+    tile_hits: Vec<(f32, u32)>,
+    brackets: Vec<Bracket>,
+    signs: Vec<Option<[i8; 2]>>,
 }
 
-/// A pixel's colour and verdict; `h` holds the hierarchy the rays march and the one the
-/// certified search covers.
-fn render_pixel(
+/// A pixel after its rays' march, until its bracket's signs are proved with its tile's:
+/// where it is, its plane's and its rays' origins, its seed and offset, its hits (in the
+/// tile's, from the first, how many) and its bracket (see [`Pixel::bracket`]).
+struct Traced {
+    at: (u32, u32),
+    plane: V4,
+    o: V4,
+    seed: u32,
+    offset: f32,
+    hits: (usize, usize),
+    bracket: Option<([f64; 2], [f64; 2])>,
+}
+
+/// Pixel (px, py)'s rays across the boxes of `h` they meet (and, where they find nothing,
+/// the search between them): its hits, kept in the tile's, and its bracket.
+fn trace_pixel(
     formula: &CompiledFormula,
     params: &[f64],
-    h: [&Hierarchy; 2],
+    h: &Hierarchy,
     u: &Uniforms,
     scratch: &mut Scratch<'_>,
     (px, py): (u32, u32),
-) -> ([f32; 3], Verdict) {
+) -> Traced {
     let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
     let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
         .control
         .seed
         .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
+    let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
     scratch.hits.clear();
     let mut pixel = Pixel {
         u,
@@ -258,7 +305,7 @@ fn render_pixel(
         params,
         eval: &mut scratch.evals,
         seed,
-        offset: stratified_offset(u.control.seed, u.counts.frame, px, py),
+        offset,
         hits: &mut scratch.hits,
         k_max: u.size.hits.clamp(1, 16) as usize,
         aim: [1.0, 0.0],
@@ -269,7 +316,7 @@ fn render_pixel(
         starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
     };
     let boxes = &mut scratch.boxes;
-    boxes_of(h[0], u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
+    boxes_of(h, u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
     for b in boxes.iter() {
         pixel.trace_box(o, b);
     }
@@ -279,6 +326,60 @@ fn render_pixel(
             pixel.seek_in_plane(o, b);
         }
     }
+    let bracket = pixel.bracket;
+    let first = scratch.tile_hits.len();
+    scratch.tile_hits.extend_from_slice(&scratch.hits);
+    Traced {
+        at: (px, py),
+        plane,
+        o,
+        seed,
+        offset,
+        hits: (first, scratch.hits.len()),
+        bracket,
+    }
+}
+
+/// A traced pixel's colour and verdict, F's signs at its bracket's ends proved as `signs`
+/// (see `Certifier::bracket_signs`); `h` holds the hierarchy the rays march and the one
+/// the certified search covers.
+fn finish_pixel(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: [&Hierarchy; 2],
+    u: &Uniforms,
+    scratch: &mut Scratch<'_>,
+    traced: &Traced,
+    signs: Option<[i8; 2]>,
+) -> ([f32; 3], Verdict) {
+    let &Traced {
+        at: (px, py),
+        plane,
+        o,
+        seed,
+        offset,
+        hits: (first, count),
+        bracket,
+    } = traced;
+    scratch.hits.clear();
+    let hits = &scratch.tile_hits[first..first + count];
+    scratch.hits.extend_from_slice(hits);
+    let mut pixel = Pixel {
+        u,
+        formula,
+        params,
+        eval: &mut scratch.evals,
+        seed,
+        offset,
+        hits: &mut scratch.hits,
+        k_max: u.size.hits.clamp(1, 16) as usize,
+        aim: [1.0, 0.0],
+        plane,
+        bracket,
+        closest: ([0.0; 2], f32::INFINITY),
+        one_signed: &scratch.one_signed,
+        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
+    };
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
         let (covered, bounds) = (&mut scratch.covered, &mut scratch.bounds);
@@ -296,7 +397,9 @@ fn render_pixel(
             }));
             bounds.as_slice()
         };
-        let outcome = scratch.certifier.pixel(plane, pixel.bracket, search_boxes);
+        let outcome = scratch
+            .certifier
+            .pixel((plane, bracket), signs, search_boxes);
         verdict = outcome.verdict;
         if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
             // As the shader's `certify`: aim a ray through the proved root.
@@ -310,6 +413,9 @@ fn render_pixel(
                 } else {
                     [1.0, 0.0]
                 };
+                // (The boxes the rays marched, walked again: seldom needed.)
+                let boxes = &mut scratch.boxes;
+                boxes_of(h[0], u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
                 for b in boxes.iter() {
                     pixel.trace_ray(o, b, AIMED);
                 }

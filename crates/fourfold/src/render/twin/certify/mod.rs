@@ -9,7 +9,7 @@
 //! which F is continuous, prove a root: the pixel is a hit. Every cell excluded: empty.
 //! Otherwise undecided.
 
-use crate::eval::{Box4, Interval, IntervalEvaluator};
+use crate::eval::{BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES};
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLICE, Uniforms};
@@ -59,7 +59,15 @@ pub struct Certifier<'a> {
     /// F's proved signs at points: a pixel's points share the sides of its box along the
     /// axes its plane is square to, and their instructions are not run again.
     at_points: IntervalEvaluator,
+    /// F's proved signs at the ends of a tile's brackets, [`LANES`] at a time.
+    batch: BatchEvaluator,
+    /// The points of those ends that lie in the domain (their boxes, and where each goes).
+    pending: Vec<(Box4, usize)>,
 }
+
+/// A pixel's ray's sign change (see [`Certifier::pixel`]): its plane's origin, and the two
+/// points (s, t) of its plane F was found on either side of 0 at, if a ray found one.
+pub type Bracket = ([f32; 4], Option<([f64; 2], [f64; 2])>);
 
 /// A cell: ranges of s and t.
 type Cell = (Interval, Interval);
@@ -72,18 +80,57 @@ impl<'a> Certifier<'a> {
             u,
             eval: IntervalEvaluator::new(),
             at_points: IntervalEvaluator::keeping(),
+            batch: BatchEvaluator::new(),
+            pending: Vec::new(),
+        }
+    }
+
+    /// F's proved signs (1, −1; 0: none) at the two ends of each of `brackets`, into `out`
+    /// in their order: None where a pixel has no bracket or F may not be continuous
+    /// between its ends (then it proves nothing). The ends' enclosures are those
+    /// [`Self::pixel`] would take one by one, bit for bit, taken [`LANES`] at a time.
+    pub fn bracket_signs(&mut self, brackets: &[Bracket], out: &mut Vec<Option<[i8; 2]>>) {
+        out.clear();
+        self.pending.clear();
+        let domain = self.domain();
+        for (k, &(o, bracket)) in brackets.iter().enumerate() {
+            let tried = bracket.filter(|&(a, b)| self.continuous_between(o, a, b));
+            if let Some((a, b)) = tried {
+                for (end, p) in [a, b].into_iter().enumerate() {
+                    let x = self.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
+                    if inside(&x, &domain) {
+                        self.pending.push((x, 2 * k + end));
+                    }
+                }
+            }
+            out.push(tried.map(|_| [0, 0]));
+        }
+        let tape = &self.formula.tape_f;
+        let mut boxes = [[Interval::EMPTY; 4]; LANES];
+        for chunk in self.pending.chunks(LANES) {
+            for (b, &(x, _)) in boxes.iter_mut().zip(chunk) {
+                *b = x;
+            }
+            self.batch.eval(tape, &boxes[..chunk.len()], self.params);
+            for (lane, &(_, at)) in chunk.iter().enumerate() {
+                let sign = proved_sign(self.batch.output(tape, 0, lane));
+                if let Some(signs) = &mut out[at / 2] {
+                    signs[at % 2] = sign;
+                }
+            }
         }
     }
 
     /// Certifies the pixel whose plane has origin `o` (its observer plane's point on the
     /// (v1, v2) plane through the domain's centre), within the boxes `boxes` gives (boxes
     /// that together hold every point of M in the domain that the plane may meet).
-    /// A ray's sign change, `bracket`'s two points (s, t), is tried first: where it proves
-    /// a hit, the boxes are not asked for (a pixel's walk of its hierarchy is not free).
+    /// A ray's sign change, `bracket`'s two points (s, t), is tried first, with F's signs
+    /// there as [`Self::bracket_signs`] proved them (`signs`): where they prove a hit, the
+    /// boxes are not asked for (a pixel's walk of its hierarchy is not free).
     pub fn pixel<'b>(
         &mut self,
-        o: [f32; 4],
-        bracket: Option<([f64; 2], [f64; 2])>,
+        (o, bracket): Bracket,
+        signs: Option<[i8; 2]>,
         boxes: impl FnOnce() -> &'b [SearchBox],
     ) -> Outcome {
         let mut search = Search {
@@ -92,12 +139,9 @@ impl<'a> Certifier<'a> {
             pos: None,
             neg: None,
         };
-        if let Some((a, b)) = bracket.filter(|&(a, b)| self.continuous_between(o, a, b)) {
-            let domain = self.domain();
-            for p in [a, b] {
-                let sign = self.sign_at(o, p, &domain);
-                search.note(sign, p);
-            }
+        if let (Some((a, b)), Some(signs)) = (bracket, signs) {
+            search.note(signs[0], a);
+            search.note(signs[1], b);
         }
         if let Some(bracket) = search.hit() {
             return Outcome {
