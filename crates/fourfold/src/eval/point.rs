@@ -7,7 +7,7 @@
 
 use crate::ops::powi;
 
-use super::tape::{Op, PrefixKey, Run, Tape, plan, sized};
+use super::tape::{Op, PrefixKey, Tape, sized};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
 /// keep their values from one call to the next: an instruction that reads none of the
@@ -127,6 +127,36 @@ impl PointEvaluator {
         self.eval_into(tape, p, params, &mut out);
         out[0]
     }
+}
+
+/// The instructions of `tape` that read a coordinate in `moved`, in order, with their
+/// indices, from `runs` (made there when first needed); None where they are most of those
+/// past the uniform prefix, which then run straight through (a list costs more a step).
+fn plan<'a>(runs: &'a mut [Option<Run>; 16], tape: &Tape, moved: u8) -> Option<&'a [(u32, Op)]> {
+    let run = runs[usize::from(moved)].get_or_insert_with(|| {
+        let reads = tape.reads().iter().zip(tape.ops()).enumerate();
+        let list: Vec<(u32, Op)> = reads
+            .filter(|&(_, (&r, _))| r & moved != 0)
+            .map(|(i, (_, &op))| (i as u32, op))
+            .collect();
+        let rest = tape.len() - tape.uniform_len();
+        if moved != 0 && 5 * list.len() > 4 * rest {
+            Run::Whole
+        } else {
+            Run::Only(list)
+        }
+    });
+    match run {
+        Run::Whole => None,
+        Run::Only(list) => Some(list),
+    }
+}
+
+/// What a set of moved coordinates runs (see [`plan`]).
+#[derive(Debug, Clone)]
+enum Run {
+    Whole,
+    Only(Vec<(u32, Op)>),
 }
 
 /// Instruction `op`'s value at `p` in f64, its operands in `slots`.

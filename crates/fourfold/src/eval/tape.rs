@@ -192,40 +192,6 @@ impl Tape {
     }
 }
 
-/// The instructions of `tape` that read a coordinate in `moved`, in order, with their
-/// indices, from `runs` (made there when first needed); None where they are most of those
-/// past the uniform prefix, which then run straight through (a list costs more a step).
-pub(crate) fn plan<'a>(
-    runs: &'a mut [Option<Run>; 16],
-    tape: &Tape,
-    moved: u8,
-) -> Option<&'a [(u32, Op)]> {
-    let run = runs[usize::from(moved)].get_or_insert_with(|| {
-        let reads = tape.reads().iter().zip(tape.ops()).enumerate();
-        let list: Vec<(u32, Op)> = reads
-            .filter(|&(_, (&r, _))| r & moved != 0)
-            .map(|(i, (_, &op))| (i as u32, op))
-            .collect();
-        let rest = tape.len() - tape.uniform_len();
-        if moved != 0 && 5 * list.len() > 4 * rest {
-            Run::Whole
-        } else {
-            Run::Only(list)
-        }
-    });
-    match run {
-        Run::Whole => None,
-        Run::Only(list) => Some(list),
-    }
-}
-
-/// What a set of moved coordinates runs (see [`plan`]).
-#[derive(Debug, Clone)]
-pub(crate) enum Run {
-    Whole,
-    Only(Vec<(u32, Op)>),
-}
-
 /// Remembers for which tape and parameter values an evaluator's uniform prefix was computed.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PrefixKey {

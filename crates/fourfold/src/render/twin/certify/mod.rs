@@ -56,9 +56,6 @@ pub struct Certifier<'a> {
     params: &'a [f64],
     u: &'a Uniforms,
     eval: IntervalEvaluator,
-    /// F's proved signs at points: a pixel's points share the sides of its box along the
-    /// axes its plane is square to, and their instructions are not run again.
-    at_points: IntervalEvaluator,
     /// F's proved signs at the ends of a tile's brackets, [`LANES`] at a time.
     batch: BatchEvaluator,
     /// The points of those ends that lie in the domain (their boxes, and where each goes).
@@ -79,7 +76,6 @@ impl<'a> Certifier<'a> {
             params,
             u,
             eval: IntervalEvaluator::new(),
-            at_points: IntervalEvaluator::keeping(),
             batch: BatchEvaluator::new(),
             pending: Vec::new(),
         }
@@ -358,7 +354,7 @@ impl<'a> Certifier<'a> {
         if !inside(&x, within) {
             return 0;
         }
-        proved_sign(self.at_points.eval(&self.formula.tape_f, &x, self.params))
+        proved_sign(self.eval.eval(&self.formula.tape_f, &x, self.params))
     }
 }
 
