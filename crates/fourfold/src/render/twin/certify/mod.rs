@@ -93,7 +93,7 @@ impl<'a> Certifier<'a> {
             let tried = bracket.filter(|&(a, b)| self.continuous_between(o, a, b));
             if let Some((a, b)) = tried {
                 for (end, p) in [a, b].into_iter().enumerate() {
-                    let x = self.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
+                    let x = self.point_box(o, p);
                     if inside(&x, &domain) {
                         self.pending.push((x, 2 * k + end));
                     }
@@ -264,7 +264,7 @@ impl<'a> Certifier<'a> {
             // found); where it lies in the box, F's value there and the mean-value form over
             // the cell.
             let c0 = self.cell_point(o, (cs, ct), mid, &bx);
-            let cp = self.plane_box(o, Interval::point(c0[0]), Interval::point(c0[1]));
+            let cp = self.point_box(o, c0);
             let ds = cs.sub(Interval::point(c0[0]));
             let dt = ct.sub(Interval::point(c0[1]));
             let half_quad = form.map(|form| half_second_order(form, ds, dt));
@@ -350,7 +350,7 @@ impl<'a> Certifier<'a> {
 
     /// F's proved sign at the plane's point p (0: not proved, or p may lie outside `within`).
     fn sign_at(&mut self, o: [f32; 4], p: [f64; 2], within: &Box4) -> i8 {
-        let x = self.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
+        let x = self.point_box(o, p);
         if !inside(&x, within) {
             return 0;
         }
@@ -479,6 +479,28 @@ fn meet(a: Interval, b: Interval) -> Interval {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bytemuck::Zeroable;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// A point's box is the plane's box of that point, bit for bit, however the plane is
+        /// turned and however far the point lies (f64 overflow included).
+        #[test]
+        fn a_point_s_box_is_the_plane_box_of_the_point(
+            o in prop::array::uniform4(prop_oneof![Just(0.0f32), -3.0f32..3.0]),
+            n1 in prop::array::uniform4(prop_oneof![Just(0.0f32), Just(1.0), -1.0f32..1.0]),
+            n2 in prop::array::uniform4(prop_oneof![Just(0.0f32), Just(-1.0), -1.0f32..1.0]),
+            p in prop::array::uniform2(prop::num::f64::NORMAL | prop::num::f64::ZERO),
+        ) {
+            let formula = CompiledFormula::compile("x").unwrap();
+            let mut u = Uniforms::zeroed();
+            (u.n1, u.n2) = (n1, n2);
+            let certifier = Certifier::new(&formula, &[], &u);
+            let bits = |b: Box4| b.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
+            let plane = certifier.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
+            prop_assert_eq!(bits(certifier.point_box(o, p)), bits(plane));
+        }
+    }
 
     /// The side split is the one along which F may change the most (its length times the
     /// slope's bound), not the longer one; with no bound, the longer; where f32 cannot halve

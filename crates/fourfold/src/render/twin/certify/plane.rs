@@ -119,6 +119,25 @@ impl Certifier<'_> {
         std::array::from_fn(|i| Interval::new(f64::from(u.domain_lo[i]), f64::from(u.domain_hi[i])))
     }
 
+    /// [`Self::plane_box`] of the one point (s, t) = `p`, bit for bit, with no ends to
+    /// order (most of the boxes F's sign is proved over).
+    pub(super) fn point_box(&self, o: [f32; 4], p: [f64; 2]) -> Box4 {
+        let (n1, n2) = (self.u.n1, self.u.n2);
+        std::array::from_fn(|i| {
+            let (c, a, b) = (f64::from(o[i]), f64::from(n1[i]), f64::from(n2[i]));
+            let (sa, tb) = (p[0] * a, p[1] * b);
+            let v = c + sa + tb;
+            let e = (c.abs() + sa.abs() + tb.abs()) * (8.0 * f64::EPSILON / 2.0) + 1e-300;
+            if v.is_finite() && e.is_finite() {
+                Interval::new(v - e, v + e)
+            } else {
+                Interval::point(c)
+                    .add(Interval::point(p[0]).mul(Interval::point(a)))
+                    .add(Interval::point(p[1]).mul(Interval::point(b)))
+            }
+        })
+    }
+
     /// The box around the plane's points o + s·n1 + t·n2, s in `s`, t in `t`: each
     /// coordinate's ends summed in f64 and widened by 8 units of rounding of the sum of the
     /// terms' magnitudes (its three roundings and the widening's own take at most 4), at
