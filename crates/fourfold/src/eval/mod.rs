@@ -4,6 +4,7 @@
 pub mod batch;
 pub mod evaluator;
 pub mod interval_eval;
+pub mod lanes;
 pub mod point;
 pub mod tape;
 
@@ -11,5 +12,6 @@ pub use crate::interval::Interval;
 pub use batch::{BatchEvaluator, LANES};
 pub use evaluator::{Evaluator, Point4};
 pub use interval_eval::{Box4, IntervalEvaluator};
+pub use lanes::PointLanes;
 pub use point::PointEvaluator;
 pub use tape::{Instr, Op, Tape};

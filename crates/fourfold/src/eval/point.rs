@@ -201,13 +201,13 @@ fn single_op(op: Op, slots: &[f32], p: [f64; 4], params: &[f64]) -> f32 {
 
 /// `x` rounded to the nearest f32 (±∞ beyond its range), subnormals flushed to 0.
 #[inline(always)]
-fn narrow(x: f64) -> f32 {
+pub(super) fn narrow(x: f64) -> f32 {
     flush(x as f32)
 }
 
 /// `y`, or 0 of its sign where it is subnormal (as lavapipe flushes them).
 #[inline(always)]
-fn flush(y: f32) -> f32 {
+pub(super) fn flush(y: f32) -> f32 {
     if y.is_subnormal() {
         0.0f32.copysign(y)
     } else {

@@ -11,12 +11,12 @@ use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
-use super::bundle::{Bundle, RootFree};
-use super::certify::{Bracket, Certifier, SearchBox};
-use super::pixel::{AIMED, AxisSlope, Evaluators, Marched, Pixel, SEEK_STARTS};
+use super::bundle::Bundle;
+use super::pixel::AxisSlope;
 use super::section::Band;
-use super::shading::{V4, add, dot, pcg, scale, stratified_offset, sub, undecided_color};
-use super::walk::{Kept, Tile, boxes_of, steps_of, tile_nodes};
+use super::shading::{V4, add, dot, scale, sub};
+use super::tile::{Scratch, draw_tile};
+use super::walk::{Tile, steps_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
 /// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
@@ -53,24 +53,7 @@ pub fn render_rgba(
     let mut rgba = vec![0u8; (width * height * 4) as usize];
     let band_bytes = (TILE * width * 4) as usize;
     rgba.par_chunks_mut(band_bytes).enumerate().for_each_init(
-        || Scratch {
-            certifier: Certifier::new(formula, params, u),
-            root_free: RootFree::new(formula, params),
-            one_signed: Vec::new(),
-            stretches: Vec::new(),
-            evals: Evaluators::new(along.as_ref()),
-            hits: Vec::with_capacity(16),
-            boxes: Vec::new(),
-            forms: &forms,
-            bands: &bands,
-            kept: [Vec::new(), Vec::new()],
-            covered: Vec::new(),
-            bounds: Vec::new(),
-            traced: Vec::new(),
-            tile_hits: Vec::new(),
-            brackets: Vec::new(),
-            signs: Vec::new(),
-        },
+        || Scratch::new(formula, params, u, along.as_ref(), (&forms, &bands)),
         |scratch, (strip, out)| {
             let strip = strip as u32;
             let rows = strip * TILE..((strip + 1) * TILE).min(height);
@@ -89,7 +72,7 @@ pub fn render_rgba(
                     tile_nodes(h, u, (tile, &bands[k]), &mut free, &mut scratch.kept[k]);
                 }
                 // A tile whose walks kept no node has no box to march or search: each of
-                // its pixels is the background, proved empty (what `render_pixel` finds).
+                // its pixels is the background, proved empty (what `draw_tile` finds).
                 if !u.brute_force() && scratch.kept[..walked].iter().all(Vec::is_empty) {
                     for py in rows.clone() {
                         let at = (((py - rows.start) * width + columns.start) * 4) as usize;
@@ -103,44 +86,8 @@ pub fn render_rgba(
                 if let Some(bundle) = &bundle {
                     one_signed_stretches(hierarchy, u, bundle, scratch);
                 }
-                // The tile's pixels' rays first, then their brackets' signs proved all
-                // together, then each pixel's verdict and colour.
-                let mut traced = std::mem::take(&mut scratch.traced);
-                traced.clear();
-                scratch.tile_hits.clear();
-                for py in rows.clone() {
-                    for px in columns.clone() {
-                        traced.push(trace_pixel(
-                            formula,
-                            params,
-                            hierarchy,
-                            u,
-                            scratch,
-                            (px, py),
-                        ));
-                    }
-                }
-                let mut signs = std::mem::take(&mut scratch.signs);
-                signs.clear();
-                if certified {
-                    scratch.brackets.clear();
-                    scratch
-                        .brackets
-                        .extend(traced.iter().map(|t| (t.plane, t.bracket)));
-                    scratch
-                        .certifier
-                        .bracket_signs(&scratch.brackets, &mut signs);
-                }
-                for (k, t) in traced.iter().enumerate() {
-                    let signs = signs.get(k).copied().flatten();
-                    let h = [hierarchy, certifying];
-                    let (c, verdict) = finish_pixel(formula, params, h, u, scratch, t, signs);
-                    let (px, py) = t.at;
-                    let at = (((py - rows.start) * width + px) * 4) as usize;
-                    let rgb = c.map(unorm8);
-                    out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], verdict.alpha()]);
-                }
-                (scratch.traced, scratch.signs) = (traced, signs);
+                let h = [hierarchy, certifying];
+                draw_tile(formula, params, h, u, scratch, (columns, rows.clone()), out);
             }
         },
     );
@@ -150,12 +97,12 @@ pub fn render_rgba(
 /// A channel in [0, 1] as a byte, rounded to nearest, halves up: `(v · 255).round()`, but
 /// with the half added in f64 (exact for an f32) and cut off, not a call to libm's `roundf`
 /// (3% of a plain slice's frame).
-fn unorm8(v: f32) -> u8 {
+pub(super) fn unorm8(v: f32) -> u8 {
     (f64::from(v.clamp(0.0, 1.0) * 255.0) + 0.5) as u8
 }
 
 /// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
-const TILE: u32 = 8;
+pub(super) const TILE: u32 = 8;
 
 /// The pixels `columns` × `rows` as a [`Tile`]: around the origin of their plane (or, with
 /// `rays` in a slice, of their rays' line) at the square's centre.
@@ -208,7 +155,7 @@ fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundl
 /// The origin of the observer plane through the point (fx, fy) of the picture (in pixels
 /// from its top left corner), and that of its rays: for a slice, the slice's line from
 /// where it enters the sphere around the domain (as the shader).
-fn origins(u: &Uniforms, (fx, fy): (f32, f32)) -> (V4, V4) {
+pub(super) fn origins(u: &Uniforms, (fx, fy): (f32, f32)) -> (V4, V4) {
     let (w, hgt) = (u.size.width as f32, u.size.height as f32);
     let s = u.misc.pixel_size;
     let plane = add(
@@ -228,229 +175,9 @@ fn origins(u: &Uniforms, (fx, fy): (f32, f32)) -> (V4, V4) {
     (plane, line)
 }
 
-/// The form of a box without curvature bounds (brute force's domain).
-const UNBOUNDED: [f32; 6] = [
-    f32::NEG_INFINITY,
-    f32::INFINITY,
-    f32::NEG_INFINITY,
-    f32::INFINITY,
-    f32::NEG_INFINITY,
-    f32::INFINITY,
-];
-
-/// What a strip's pixels reuse from one to the next.
-struct Scratch<'a> {
-    certifier: Certifier<'a>,
-    /// Proves a slice's boxes free of M for a whole tile (see `bundle`).
-    root_free: RootFree<'a>,
-    /// A slice's tile's stretches of its lines on which F keeps one sign, box after box
-    /// (each kept box's range of them in `kept[0]`), and one box's.
-    one_signed: Vec<(f32, f32)>,
-    stretches: Vec<(f32, f32)>,
-    evals: Evaluators,
-    /// The pixel's hits (see [`Pixel::hits`]), kept for its storage.
-    hits: Vec<(f32, u32)>,
-    /// The boxes of the pixel's rays.
-    boxes: Vec<Marched>,
-    /// The certifying hierarchy's forms, by node (see `render_rgba`).
-    forms: &'a [[f32; 6]],
-    /// The section's band from the rays' origin and from the plane's (see `render_rgba`).
-    bands: &'a [Option<Band>; 2],
-    /// The nodes of the two hierarchies the pixel's tile may visit (see `walk`).
-    kept: [Vec<Kept>; 2],
-    /// The boxes of the pixel's certified search, walked and then with their forms.
-    covered: Vec<Marched>,
-    bounds: Vec<SearchBox>,
-    /// The tile's pixels after their rays, their hits, and their brackets with F's signs
-    /// at their ends (see `render_rgba`).
-    traced: Vec<Traced>,
-    tile_hits: Vec<(f32, u32)>,
-    brackets: Vec<Bracket>,
-    signs: Vec<Option<[i8; 2]>>,
-}
-
-/// A pixel after its rays' march, until its bracket's signs are proved with its tile's:
-/// where it is, its plane's and its rays' origins, its seed and offset, its hits (in the
-/// tile's, from the first, how many) and its bracket (see [`Pixel::bracket`]).
-struct Traced {
-    at: (u32, u32),
-    plane: V4,
-    o: V4,
-    seed: u32,
-    offset: f32,
-    hits: (usize, usize),
-    bracket: Option<([f64; 2], [f64; 2])>,
-}
-
-/// Pixel (px, py)'s rays across the boxes of `h` they meet (and, where they find nothing,
-/// the search between them): its hits, kept in the tile's, and its bracket.
-fn trace_pixel(
-    formula: &CompiledFormula,
-    params: &[f64],
-    h: &Hierarchy,
-    u: &Uniforms,
-    scratch: &mut Scratch<'_>,
-    (px, py): (u32, u32),
-) -> Traced {
-    let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
-    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
-        .control
-        .seed
-        .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
-    let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
-    scratch.hits.clear();
-    let mut pixel = Pixel {
-        u,
-        formula,
-        params,
-        eval: &mut scratch.evals,
-        seed,
-        offset,
-        hits: &mut scratch.hits,
-        k_max: u.size.hits.clamp(1, 16) as usize,
-        aim: [1.0, 0.0],
-        plane,
-        bracket: None,
-        closest: ([0.0; 2], f32::INFINITY),
-        one_signed: &scratch.one_signed,
-        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
-    };
-    let boxes = &mut scratch.boxes;
-    boxes_of(h, u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
-    for b in boxes.iter() {
-        pixel.trace_box(o, b);
-    }
-    // As the shader: a pixel whose rays found nothing searches its boxes between them.
-    if pixel.hits.is_empty() && !u.brute_force() && !pixel.slice() {
-        for b in boxes.iter() {
-            pixel.seek_in_plane(o, b);
-        }
-    }
-    let bracket = pixel.bracket;
-    let first = scratch.tile_hits.len();
-    scratch.tile_hits.extend_from_slice(&scratch.hits);
-    Traced {
-        at: (px, py),
-        plane,
-        o,
-        seed,
-        offset,
-        hits: (first, scratch.hits.len()),
-        bracket,
-    }
-}
-
-/// A traced pixel's colour and verdict, F's signs at its bracket's ends proved as `signs`
-/// (see `Certifier::bracket_signs`); `h` holds the hierarchy the rays march and the one
-/// the certified search covers.
-fn finish_pixel(
-    formula: &CompiledFormula,
-    params: &[f64],
-    h: [&Hierarchy; 2],
-    u: &Uniforms,
-    scratch: &mut Scratch<'_>,
-    traced: &Traced,
-    signs: Option<[i8; 2]>,
-) -> ([f32; 3], Verdict) {
-    let &Traced {
-        at: (px, py),
-        plane,
-        o,
-        seed,
-        offset,
-        hits: (first, count),
-        bracket,
-    } = traced;
-    scratch.hits.clear();
-    let hits = &scratch.tile_hits[first..first + count];
-    scratch.hits.extend_from_slice(hits);
-    let mut pixel = Pixel {
-        u,
-        formula,
-        params,
-        eval: &mut scratch.evals,
-        seed,
-        offset,
-        hits: &mut scratch.hits,
-        k_max: u.size.hits.clamp(1, 16) as usize,
-        aim: [1.0, 0.0],
-        plane,
-        bracket,
-        closest: ([0.0; 2], f32::INFINITY),
-        one_signed: &scratch.one_signed,
-        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
-    };
-    let mut verdict = Verdict::Empty;
-    if u.control.flags & FLAG_CERTIFIED != 0 {
-        let (covered, bounds) = (&mut scratch.covered, &mut scratch.bounds);
-        let walk = (&scratch.bands[1], scratch.kept[1].as_slice());
-        let forms = scratch.forms;
-        let search_boxes = move || {
-            // (Moved out of the closure's capture, so that the slice returned may outlive it.)
-            let bounds = { bounds };
-            boxes_of(h[1], u, plane, walk, covered);
-            bounds.clear();
-            bounds.extend(covered.iter().map(|b| SearchBox {
-                lo: b.lo,
-                hi: b.hi,
-                form: b.node.map_or(UNBOUNDED, |i| forms[i]),
-            }));
-            bounds.as_slice()
-        };
-        let outcome = scratch
-            .certifier
-            .pixel((plane, bracket), signs, search_boxes);
-        verdict = outcome.verdict;
-        if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
-            // As the shader's `certify`: aim a ray through the proved root.
-            let root = pixel.root_between(plane, a, b);
-            if pixel.slice() {
-                pixel.insert(root[0] + slice_reach(u), AIMED);
-            } else {
-                let len = (root[0] * root[0] + root[1] * root[1]).sqrt();
-                pixel.aim = if len > 0.0 {
-                    [root[0] / len, root[1] / len]
-                } else {
-                    [1.0, 0.0]
-                };
-                // (The boxes the rays marched, walked again: seldom needed.)
-                let boxes = &mut scratch.boxes;
-                boxes_of(h[0], u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
-                for b in boxes.iter() {
-                    pixel.trace_ray(o, b, AIMED);
-                }
-                if pixel.hits.is_empty() {
-                    pixel.insert(len, AIMED);
-                }
-            }
-        }
-    }
-    if pixel.hits.is_empty() {
-        let color = if verdict == Verdict::Undecided {
-            undecided_color(u, px, py)
-        } else {
-            [u.background[0], u.background[1], u.background[2]]
-        };
-        return (color, verdict);
-    }
-    let alpha = u.misc.alpha;
-    let mut color = [0.0f32; 3];
-    for j in 0..pixel.hits.len() {
-        let (t, ray) = pixel.hits[pixel.hits.len() - 1 - j];
-        let d = pixel.direction(ray);
-        let c = pixel.shade(add(o, scale(d, t)), d);
-        color = if j == 0 {
-            c
-        } else {
-            std::array::from_fn(|i| color[i] * (1.0 - alpha) + c[i] * alpha)
-        };
-    }
-    (color, verdict)
-}
-
 /// How far before the slice's place along n1 its rays start: the domain's half diagonal (the
 /// sphere around the domain).
-fn slice_reach(u: &Uniforms) -> f32 {
+pub(super) fn slice_reach(u: &Uniforms) -> f32 {
     let extent = sub(u.domain_hi, u.domain_lo);
     0.5 * dot(extent, extent).sqrt()
 }

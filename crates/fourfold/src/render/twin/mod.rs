@@ -12,6 +12,7 @@ mod root;
 mod section;
 mod seek;
 mod shading;
+mod tile;
 mod walk;
 
 pub use certify::{CERT_STACK, Certifier, Outcome};

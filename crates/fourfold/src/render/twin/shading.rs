@@ -2,9 +2,67 @@
 //! undecided marker, the slice's mark), the hashes that place rays, and vector arithmetic
 //! in f32 as the GPU does it.
 
-use crate::render::view::{FLAG_HATCH, FLAG_HIDDEN, Uniforms};
+use crate::render::view::{
+    FLAG_BORDER, FLAG_HATCH, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_SILHOUETTE, FLAG_SLICE,
+    Uniforms,
+};
 
 pub(super) type V4 = [f32; 4];
+
+/// The colour of a hit at `p` seen along `d`, where ∇F is `g` (as the shader's `shade`):
+/// the silhouette's, the border's or the slice's mark where one applies, else the surface's
+/// lit (a slice's normal is ∇F within its hyperplane).
+pub(super) fn shade(u: &Uniforms, p: V4, d: V4, g: V4) -> [f32; 3] {
+    let mut g = g;
+    if u.control.flags & FLAG_SLICE != 0 {
+        g = sub(g, scale(u.n2, dot(g, u.n2)));
+    }
+    let glen = dot(g, g).sqrt();
+    let flags = u.control.flags;
+    let rgb = |c: V4| [c[0], c[1], c[2]];
+    if flags & FLAG_SILHOUETTE != 0 && glen > 0.0 {
+        let gu = scale(g, 1.0 / glen);
+        if dot(gu, u.n1).abs() < u.misc.silhouette_tolerance
+            && dot(gu, u.n2).abs() < u.misc.silhouette_tolerance
+        {
+            return rgb(u.silhouette_color);
+        }
+    }
+    if flags & FLAG_BORDER != 0 {
+        let inside = (0..4)
+            .map(|i| (p[i] - u.domain_lo[i]).min(u.domain_hi[i] - p[i]))
+            .fold(f32::INFINITY, f32::min);
+        if inside < u.misc.border_tolerance {
+            return rgb(u.border_color);
+        }
+    }
+    if flags & FLAG_MARK != 0 {
+        let centre: V4 = std::array::from_fn(|i| 0.5 * (u.domain_lo[i] + u.domain_hi[i]));
+        if (dot(sub(p, centre), u.n2) - u.root.section_offset).abs() < u.root.section_half {
+            return MARK_COLOR;
+        }
+    }
+    let surface = base_color(u, p);
+    if flags & FLAG_LIGHTING == 0 {
+        return surface;
+    }
+    let mut n = if glen > 0.0 {
+        scale(g, 1.0 / glen)
+    } else {
+        [0.0; 4]
+    };
+    if dot(n, d) > 0.0 {
+        n = scale(n, -1.0);
+    }
+    let l = u.light;
+    let diffuse = dot(n, l).max(0.0);
+    let r = sub(scale(n, 2.0 * dot(n, l)), l);
+    let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading.shininess);
+    std::array::from_fn(|i| {
+        surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
+            + u.shading.specular * specular
+    })
+}
 
 /// Undecided pixels' colour (as the shader's `UNDECIDED_COLOR`).
 pub(super) const UNDECIDED_COLOR: [f32; 3] = [1.0, 0.0, 1.0];

@@ -1,0 +1,148 @@
+//! Point evaluation of a [`Tape`] in f32, as the GPU computes (see `point`), at up to
+//! [`LANES`] points at once: each instruction dispatched once for all of them, its
+//! arithmetic a loop over all lanes (which the compiler vectorizes), a library function's
+//! a loop over the points'. The results are bit for bit those of
+//! [`PointEvaluator::single_precision`](super::PointEvaluator::single_precision): each lane
+//! takes the same operations, rounded and flushed the same way.
+
+use crate::ops::powi;
+
+use super::LANES;
+use super::point::{flush, narrow};
+use super::tape::{Op, PrefixKey, Tape, prepare_slots};
+
+/// Reusable evaluator at up to [`LANES`] points.
+#[derive(Debug, Clone, Default)]
+pub struct PointLanes {
+    slots: Vec<[f32; LANES]>,
+    prefix: PrefixKey,
+    len: usize,
+}
+
+impl PointLanes {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Evaluates every output of `tape` at each of `points` (1 to [`LANES`] of them); read
+    /// the results with [`Self::output`].
+    pub fn eval(&mut self, tape: &Tape, points: &[[f64; 4]], params: &[f64]) {
+        assert!(
+            (1..=LANES).contains(&points.len()),
+            "a batch holds 1 to {LANES} points, not {}",
+            points.len()
+        );
+        let n = points.len();
+        self.len = n;
+        let (slots, start) = prepare_slots(
+            &mut self.slots,
+            &mut self.prefix,
+            tape,
+            params,
+            [0.0; LANES],
+        );
+        // The coordinates in f32, lane by lane (lanes past the points' repeat the last).
+        let coordinate: [[f32; LANES]; 4] =
+            std::array::from_fn(|k| std::array::from_fn(|l| narrow(points[l.min(n - 1)][k])));
+        for (i, &op) in tape.ops().iter().enumerate().skip(start) {
+            let (done, rest) = slots.split_at_mut(i);
+            let out = &mut rest[0];
+            let at = |a: u32| &done[a as usize];
+            match op {
+                Op::Const(c) => *out = [narrow(c); LANES],
+                Op::Var(a) => *out = coordinate[a as usize & 3],
+                Op::Param(i) => {
+                    *out = [narrow(params.get(i as usize).copied().unwrap_or(1.0)); LANES]
+                }
+                Op::Add(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x + y)),
+                Op::Sub(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x - y)),
+                Op::Mul(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x * y)),
+                Op::Neg(a) => lanes1(out, at(a), |x| -x),
+                Op::Square(a) => lanes1(out, at(a), |x| flush(x * x)),
+                // (Library calls, lane by lane: only the points' lanes.)
+                Op::Powi(a, k) => {
+                    let a = at(a);
+                    for l in 0..n {
+                        out[l] = narrow(powi(f64::from(a[l]), k));
+                    }
+                }
+                Op::Unary(op, a) => {
+                    let (point, a) = (op.spec().point, at(a));
+                    for l in 0..n {
+                        out[l] = narrow(point(f64::from(a[l])));
+                    }
+                }
+                Op::Binary(op, a, b) => {
+                    let (point, a, b) = (op.spec().point, at(a), at(b));
+                    for l in 0..n {
+                        out[l] = narrow(point(f64::from(a[l]), f64::from(b[l])));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Output `k` of `tape` at point `lane` of the last batch.
+    pub fn output(&self, tape: &Tape, k: usize, lane: usize) -> f32 {
+        debug_assert!(lane < self.len);
+        self.slots[tape.outputs()[k] as usize][lane]
+    }
+}
+
+#[inline(always)]
+fn lanes1(out: &mut [f32; LANES], a: &[f32; LANES], f: impl Fn(f32) -> f32) {
+    for l in 0..LANES {
+        out[l] = f(a[l]);
+    }
+}
+
+#[inline(always)]
+fn lanes2(out: &mut [f32; LANES], a: &[f32; LANES], b: &[f32; LANES], f: impl Fn(f32, f32) -> f32) {
+    for l in 0..LANES {
+        out[l] = f(a[l], b[l]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::CompiledFormula;
+    use crate::eval::PointEvaluator;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Each lane's outputs are the single-precision evaluator's at its point, bit for
+        /// bit (NaN as NaN), for batches of any size, formulas of every kind of operation.
+        #[test]
+        fn each_lane_is_the_single_precision_evaluator_s(
+            points in prop::collection::vec(prop::array::uniform4(
+                prop_oneof![Just(0.0f64), Just(-0.0), Just(1e-39), -3.0f64..3.0, -1e30f64..1e30]
+            ), 1..=LANES),
+            k in 0.0f64..3.0,
+        ) {
+            let sources = [
+                "1/x + sqrt(y) * sin(z*k) - atan2(w, x) + y^3",
+                "(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4R^2(x^2 + y^2) - w",
+                "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1e-30",
+                "ln(z - x) + abs(w) * cos(3y) - max(x, k) + exp(y)^(-2)",
+            ];
+            let params = [k, 2.0, 1.0];
+            for src in sources {
+                let f = CompiledFormula::compile(src).unwrap();
+                let tape = &f.tape_all;
+                let mut lanes = PointLanes::new();
+                lanes.eval(tape, &points, &params);
+                for (lane, &p) in points.iter().enumerate() {
+                    let mut one = [0.0; 5];
+                    PointEvaluator::single_precision().eval_into(tape, p, &params, &mut one);
+                    for (j, &v) in one.iter().enumerate() {
+                        let w = lanes.output(tape, j, lane);
+                        let v = v as f32;
+                        prop_assert!(w.to_bits() == v.to_bits() || (w.is_nan() && v.is_nan()),
+                            "{} at {:?}, output {}: {} against {}", src, p, j, w, v);
+                    }
+                }
+            }
+        }
+    }
+}

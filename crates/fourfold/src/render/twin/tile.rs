@@ -1,0 +1,354 @@
+//! A tile's pixels, in phases that let the work of many pixels be done at once: each
+//! pixel's rays; F's signs at the ends of all their brackets, proved sixteen at a time;
+//! each pixel's verdict and the hits it shades; ∇F at all those hits, sixteen at a time
+//! where F's tape is arithmetic alone; then each pixel's colour.
+
+use std::ops::Range;
+
+use crate::formula::CompiledFormula;
+use crate::render::verdict::Verdict;
+use crate::render::view::{FLAG_CERTIFIED, Uniforms};
+use crate::tree::Hierarchy;
+
+use super::bundle::RootFree;
+use super::certify::{Bracket, Certifier, SearchBox};
+use super::frame::{origins, slice_reach, unorm8};
+use super::pixel::{AIMED, AxisSlope, Evaluators, Marched, Pixel, SEEK_STARTS};
+use super::section::Band;
+use super::shading::{V4, add, pcg, scale, shade, stratified_offset, undecided_color};
+use super::walk::{Kept, boxes_of};
+
+/// Draws the pixels `columns` × `rows` into `out` (the band of rows from `rows.start`,
+/// `u.size.width` pixels wide), with the tile's walks of the hierarchies in `h` (the rays'
+/// and the certifying one) in `scratch.kept`.
+pub(super) fn draw_tile(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: [&Hierarchy; 2],
+    u: &Uniforms,
+    scratch: &mut Scratch<'_>,
+    (columns, rows): (Range<u32>, Range<u32>),
+    out: &mut [u8],
+) {
+    let mut traced = std::mem::take(&mut scratch.traced);
+    traced.clear();
+    scratch.tile_hits.clear();
+    for py in rows.clone() {
+        for px in columns.clone() {
+            traced.push(trace_pixel(formula, params, h[0], u, scratch, (px, py)));
+        }
+    }
+    let mut signs = std::mem::take(&mut scratch.signs);
+    signs.clear();
+    if u.control.flags & FLAG_CERTIFIED != 0 {
+        scratch.brackets.clear();
+        let brackets = traced.iter().map(|t| (t.plane, t.bracket));
+        scratch.brackets.extend(brackets);
+        scratch
+            .certifier
+            .bracket_signs(&scratch.brackets, &mut signs);
+    }
+    let mut settled = std::mem::take(&mut scratch.settled);
+    settled.clear();
+    scratch.shades.clear();
+    for (k, t) in traced.iter().enumerate() {
+        let signs = signs.get(k).copied().flatten();
+        settled.push(settle_pixel(formula, params, h, u, scratch, t, signs));
+    }
+    let shades = scratch.shades.iter().map(|&(p, _)| p);
+    let gradients = &mut scratch.gradients;
+    scratch.evals.gradients(formula, params, shades, gradients);
+    let width = u.size.width;
+    for s in &settled {
+        let c = color_of(u, s, &scratch.shades, &scratch.gradients);
+        let (px, py) = s.at;
+        let at = (((py - rows.start) * width + px) * 4) as usize;
+        let rgb = c.map(unorm8);
+        out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], s.verdict.alpha()]);
+    }
+    (scratch.traced, scratch.signs, scratch.settled) = (traced, signs, settled);
+}
+
+/// The form of a box without curvature bounds (brute force's domain).
+const UNBOUNDED: [f32; 6] = [
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::INFINITY,
+];
+
+/// What a worker's tiles reuse from one to the next.
+pub(super) struct Scratch<'a> {
+    certifier: Certifier<'a>,
+    /// Proves a slice's boxes free of M for a whole tile (see `bundle`).
+    pub(super) root_free: RootFree<'a>,
+    /// A slice's tile's stretches of its lines on which F keeps one sign, box after box
+    /// (each kept box's range of them in `kept[0]`), and one box's.
+    pub(super) one_signed: Vec<(f32, f32)>,
+    pub(super) stretches: Vec<(f32, f32)>,
+    evals: Evaluators,
+    /// The pixel's hits (see [`Pixel::hits`]), kept for its storage.
+    hits: Vec<(f32, u32)>,
+    /// The boxes of the pixel's rays.
+    boxes: Vec<Marched>,
+    /// The certifying hierarchy's forms, by node (see `render_rgba`).
+    forms: &'a [[f32; 6]],
+    /// The section's band from the rays' origin and from the plane's (see `render_rgba`).
+    bands: &'a [Option<Band>; 2],
+    /// The nodes of the two hierarchies the pixel's tile may visit (see `walk`).
+    pub(super) kept: [Vec<Kept>; 2],
+    /// The boxes of the pixel's certified search, walked and then with their forms.
+    covered: Vec<Marched>,
+    bounds: Vec<SearchBox>,
+    /// The tile's pixels after their rays, their hits, and their brackets with F's signs
+    /// at their ends (see [`draw_tile`]).
+    traced: Vec<Traced>,
+    tile_hits: Vec<(f32, u32)>,
+    brackets: Vec<Bracket>,
+    signs: Vec<Option<[i8; 2]>>,
+    /// The tile's pixels settled, the hits they shade (point, direction), farthest first
+    /// by pixel, and ∇F at each (see [`draw_tile`]).
+    settled: Vec<Settled>,
+    shades: Vec<(V4, V4)>,
+    gradients: Vec<V4>,
+}
+
+impl<'a> Scratch<'a> {
+    /// A worker's scratch for a frame: `along` a square-on slice's tape (see
+    /// `AxisSlope`), `forms` the certifying boxes' forms and `bands` the section's bands
+    /// (see `render_rgba`).
+    pub(super) fn new(
+        formula: &'a CompiledFormula,
+        params: &'a [f64],
+        u: &'a Uniforms,
+        along: Option<&AxisSlope>,
+        (forms, bands): (&'a [[f32; 6]], &'a [Option<Band>; 2]),
+    ) -> Self {
+        Self {
+            certifier: Certifier::new(formula, params, u),
+            root_free: RootFree::new(formula, params),
+            one_signed: Vec::new(),
+            stretches: Vec::new(),
+            evals: Evaluators::new(along),
+            hits: Vec::with_capacity(16),
+            boxes: Vec::new(),
+            forms,
+            bands,
+            kept: [Vec::new(), Vec::new()],
+            covered: Vec::new(),
+            bounds: Vec::new(),
+            traced: Vec::new(),
+            tile_hits: Vec::new(),
+            brackets: Vec::new(),
+            signs: Vec::new(),
+            settled: Vec::new(),
+            shades: Vec::new(),
+            gradients: Vec::new(),
+        }
+    }
+}
+
+/// A pixel's verdict, and its hits to shade: in the tile's, from the first, how many.
+struct Settled {
+    at: (u32, u32),
+    verdict: Verdict,
+    shades: (usize, usize),
+}
+
+/// A pixel after its rays' march, until its bracket's signs are proved with its tile's:
+/// where it is, its plane's and its rays' origins, its seed and offset, its hits (in the
+/// tile's, from the first, how many) and its bracket (see [`Pixel::bracket`]).
+struct Traced {
+    at: (u32, u32),
+    plane: V4,
+    o: V4,
+    seed: u32,
+    offset: f32,
+    hits: (usize, usize),
+    bracket: Option<([f64; 2], [f64; 2])>,
+}
+
+/// Pixel (px, py)'s rays across the boxes of `h` they meet (and, where they find nothing,
+/// the search between them): its hits, kept in the tile's, and its bracket.
+fn trace_pixel(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: &Hierarchy,
+    u: &Uniforms,
+    scratch: &mut Scratch<'_>,
+    (px, py): (u32, u32),
+) -> Traced {
+    let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
+    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
+        .control
+        .seed
+        .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
+    let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
+    scratch.hits.clear();
+    let mut pixel = Pixel {
+        u,
+        formula,
+        params,
+        eval: &mut scratch.evals,
+        seed,
+        offset,
+        hits: &mut scratch.hits,
+        k_max: u.size.hits.clamp(1, 16) as usize,
+        aim: [1.0, 0.0],
+        plane,
+        bracket: None,
+        closest: ([0.0; 2], f32::INFINITY),
+        one_signed: &scratch.one_signed,
+        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
+    };
+    let boxes = &mut scratch.boxes;
+    boxes_of(h, u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
+    for b in boxes.iter() {
+        pixel.trace_box(o, b);
+    }
+    // As the shader: a pixel whose rays found nothing searches its boxes between them.
+    if pixel.hits.is_empty() && !u.brute_force() && !pixel.slice() {
+        for b in boxes.iter() {
+            pixel.seek_in_plane(o, b);
+        }
+    }
+    let bracket = pixel.bracket;
+    let first = scratch.tile_hits.len();
+    scratch.tile_hits.extend_from_slice(&scratch.hits);
+    Traced {
+        at: (px, py),
+        plane,
+        o,
+        seed,
+        offset,
+        hits: (first, scratch.hits.len()),
+        bracket,
+    }
+}
+
+/// A traced pixel's verdict, F's signs at its bracket's ends proved as `signs` (see
+/// `Certifier::bracket_signs`), and its hits to shade, into the tile's; `h` holds the
+/// hierarchy the rays march and the one the certified search covers.
+fn settle_pixel(
+    formula: &CompiledFormula,
+    params: &[f64],
+    h: [&Hierarchy; 2],
+    u: &Uniforms,
+    scratch: &mut Scratch<'_>,
+    traced: &Traced,
+    signs: Option<[i8; 2]>,
+) -> Settled {
+    let &Traced {
+        at: (px, py),
+        plane,
+        o,
+        seed,
+        offset,
+        hits: (first, count),
+        bracket,
+    } = traced;
+    scratch.hits.clear();
+    let hits = &scratch.tile_hits[first..first + count];
+    scratch.hits.extend_from_slice(hits);
+    let mut pixel = Pixel {
+        u,
+        formula,
+        params,
+        eval: &mut scratch.evals,
+        seed,
+        offset,
+        hits: &mut scratch.hits,
+        k_max: u.size.hits.clamp(1, 16) as usize,
+        aim: [1.0, 0.0],
+        plane,
+        bracket,
+        closest: ([0.0; 2], f32::INFINITY),
+        one_signed: &scratch.one_signed,
+        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
+    };
+    let mut verdict = Verdict::Empty;
+    if u.control.flags & FLAG_CERTIFIED != 0 {
+        let (covered, bounds) = (&mut scratch.covered, &mut scratch.bounds);
+        let walk = (&scratch.bands[1], scratch.kept[1].as_slice());
+        let forms = scratch.forms;
+        let search_boxes = move || {
+            // (Moved out of the closure's capture, so that the slice returned may outlive it.)
+            let bounds = { bounds };
+            boxes_of(h[1], u, plane, walk, covered);
+            bounds.clear();
+            bounds.extend(covered.iter().map(|b| SearchBox {
+                lo: b.lo,
+                hi: b.hi,
+                form: b.node.map_or(UNBOUNDED, |i| forms[i]),
+            }));
+            bounds.as_slice()
+        };
+        let outcome = scratch
+            .certifier
+            .pixel((plane, bracket), signs, search_boxes);
+        verdict = outcome.verdict;
+        if let (Some((a, b)), true) = (outcome.bracket, pixel.hits.is_empty()) {
+            // As the shader's `certify`: aim a ray through the proved root.
+            let root = pixel.root_between(plane, a, b);
+            if pixel.slice() {
+                pixel.insert(root[0] + slice_reach(u), AIMED);
+            } else {
+                let len = (root[0] * root[0] + root[1] * root[1]).sqrt();
+                pixel.aim = if len > 0.0 {
+                    [root[0] / len, root[1] / len]
+                } else {
+                    [1.0, 0.0]
+                };
+                // (The boxes the rays marched, walked again: seldom needed.)
+                let boxes = &mut scratch.boxes;
+                boxes_of(h[0], u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
+                for b in boxes.iter() {
+                    pixel.trace_ray(o, b, AIMED);
+                }
+                if pixel.hits.is_empty() {
+                    pixel.insert(len, AIMED);
+                }
+            }
+        }
+    }
+    let first = scratch.shades.len();
+    for j in 0..pixel.hits.len() {
+        let (t, ray) = pixel.hits[pixel.hits.len() - 1 - j];
+        let d = pixel.direction(ray);
+        scratch.shades.push((add(o, scale(d, t)), d));
+    }
+    Settled {
+        at: (px, py),
+        verdict,
+        shades: (first, scratch.shades.len() - first),
+    }
+}
+
+/// A settled pixel's colour: its hits shaded (∇F at each in `gradients`, by the tile's
+/// `shades`) and blended farthest first, or with none the background or the undecided
+/// marker.
+fn color_of(u: &Uniforms, settled: &Settled, shades: &[(V4, V4)], gradients: &[V4]) -> [f32; 3] {
+    let (first, count) = settled.shades;
+    if count == 0 {
+        let (px, py) = settled.at;
+        return if settled.verdict == Verdict::Undecided {
+            undecided_color(u, px, py)
+        } else {
+            [u.background[0], u.background[1], u.background[2]]
+        };
+    }
+    let alpha = u.misc.alpha;
+    let mut color = [0.0f32; 3];
+    for j in 0..count {
+        let (p, d) = shades[first + j];
+        let c = shade(u, p, d, gradients[first + j]);
+        color = if j == 0 {
+            c
+        } else {
+            std::array::from_fn(|i| color[i] * (1.0 - alpha) + c[i] * alpha)
+        };
+    }
+    color
+}
