@@ -1,5 +1,6 @@
 //! Stage 3: evaluators of a compiled formula's tapes: point (f64), rigorous interval over a
-//! box, and interval over 16 boxes at once, all keeping one contract ([`Evaluator`]).
+//! box, and interval over 16 boxes at once, all keeping one contract ([`Evaluator`]); and
+//! f32 as the GPU at 16 points at once (the CPU twin's).
 
 pub mod batch;
 pub mod evaluator;
