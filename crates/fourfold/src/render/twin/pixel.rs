@@ -10,7 +10,7 @@ use crate::render::view::{
 };
 use crate::tree::Curvature;
 
-use super::root;
+use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, sub};
 
 /// The ray index of a hit along the ray aimed through a certified root (the shader's
@@ -28,16 +28,77 @@ pub(super) struct Evaluators {
     all: PointEvaluator,
     along: Option<(AxisSlope, PointEvaluator)>,
     lanes: PointLanes,
+    /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
+    /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
+    arithmetic: [bool; 2],
+}
+
+/// Whether `tape` calls no library function past its uniform prefix.
+fn arithmetic(tape: &Tape) -> bool {
+    !tape.ops()[tape.uniform_len()..]
+        .iter()
+        .any(|op| matches!(op, Op::Unary(..) | Op::Binary(..)))
+}
+
+/// A root a slice's ray found a sign change for, its steps left for later (see
+/// [`Pixel::deferred`]): the search, the ray's origin and direction, and its index.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Deferred {
+    pub(super) search: RootSearch,
+    o: V4,
+    d: V4,
+    pub(super) ray: u32,
 }
 
 impl Evaluators {
     /// With `along`, a slice's march takes its samples' slopes from that tape.
-    pub(super) fn new(along: Option<&AxisSlope>) -> Self {
+    pub(super) fn new(formula: &CompiledFormula, along: Option<&AxisSlope>) -> Self {
         Self {
             f: PointEvaluator::single_precision(),
             all: PointEvaluator::single_precision(),
             along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
             lanes: PointLanes::new(),
+            arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
+        }
+    }
+
+    /// Whether a slice's roots are better sought together (see [`Pixel::deferred`]):
+    /// where F's tape is arithmetic alone.
+    pub(super) fn defers_roots(&self) -> bool {
+        self.arithmetic[0]
+    }
+
+    /// Finds each of `roots`, their evaluations [`LANES`] at a time (the same values
+    /// as one by one: see [`PointLanes`]).
+    pub(super) fn find_roots(
+        &mut self,
+        formula: &CompiledFormula,
+        params: &[f64],
+        roots: &mut [Deferred],
+    ) {
+        let tape = &formula.tape_f;
+        let mut active: Vec<usize> = (0..roots.len()).collect();
+        let mut batch = [[0.0; 4]; LANES];
+        let mut which = [0usize; LANES];
+        while !active.is_empty() {
+            for chunk in active.chunks(LANES) {
+                let mut n = 0;
+                for &k in chunk {
+                    let r = &mut roots[k];
+                    if let Some(t) = r.search.next() {
+                        (batch[n], which[n]) = (add(r.o, scale(r.d, t)).map(f64::from), k);
+                        n += 1;
+                    }
+                }
+                if n == 0 {
+                    continue;
+                }
+                self.lanes.eval(tape, &batch[..n], params);
+                for (lane, &k) in which[..n].iter().enumerate() {
+                    roots[k].search.take(self.lanes.output(tape, 0, lane));
+                }
+            }
+            active.retain(|&k| roots[k].search.next().is_some());
         }
     }
 
@@ -56,10 +117,7 @@ impl Evaluators {
     ) {
         out.clear();
         let tape = &formula.tape_all;
-        let calls = tape.ops()[tape.uniform_len()..]
-            .iter()
-            .any(|op| matches!(op, Op::Unary(..) | Op::Binary(..)));
-        if calls {
+        if !self.arithmetic[1] {
             out.extend(points.map(|p| {
                 let mut fg = [0.0; 5];
                 self.all.eval_into(tape, p.map(f64::from), params, &mut fg);
@@ -130,6 +188,12 @@ pub(super) struct Pixel<'a, 'e> {
     /// The nearest hits so far, (t, ray), nearest first (at most `k_max`).
     pub(super) hits: &'e mut Vec<(f32, u32)>,
     pub(super) k_max: usize,
+    /// Where a slice's roots are sought later, all of a tile's together (see
+    /// `tile::draw_tile`), the sign changes found so far, in the order found; their hits
+    /// hold the brackets' far ends meanwhile. Only while the hits are not full, when no
+    /// step of the march reads them (`full`): the one that would fill them first finds
+    /// these roots, one by one, and puts their hits where they go.
+    pub(super) deferred: Option<&'e mut Vec<Deferred>>,
     /// The direction of ray AIMED in (n1, n2).
     pub(super) aim: [f32; 2],
     /// With certification: the pixel's origin in its observer plane, and the first sign
@@ -290,14 +354,32 @@ impl Pixel<'_, '_> {
     }
 
     pub(super) fn insert(&mut self, t: f32, ray: u32) {
-        if self.full() && t >= self.farthest() {
+        insert_hit(self.hits, self.k_max, t, ray);
+    }
+
+    /// Finds the deferred roots now, one by one, and puts their hits where they go (in
+    /// place of their brackets' far ends).
+    fn find_deferred(&mut self) {
+        let Some(deferred) = self.deferred.as_deref_mut() else {
+            return;
+        };
+        if deferred.is_empty() {
             return;
         }
-        if self.full() {
-            self.hits.pop();
+        let mut roots = std::mem::take(deferred);
+        self.hits.clear();
+        for r in &roots {
+            let mut search = r.search;
+            while let Some(t) = search.next() {
+                let v = self.f(add(r.o, scale(r.d, t)));
+                search.take(v);
+            }
+            self.insert(search.root(), r.ray);
         }
-        let at = self.hits.partition_point(|h| h.0 <= t);
-        self.hits.insert(at, (t, ray));
+        roots.clear();
+        if let Some(deferred) = self.deferred.as_deref_mut() {
+            *deferred = roots;
+        }
     }
 
     /// Keeps the sample with value `f` and gradient `g`, t along the ray whose direction in
@@ -409,8 +491,21 @@ impl Pixel<'_, '_> {
                     self.f(add(o, scale(d, ta)))
                 };
                 let f_lo = if same_side(fa, f_ta) { f_ta } else { fa };
-                let root = self.refine_root(o, d, (ta, tb), (f_lo, fb));
-                self.insert(root, ray);
+                let defer = self.hits.len() + 1 < self.k_max;
+                match self.deferred.as_deref_mut().filter(|_| defer) {
+                    Some(deferred) => {
+                        let (iters, approximation) =
+                            (self.u.control.bisection_iters, self.u.root.approximation);
+                        let search = RootSearch::new((ta, tb), (f_lo, fb), iters, approximation);
+                        deferred.push(Deferred { search, o, d, ray });
+                        self.insert(tb, ray);
+                    }
+                    None => {
+                        self.find_deferred();
+                        let root = self.refine_root(o, d, (ta, tb), (f_lo, fb));
+                        self.insert(root, ray);
+                    }
+                }
             }
             ta = tb;
             fa = fb;
@@ -462,6 +557,20 @@ impl Pixel<'_, '_> {
             self.find_roots(o, d, (t0, t1), skips, k);
         }
     }
+}
+
+/// Inserts the hit (t, ray) into `hits` (nearest first, at most `k_max`): after those as
+/// near, the farthest dropped where they are full.
+pub(super) fn insert_hit(hits: &mut Vec<(f32, u32)>, k_max: usize, t: f32, ray: u32) {
+    let full = hits.len() == k_max;
+    if full && t >= hits.last().map_or(f32::INFINITY, |h| h.0) {
+        return;
+    }
+    if full {
+        hits.pop();
+    }
+    let at = hits.partition_point(|h| h.0 <= t);
+    hits.insert(at, (t, ray));
 }
 
 /// dF/dt along `d` from ∇F, in f64 (as the evaluator's outputs, exact in f32, multiply).

@@ -30,63 +30,214 @@ const NEAR_ENOUGH: f32 = 2.0;
 /// at most) most often leaves a bracket of a few units ([`near_root`]).
 pub(super) fn refine(
     mut f: impl FnMut(f32) -> f32,
-    (mut lo, mut hi): (f32, f32),
-    (mut f_lo, mut f_hi): (f32, f32),
+    bracket: (f32, f32),
+    ends: (f32, f32),
     iters: u32,
     approximation: f32,
 ) -> f32 {
-    let neg_lo = f_lo < 0.0;
-    let mut tm = 0.5 * (lo + hi);
-    let mut cap = FALSI_SLACK * (hi - lo);
-    // Which end the last step moved.
-    let mut moved_lo = None;
-    // F at the ends as evaluated (f_lo and f_hi may be scaled), and whether the probe was
-    // taken.
-    let (mut v_lo, mut v_hi) = (f_lo, f_hi);
-    let mut probed = false;
+    let mut steps = Steps::new(bracket, ends, approximation);
     for _ in 0..iters {
-        tm = falsi_step((lo, hi), (f_lo, f_hi), cap);
-        cap *= 0.5;
-        if tm == lo || tm == hi {
+        let Some(tm) = steps.step() else {
             break;
-        }
-        let fm = f(tm);
-        if fm.abs() < approximation {
-            break;
-        }
-        let to_lo = (fm < 0.0) == neg_lo;
-        if to_lo {
-            if moved_lo == Some(true) {
-                f_hi *= kept_scale(fm, f_lo);
+        };
+        match steps.at_step(f(tm)) {
+            After::Found => break,
+            After::Probe(p) => {
+                if steps.at_probe(p, f(p)) {
+                    break;
+                }
             }
-            (lo, f_lo, v_lo) = (tm, fm, fm);
-        } else {
-            if moved_lo == Some(false) {
-                f_lo *= kept_scale(fm, f_hi);
-            }
-            (hi, f_hi, v_hi) = (tm, fm, fm);
-        }
-        moved_lo = Some(to_lo);
-        let other = if to_lo { (hi, v_hi) } else { (lo, v_lo) };
-        if let Some(p) = near_root((tm, fm), other).filter(|_| !probed) {
-            probed = true;
-            let fp = f(p);
-            if fp.abs() < approximation {
-                return p;
-            }
-            // p is the end on its side: with a sign change, the bracket is now (tm, p),
-            // a few units of rounding wide.
-            let p_lo = (fp < 0.0) == neg_lo;
-            if p_lo {
-                (lo, f_lo, v_lo) = (p, fp, fp);
-            } else {
-                (hi, f_hi, v_hi) = (p, fp, fp);
-            }
-            moved_lo = Some(p_lo);
-            tm = p;
+            After::Step => {}
         }
     }
-    tm
+    steps.tm
+}
+
+/// [`refine`]'s bracket and the state of its steps.
+#[derive(Debug, Clone, Copy)]
+struct Steps {
+    lo: f32,
+    hi: f32,
+    f_lo: f32,
+    f_hi: f32,
+    /// F at the ends as evaluated (f_lo and f_hi may be scaled).
+    v_lo: f32,
+    v_hi: f32,
+    neg_lo: bool,
+    /// The last point tried: the root once the steps end.
+    tm: f32,
+    cap: f32,
+    /// Which end the last step moved.
+    moved_lo: Option<bool>,
+    /// Whether the probe was taken.
+    probed: bool,
+    approximation: f32,
+}
+
+/// What follows a step's value (see [`Steps::at_step`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum After {
+    Found,
+    Probe(f32),
+    Step,
+}
+
+impl Steps {
+    fn new((lo, hi): (f32, f32), (f_lo, f_hi): (f32, f32), approximation: f32) -> Self {
+        Self {
+            lo,
+            hi,
+            f_lo,
+            f_hi,
+            v_lo: f_lo,
+            v_hi: f_hi,
+            neg_lo: f_lo < 0.0,
+            tm: 0.5 * (lo + hi),
+            cap: FALSI_SLACK * (hi - lo),
+            moved_lo: None,
+            probed: false,
+            approximation,
+        }
+    }
+
+    /// The next step's point (`falsi_step`'s); None where f32 cannot split the bracket.
+    #[inline(always)]
+    fn step(&mut self) -> Option<f32> {
+        self.tm = falsi_step((self.lo, self.hi), (self.f_lo, self.f_hi), self.cap);
+        self.cap *= 0.5;
+        (self.tm != self.lo && self.tm != self.hi).then_some(self.tm)
+    }
+
+    /// Takes f's value `fm` at the step's point: the root found (|fm| below the
+    /// approximation), or the bracket narrowed, and then a probe to take (see
+    /// [`near_root`]) or the next step.
+    #[inline(always)]
+    fn at_step(&mut self, fm: f32) -> After {
+        let tm = self.tm;
+        if fm.abs() < self.approximation {
+            return After::Found;
+        }
+        let to_lo = (fm < 0.0) == self.neg_lo;
+        if to_lo {
+            if self.moved_lo == Some(true) {
+                self.f_hi *= kept_scale(fm, self.f_lo);
+            }
+            (self.lo, self.f_lo, self.v_lo) = (tm, fm, fm);
+        } else {
+            if self.moved_lo == Some(false) {
+                self.f_lo *= kept_scale(fm, self.f_hi);
+            }
+            (self.hi, self.f_hi, self.v_hi) = (tm, fm, fm);
+        }
+        self.moved_lo = Some(to_lo);
+        let other = if to_lo {
+            (self.hi, self.v_hi)
+        } else {
+            (self.lo, self.v_lo)
+        };
+        match near_root((tm, fm), other).filter(|_| !self.probed) {
+            Some(p) => {
+                self.probed = true;
+                After::Probe(p)
+            }
+            None => After::Step,
+        }
+    }
+
+    /// Takes f's value `fp` at the probe `p`: whether it is the root (|fp| below the
+    /// approximation); else p is the end on its side, and with a sign change the bracket is
+    /// now (tm, p), a few units of rounding wide.
+    #[inline(always)]
+    fn at_probe(&mut self, p: f32, fp: f32) -> bool {
+        self.tm = p;
+        if fp.abs() < self.approximation {
+            return true;
+        }
+        let p_lo = (fp < 0.0) == self.neg_lo;
+        if p_lo {
+            (self.lo, self.f_lo, self.v_lo) = (p, fp, fp);
+        } else {
+            (self.hi, self.f_hi, self.v_hi) = (p, fp, fp);
+        }
+        self.moved_lo = Some(p_lo);
+        false
+    }
+}
+
+/// [`refine`]'s steps, one evaluation of f at a time: [`Self::next`] says where f is wanted
+/// (None: the root is found), [`Self::take`] takes its value there. So the roots of many
+/// rays can be sought together, their evaluations made side by side.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct RootSearch {
+    steps: Steps,
+    steps_left: u32,
+    state: Seeking,
+}
+
+/// Where a [`RootSearch`] is: about to step, waiting for f at its step's point or at its
+/// probe, or done.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Seeking {
+    Step,
+    AtStep,
+    AtProbe(f32),
+    Found,
+}
+
+impl RootSearch {
+    pub(super) fn new(
+        bracket: (f32, f32),
+        ends: (f32, f32),
+        iters: u32,
+        approximation: f32,
+    ) -> Self {
+        Self {
+            steps: Steps::new(bracket, ends, approximation),
+            steps_left: iters,
+            state: Seeking::Step,
+        }
+    }
+
+    /// Where f is wanted next; None once the root is found.
+    pub(super) fn next(&mut self) -> Option<f32> {
+        match self.state {
+            Seeking::Step => {
+                let point = (self.steps_left > 0).then(|| self.steps.step()).flatten();
+                self.steps_left = self.steps_left.saturating_sub(1);
+                self.state = if point.is_some() {
+                    Seeking::AtStep
+                } else {
+                    Seeking::Found
+                };
+                point
+            }
+            Seeking::AtStep => Some(self.steps.tm),
+            Seeking::AtProbe(p) => Some(p),
+            Seeking::Found => None,
+        }
+    }
+
+    /// f's value at the point [`Self::next`] gave.
+    pub(super) fn take(&mut self, value: f32) {
+        self.state = match self.state {
+            Seeking::AtStep => match self.steps.at_step(value) {
+                After::Found => Seeking::Found,
+                After::Probe(p) => Seeking::AtProbe(p),
+                After::Step => Seeking::Step,
+            },
+            Seeking::AtProbe(p) if self.steps.at_probe(p, value) => Seeking::Found,
+            Seeking::AtProbe(_) => Seeking::Step,
+            state => {
+                debug_assert!(false, "a value taken with none asked for");
+                state
+            }
+        };
+    }
+
+    /// The root (once [`Self::next`] gives None).
+    pub(super) fn root(&self) -> f32 {
+        self.steps.tm
+    }
 }
 
 /// Where the secant through the point just tried, (t, f), and the bracket's other end,
@@ -288,6 +439,37 @@ mod tests {
             let (t, _) = counted(f, (0.0, 1.0), iters, 0.0);
             let bound = 8.0 / 2f32.powi(iters as i32) + 1e-6;
             prop_assert!((t - c).abs() <= bound, "t {t}, c {c}, bound {bound}");
+        }
+    }
+
+    proptest! {
+        /// A search driven one value at a time asks for f at the points `refine` evaluates
+        /// it at, in order, and ends on its root, bit for bit: on roots smooth, kinked and in
+        /// rounding noise, with few steps and many.
+        #[test]
+        fn a_search_a_value_at_a_time_is_refine_s(
+            c in -3.0f32..3.0, slope in 0.01f32..100.0, kind in 0usize..3,
+            width in 1e-4f32..2.0, at in 0.01f32..0.99, iters in 0u32..30,
+            tol in prop::sample::select(vec![0.0f32, 1e-6, 1e-3]),
+        ) {
+            let f = move |t: f32| match kind {
+                0 => slope * (t - c) + 0.3 * (t - c) * (t - c),
+                1 => slope * (t - c).abs().sqrt().copysign(t - c),
+                _ => ((slope * (t - c)) * 65536.0).round() / 65536.0,
+            };
+            let (lo, hi) = (c - at * width, c + (1.0 - at) * width);
+            let ends = (f(lo), f(hi));
+            prop_assume!(ends.0 < 0.0 && ends.1 > 0.0);
+            let mut asked = Vec::new();
+            let root = refine(|t| { asked.push(t); f(t) }, (lo, hi), ends, iters, tol);
+            let mut search = RootSearch::new((lo, hi), ends, iters, tol);
+            let mut driven = Vec::new();
+            while let Some(t) = search.next() {
+                driven.push(t);
+                search.take(f(t));
+            }
+            prop_assert_eq!(driven, asked);
+            prop_assert_eq!(search.root().to_bits(), root.to_bits());
         }
     }
 

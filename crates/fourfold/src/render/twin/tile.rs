@@ -7,13 +7,15 @@ use std::ops::Range;
 
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
-use crate::render::view::{FLAG_CERTIFIED, Uniforms};
+use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
 use super::bundle::RootFree;
 use super::certify::{Bracket, Certifier, SearchBox};
 use super::frame::{origins, slice_reach, unorm8};
-use super::pixel::{AIMED, AxisSlope, Evaluators, Marched, Pixel, SEEK_STARTS};
+use super::pixel::{
+    AIMED, AxisSlope, Deferred, Evaluators, Marched, Pixel, SEEK_STARTS, insert_hit,
+};
 use super::section::Band;
 use super::shading::{V4, add, pcg, scale, shade, stratified_offset, undecided_color};
 use super::walk::{Kept, boxes_of};
@@ -38,6 +40,7 @@ pub(super) fn draw_tile(
             traced.push(trace_pixel(formula, params, h[0], u, scratch, (px, py)));
         }
     }
+    find_deferred_roots(formula, params, u, scratch, &traced);
     let mut signs = std::mem::take(&mut scratch.signs);
     signs.clear();
     if u.control.flags & FLAG_CERTIFIED != 0 {
@@ -67,6 +70,33 @@ pub(super) fn draw_tile(
         out[at..at + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], s.verdict.alpha()]);
     }
     (scratch.traced, scratch.signs, scratch.settled) = (traced, signs, settled);
+}
+
+/// The roots the tile's slice rays left for later (see `Pixel::deferred`), found together,
+/// each pixel's hits then put where they go in place of its brackets' far ends.
+fn find_deferred_roots(
+    formula: &CompiledFormula,
+    params: &[f64],
+    u: &Uniforms,
+    scratch: &mut Scratch<'_>,
+    traced: &[Traced],
+) {
+    if scratch.tile_roots.is_empty() {
+        return;
+    }
+    let roots = &mut scratch.tile_roots;
+    scratch.evals.find_roots(formula, params, roots);
+    let k_max = u.size.hits.clamp(1, 16) as usize;
+    for t in traced.iter().filter(|t| t.roots.1 > 0) {
+        let ((first, count), (hits, n)) = (t.roots, t.hits);
+        scratch.hits.clear();
+        for r in &scratch.tile_roots[first..first + count] {
+            insert_hit(&mut scratch.hits, k_max, r.search.root(), r.ray);
+        }
+        debug_assert_eq!(scratch.hits.len(), n, "a deferred root's hit, and no other");
+        scratch.tile_hits[hits..hits + n].copy_from_slice(&scratch.hits);
+    }
+    scratch.tile_roots.clear();
 }
 
 /// The form of a box without curvature bounds (brute force's domain).
@@ -106,6 +136,9 @@ pub(super) struct Scratch<'a> {
     /// at their ends (see [`draw_tile`]).
     traced: Vec<Traced>,
     tile_hits: Vec<(f32, u32)>,
+    /// A pixel's roots left for later, and the tile's (see `Pixel::deferred`).
+    deferred: Vec<Deferred>,
+    tile_roots: Vec<Deferred>,
     brackets: Vec<Bracket>,
     signs: Vec<Option<[i8; 2]>>,
     /// The tile's pixels settled, the hits they shade (point, direction), farthest first
@@ -131,7 +164,7 @@ impl<'a> Scratch<'a> {
             root_free: RootFree::new(formula, params),
             one_signed: Vec::new(),
             stretches: Vec::new(),
-            evals: Evaluators::new(along),
+            evals: Evaluators::new(formula, along),
             hits: Vec::with_capacity(16),
             boxes: Vec::new(),
             forms,
@@ -141,6 +174,8 @@ impl<'a> Scratch<'a> {
             bounds: Vec::new(),
             traced: Vec::new(),
             tile_hits: Vec::new(),
+            deferred: Vec::new(),
+            tile_roots: Vec::new(),
             brackets: Vec::new(),
             signs: Vec::new(),
             settled: Vec::new(),
@@ -167,6 +202,8 @@ struct Traced {
     seed: u32,
     offset: f32,
     hits: (usize, usize),
+    /// Its roots left for later (see `Pixel::deferred`), in the tile's: from, how many.
+    roots: (usize, usize),
     bracket: Option<([f64; 2], [f64; 2])>,
 }
 
@@ -187,6 +224,7 @@ fn trace_pixel(
         .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
     let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
     scratch.hits.clear();
+    let defers = u.control.flags & FLAG_SLICE != 0 && scratch.evals.defers_roots();
     let mut pixel = Pixel {
         u,
         formula,
@@ -196,6 +234,7 @@ fn trace_pixel(
         offset,
         hits: &mut scratch.hits,
         k_max: u.size.hits.clamp(1, 16) as usize,
+        deferred: defers.then_some(&mut scratch.deferred),
         aim: [1.0, 0.0],
         plane,
         bracket: None,
@@ -217,6 +256,8 @@ fn trace_pixel(
     let bracket = pixel.bracket;
     let first = scratch.tile_hits.len();
     scratch.tile_hits.extend_from_slice(&scratch.hits);
+    let roots = scratch.tile_roots.len();
+    scratch.tile_roots.append(&mut scratch.deferred);
     Traced {
         at: (px, py),
         plane,
@@ -224,6 +265,7 @@ fn trace_pixel(
         seed,
         offset,
         hits: (first, scratch.hits.len()),
+        roots: (roots, scratch.tile_roots.len() - roots),
         bracket,
     }
 }
@@ -248,6 +290,7 @@ fn settle_pixel(
         offset,
         hits: (first, count),
         bracket,
+        ..
     } = traced;
     scratch.hits.clear();
     let hits = &scratch.tile_hits[first..first + count];
@@ -261,6 +304,7 @@ fn settle_pixel(
         offset,
         hits: &mut scratch.hits,
         k_max: u.size.hits.clamp(1, 16) as usize,
+        deferred: None,
         aim: [1.0, 0.0],
         plane,
         bracket,
