@@ -12,9 +12,9 @@ use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
 use super::bundle::Bundle;
-use super::pixel::AxisSlope;
+use super::evals::AxisSlope;
 use super::section::Band;
-use super::shading::{V4, add, dot, scale, sub};
+use super::shading::{add, origins, slice_reach, sub, unorm8};
 use super::tile::{Scratch, draw_tile};
 use super::walk::{Tile, steps_of, tile_nodes};
 
@@ -94,13 +94,6 @@ pub fn render_rgba(
     rgba
 }
 
-/// A channel in [0, 1] as a byte, rounded to nearest, halves up: `(v · 255).round()`, but
-/// with the half added in f64 (exact for an f32) and cut off, not a call to libm's `roundf`
-/// (3% of a plain slice's frame).
-pub(super) fn unorm8(v: f32) -> u8 {
-    (f64::from(v.clamp(0.0, 1.0) * 255.0) + 0.5) as u8
-}
-
 /// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
 pub(super) const TILE: u32 = 8;
 
@@ -150,71 +143,4 @@ fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundl
     let corners = [first, (last.0, first.1), (first.0, last.1), last]
         .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).1);
     Bundle::of(u, corners, slice_reach(u))
-}
-
-/// The origin of the observer plane through the point (fx, fy) of the picture (in pixels
-/// from its top left corner), and that of its rays: for a slice, the slice's line from
-/// where it enters the sphere around the domain (as the shader).
-pub(super) fn origins(u: &Uniforms, (fx, fy): (f32, f32)) -> (V4, V4) {
-    let (w, hgt) = (u.size.width as f32, u.size.height as f32);
-    let s = u.misc.pixel_size;
-    let plane = add(
-        u.center,
-        add(
-            scale(u.v1, s * (fx - 0.5 * w)),
-            scale(u.v2, s * (0.5 * hgt - fy)),
-        ),
-    );
-    if u.control.flags & FLAG_SLICE == 0 {
-        return (plane, plane);
-    }
-    let line = sub(
-        add(plane, scale(u.n2, u.root.section_offset)),
-        scale(u.n1, slice_reach(u)),
-    );
-    (plane, line)
-}
-
-/// How far before the slice's place along n1 its rays start: the domain's half diagonal (the
-/// sphere around the domain).
-pub(super) fn slice_reach(u: &Uniforms) -> f32 {
-    let extent = sub(u.domain_hi, u.domain_lo);
-    0.5 * dot(extent, extent).sqrt()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    fn rounded(v: f32) -> u8 {
-        (v.clamp(0.0, 1.0) * 255.0).round() as u8
-    }
-
-    proptest! {
-        /// A channel's byte is `(v · 255).round()`'s, for any value.
-        #[test]
-        fn a_channel_s_byte_is_its_value_rounded(v in -0.5f32..1.5) {
-            prop_assert_eq!(unorm8(v), rounded(v));
-        }
-    }
-
-    /// The same at and beside every halfway point, and beyond [0, 1] and NaN.
-    #[test]
-    fn a_channel_s_byte_rounds_halves_as_round_does() {
-        for k in 0..=255u32 {
-            let half = (k as f32 + 0.5) / 255.0;
-            let mut v = half;
-            for _ in 0..4 {
-                v = f32::from_bits(v.to_bits() - 1);
-            }
-            for _ in 0..9 {
-                assert_eq!(unorm8(v), rounded(v), "{v}");
-                v = f32::from_bits(v.to_bits() + 1);
-            }
-        }
-        for v in [f32::NAN, f32::INFINITY, -1.0, 0.0, -0.0, 1.0, 2.0] {
-            assert_eq!(unorm8(v), rounded(v), "{v}");
-        }
-    }
 }

@@ -5,6 +5,7 @@
 
 mod bundle;
 mod certify;
+mod evals;
 mod forms;
 mod frame;
 mod pixel;

@@ -2,7 +2,6 @@
 //! the boxes it meets, the roots found on it, and the shading of the nearest hits, step for
 //! step as `templates/raycast.wgsl` does them (but for the roots' steps: `root`).
 
-use crate::eval::{LANES, Op, PointEvaluator, PointLanes, Tape};
 use crate::formula::CompiledFormula;
 use crate::render::view::{
     FLAG_CERTIFIED, FLAG_RANDOM, FLAG_SLAB, FLAG_SLICE, PLANE_ROOT, Uniforms, plane_ray_dir,
@@ -10,8 +9,9 @@ use crate::render::view::{
 };
 use crate::tree::Curvature;
 
+use super::evals::{Deferred, Evaluators};
 use super::root::{self, RootSearch};
-use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, sub};
+use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
 
 /// The ray index of a hit along the ray aimed through a certified root (the shader's
 /// `AIMED`).
@@ -20,163 +20,6 @@ pub(super) const AIMED: u32 = u32::MAX;
 /// How many of the rays' closest samples the search between the rays starts from (the
 /// shader's SEEK_STARTS).
 pub(super) const SEEK_STARTS: usize = 4;
-
-/// The point evaluators of a row of pixels, one per tape so that each keeps its tape's
-/// uniform prefix from pixel to pixel, and F and ∇F's at up to [`LANES`] points at once.
-pub(super) struct Evaluators {
-    f: PointEvaluator,
-    all: PointEvaluator,
-    along: Option<(AxisSlope, PointEvaluator)>,
-    lanes: PointLanes,
-    /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
-    /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
-    arithmetic: [bool; 2],
-}
-
-/// Whether `tape` calls no library function past its uniform prefix.
-fn arithmetic(tape: &Tape) -> bool {
-    !tape.ops()[tape.uniform_len()..]
-        .iter()
-        .any(|op| matches!(op, Op::Unary(..) | Op::Binary(..)))
-}
-
-/// A root a slice's ray found a sign change for, its steps left for later (see
-/// [`Pixel::deferred`]): the search, the ray's origin and direction, and its index.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Deferred {
-    pub(super) search: RootSearch,
-    o: V4,
-    d: V4,
-    pub(super) ray: u32,
-}
-
-impl Evaluators {
-    /// With `along`, a slice's march takes its samples' slopes from that tape.
-    pub(super) fn new(formula: &CompiledFormula, along: Option<&AxisSlope>) -> Self {
-        Self {
-            f: PointEvaluator::single_precision(),
-            all: PointEvaluator::single_precision(),
-            along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
-            lanes: PointLanes::new(),
-            arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
-        }
-    }
-
-    /// Whether a slice's roots are better sought together (see [`Pixel::deferred`]):
-    /// where F's tape is arithmetic alone.
-    pub(super) fn defers_roots(&self) -> bool {
-        self.arithmetic[0]
-    }
-
-    /// Finds each of `roots`, their evaluations [`LANES`] at a time (the same values
-    /// as one by one: see [`PointLanes`]).
-    pub(super) fn find_roots(
-        &mut self,
-        formula: &CompiledFormula,
-        params: &[f64],
-        roots: &mut [Deferred],
-    ) {
-        let tape = &formula.tape_f;
-        let mut active: Vec<usize> = (0..roots.len()).collect();
-        let mut batch = [[0.0; 4]; LANES];
-        let mut which = [0usize; LANES];
-        while !active.is_empty() {
-            for chunk in active.chunks(LANES) {
-                let mut n = 0;
-                for &k in chunk {
-                    let r = &mut roots[k];
-                    if let Some(t) = r.search.next() {
-                        (batch[n], which[n]) = (add(r.o, scale(r.d, t)).map(f64::from), k);
-                        n += 1;
-                    }
-                }
-                if n == 0 {
-                    continue;
-                }
-                self.lanes.eval(tape, &batch[..n], params);
-                for (lane, &k) in which[..n].iter().enumerate() {
-                    roots[k].search.take(self.lanes.output(tape, 0, lane));
-                }
-            }
-            active.retain(|&k| roots[k].search.next().is_some());
-        }
-    }
-
-    /// ∇F at each of `points` into `out`, in f32 as [`Pixel::f_grad`] has it: [`LANES`]
-    /// at a time where F and ∇F's tape is arithmetic alone (lanes of it vectorize), else
-    /// point by point (a library function runs lane by lane anyway, and the point
-    /// evaluator does not run again what reads only coordinates that did not move, most of
-    /// it along a slice's rays: the trigonometric lattice's slice took 1.07x as long
-    /// sixteen at a time).
-    pub(super) fn gradients(
-        &mut self,
-        formula: &CompiledFormula,
-        params: &[f64],
-        points: impl ExactSizeIterator<Item = V4>,
-        out: &mut Vec<V4>,
-    ) {
-        out.clear();
-        let tape = &formula.tape_all;
-        if !self.arithmetic[1] {
-            out.extend(points.map(|p| {
-                let mut fg = [0.0; 5];
-                self.all.eval_into(tape, p.map(f64::from), params, &mut fg);
-                std::array::from_fn(|k| fg[k + 1] as f32)
-            }));
-            return;
-        }
-        let mut batch = [[0.0; 4]; LANES];
-        let mut n = 0;
-        for p in points {
-            batch[n] = p.map(f64::from);
-            n += 1;
-            if n == LANES {
-                self.lanes_into(formula, params, n, &batch, out);
-                n = 0;
-            }
-        }
-        if n > 0 {
-            self.lanes_into(formula, params, n, &batch, out);
-        }
-    }
-
-    fn lanes_into(
-        &mut self,
-        formula: &CompiledFormula,
-        params: &[f64],
-        n: usize,
-        batch: &[[f64; 4]; LANES],
-        out: &mut Vec<V4>,
-    ) {
-        let tape = &formula.tape_all;
-        self.lanes.eval(tape, &batch[..n], params);
-        let lanes = &self.lanes;
-        out.extend((0..n).map(|l| std::array::from_fn(|k| lanes.output(tape, k + 1, l))));
-    }
-}
-
-/// Where a slice's rays run along an axis (n1 = ±e_k: a slice seen square on), the tape of
-/// F and ∂F/∂x_k alone, so that a sample's slope along the ray costs no other partial
-/// (the sextic's three others are a third of F and ∇F's instructions that move along z).
-/// The slope is the same value as from the whole gradient wherever the others are finite:
-/// x·0 is 0 and the sum's other terms vanish.
-#[derive(Clone)]
-pub(super) struct AxisSlope {
-    axis: usize,
-    tape: Tape,
-}
-
-impl AxisSlope {
-    /// The tape for the rays along `n1`, if n1 is an axis.
-    pub(super) fn of(formula: &CompiledFormula, n1: V4) -> Option<Self> {
-        let axis = (0..4).find(|&k| n1[k].abs() == 1.0)?;
-        let others_zero = (0..4).all(|j| j == axis || n1[j] == 0.0);
-        others_zero.then(|| Self {
-            axis,
-            tape: Tape::new(&formula.graph, &[formula.f, formula.gradient[axis]]),
-        })
-    }
-}
 
 pub(super) struct Pixel<'a, 'e> {
     pub(super) u: &'a Uniforms,
@@ -573,13 +416,6 @@ pub(super) fn insert_hit(hits: &mut Vec<(f32, u32)>, k_max: usize, t: f32, ray: 
     hits.insert(at, (t, ray));
 }
 
-/// dF/dt along `d` from ∇F, in f64 (as the evaluator's outputs, exact in f32, multiply).
-fn slope(g: V4, d: V4) -> f32 {
-    (0..4)
-        .map(|k| f64::from(g[k]) * f64::from(d[k]))
-        .sum::<f64>() as f32
-}
-
 /// Whether F keeps its sign from `fa` to `fb`: signs compared as the shader's `same_side`
 /// compares them (a product of tiny values underflows to 0).
 pub(super) fn same_side(fa: f32, fb: f32) -> bool {
@@ -602,61 +438,5 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
         2.0 * f / (root - g)
     } else {
         f32::INFINITY
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// Only an axis (either way) makes an [`AxisSlope`]; a turned direction does not.
-    #[test]
-    fn only_rays_along_an_axis_take_one_partial() {
-        let f = CompiledFormula::compile("x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1").unwrap();
-        assert_eq!(
-            AxisSlope::of(&f, [0.0, 0.0, 1.0, 0.0]).map(|a| a.axis),
-            Some(2)
-        );
-        assert_eq!(
-            AxisSlope::of(&f, [-1.0, 0.0, 0.0, 0.0]).map(|a| a.axis),
-            Some(0)
-        );
-        assert!(AxisSlope::of(&f, [0.0, 0.6, 0.8, 0.0]).is_none());
-        assert!(AxisSlope::of(&f, [1e-8, 0.0, 1.0, 0.0]).is_none());
-    }
-
-    proptest! {
-        /// F and the slope along the axis from the one partial's tape are, bit for bit, F
-        /// and `slope` of the whole gradient, as the GPU's f32 evaluation gives them.
-        #[test]
-        fn the_axis_slope_is_the_whole_gradient_s(
-            p in prop::array::uniform4(-2.0f32..2.0),
-            axis in 0usize..4,
-            reverse in prop::bool::ANY,
-        ) {
-            let sources = [
-                "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1",
-                "(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4R^2(x^2 + y^2) - w",
-                "cos(3x) + cos(3y) + cos(3z) + cos(3w)",
-                "sqrt(x^2 + y^2) * exp(z) - w/(1 + y^2)",
-            ];
-            let mut d = [0.0f32; 4];
-            d[axis] = if reverse { -1.0 } else { 1.0 };
-            for src in sources {
-                let f = CompiledFormula::compile(src).unwrap();
-                let params = [2.0, 1.0];
-                let along = AxisSlope::of(&f, d).unwrap();
-                let mut one = [0.0; 2];
-                PointEvaluator::single_precision().eval_into(&along.tape, p.map(f64::from), &params, &mut one);
-                let mut all = [0.0; 5];
-                PointEvaluator::single_precision().eval_into(&f.tape_all, p.map(f64::from), &params, &mut all);
-                let g: V4 = std::array::from_fn(|k| all[k + 1] as f32);
-                prop_assume!(g.iter().all(|v| v.is_finite()));
-                prop_assert_eq!((one[0] as f32).to_bits(), (all[0] as f32).to_bits(), "{}", src);
-                let mine = (one[1] * f64::from(d[axis])) as f32;
-                prop_assert_eq!(mine, slope(g, d), "{} at {:?}", src, p);
-            }
-        }
     }
 }

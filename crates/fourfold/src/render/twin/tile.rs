@@ -12,12 +12,13 @@ use crate::tree::Hierarchy;
 
 use super::bundle::RootFree;
 use super::certify::{Bracket, Certifier, SearchBox};
-use super::frame::{origins, slice_reach, unorm8};
-use super::pixel::{
-    AIMED, AxisSlope, Deferred, Evaluators, Marched, Pixel, SEEK_STARTS, insert_hit,
-};
+
+use super::evals::{AxisSlope, Deferred, Evaluators};
+use super::pixel::{AIMED, Marched, Pixel, SEEK_STARTS, insert_hit};
 use super::section::Band;
-use super::shading::{V4, add, pcg, scale, shade, stratified_offset, undecided_color};
+use super::shading::{
+    V4, add, origins, pcg, scale, shade, slice_reach, stratified_offset, undecided_color, unorm8,
+};
 use super::walk::{Kept, boxes_of};
 
 /// Draws the pixels `columns` × `rows` into `out` (the band of rows from `rows.start`,
