@@ -28,7 +28,7 @@ fn arithmetic(tape: &Tape) -> bool {
 }
 
 /// A root a slice's ray found a sign change for, its steps left for later (see
-/// [`Pixel::deferred`]): the search, the ray's origin and direction, and its index.
+/// `Pixel::deferred`): the search, the ray's origin and direction, and its index.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Deferred {
     pub(super) search: RootSearch,
@@ -49,7 +49,7 @@ impl Evaluators {
         }
     }
 
-    /// Whether a slice's roots are better sought together (see [`Pixel::deferred`]):
+    /// Whether a slice's roots are better sought together (see `Pixel::deferred`):
     /// where F's tape is arithmetic alone.
     pub(super) fn defers_roots(&self) -> bool {
         self.arithmetic[0]
@@ -89,12 +89,11 @@ impl Evaluators {
         }
     }
 
-    /// ∇F at each of `points` into `out`, in f32 as [`Pixel::f_grad`] has it: [`LANES`]
-    /// at a time where F and ∇F's tape is arithmetic alone (lanes of it vectorize), else
-    /// point by point (a library function runs lane by lane anyway, and the point
-    /// evaluator does not run again what reads only coordinates that did not move, most of
-    /// it along a slice's rays: the trigonometric lattice's slice took 1.07x as long
-    /// sixteen at a time).
+    /// ∇F at each of `points` into `out`, in f32 as `Pixel::f_grad` has it: [`LANES`] at
+    /// a time where F and ∇F's tape is arithmetic alone (lanes of it vectorize), else point
+    /// by point (a library function runs lane by lane anyway, and the point evaluator does
+    /// not run again what reads only coordinates that did not move, most of it along a
+    /// slice's rays).
     pub(super) fn gradients(
         &mut self,
         formula: &CompiledFormula,

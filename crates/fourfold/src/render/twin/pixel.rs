@@ -212,12 +212,8 @@ impl Pixel<'_, '_> {
         let mut roots = std::mem::take(deferred);
         self.hits.clear();
         for r in &roots {
-            let mut search = r.search;
-            while let Some(t) = search.next() {
-                let v = self.f(add(r.o, scale(r.d, t)));
-                search.take(v);
-            }
-            self.insert(search.root(), r.ray);
+            let root = r.search.finish(|t| self.f(add(r.o, scale(r.d, t))));
+            self.insert(root, r.ray);
         }
         roots.clear();
         if let Some(deferred) = self.deferred.as_deref_mut() {

@@ -238,6 +238,14 @@ impl RootSearch {
     pub(super) fn root(&self) -> f32 {
         self.steps.tm
     }
+
+    /// The root, the steps left taken with `f`.
+    pub(super) fn finish(mut self, mut f: impl FnMut(f32) -> f32) -> f32 {
+        while let Some(t) = self.next() {
+            self.take(f(t));
+        }
+        self.root()
+    }
 }
 
 /// Where the secant through the point just tried, (t, f), and the bracket's other end,
@@ -462,14 +470,11 @@ mod tests {
             prop_assume!(ends.0 < 0.0 && ends.1 > 0.0);
             let mut asked = Vec::new();
             let root = refine(|t| { asked.push(t); f(t) }, (lo, hi), ends, iters, tol);
-            let mut search = RootSearch::new((lo, hi), ends, iters, tol);
+            let search = RootSearch::new((lo, hi), ends, iters, tol);
             let mut driven = Vec::new();
-            while let Some(t) = search.next() {
-                driven.push(t);
-                search.take(f(t));
-            }
+            let found = search.finish(|t| { driven.push(t); f(t) });
             prop_assert_eq!(driven, asked);
-            prop_assert_eq!(search.root().to_bits(), root.to_bits());
+            prop_assert_eq!(found.to_bits(), root.to_bits());
         }
     }
 

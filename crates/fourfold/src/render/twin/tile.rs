@@ -1,7 +1,7 @@
 //! A tile's pixels, in phases that let the work of many pixels be done at once: each
-//! pixel's rays; F's signs at the ends of all their brackets, proved sixteen at a time;
-//! each pixel's verdict and the hits it shades; ∇F at all those hits, sixteen at a time
-//! where F's tape is arithmetic alone; then each pixel's colour.
+//! pixel's rays; a slice's roots, their steps side by side, and F's signs at the ends of
+//! all the brackets, sixteen at a time; each pixel's verdict and the hits it shades; ∇F at
+//! all those hits, sixteen at a time; then each pixel's colour.
 
 use std::ops::Range;
 
@@ -12,7 +12,6 @@ use crate::tree::Hierarchy;
 
 use super::bundle::RootFree;
 use super::certify::{Bracket, Certifier, SearchBox};
-
 use super::evals::{AxisSlope, Deferred, Evaluators};
 use super::pixel::{AIMED, Marched, Pixel, SEEK_STARTS, insert_hit};
 use super::section::Band;
