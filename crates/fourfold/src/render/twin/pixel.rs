@@ -19,7 +19,7 @@ pub(super) const AIMED: u32 = u32::MAX;
 
 /// How many of the rays' closest samples the search between the rays starts from (the
 /// shader's SEEK_STARTS).
-pub(super) const SEEK_STARTS: usize = 4;
+const SEEK_STARTS: usize = 4;
 
 pub(super) struct Pixel<'a, 'e> {
     pub(super) u: &'a Uniforms,
@@ -78,6 +78,38 @@ pub(super) struct Marched {
     pub(super) node: Option<usize>,
     /// The range of the pixel's [`Pixel::one_signed`] stretches that lie in this box.
     pub(super) one_signed: (u32, u32),
+}
+
+impl<'a, 'e> Pixel<'a, 'e> {
+    /// A pixel before its rays, whose plane starts at `plane` and whose rays take `seed`
+    /// and `offset`, with a worker's evaluators, hits (cleared) and a slice's tile's
+    /// one-signed stretches; no bracket, no roots left for later.
+    pub(super) fn new(
+        (u, formula, params): (&'a Uniforms, &'a CompiledFormula, &'a [f64]),
+        (eval, hits): (&'e mut Evaluators, &'e mut Vec<(f32, u32)>),
+        one_signed: &'a [(f32, f32)],
+        plane: V4,
+        (seed, offset): (u32, f32),
+    ) -> Self {
+        hits.clear();
+        Self {
+            u,
+            formula,
+            params,
+            eval,
+            seed,
+            offset,
+            hits,
+            k_max: u.size.hits.clamp(1, 16) as usize,
+            deferred: None,
+            aim: [1.0, 0.0],
+            plane,
+            bracket: None,
+            closest: ([0.0; 2], f32::INFINITY),
+            one_signed,
+            starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
+        }
+    }
 }
 
 impl Pixel<'_, '_> {

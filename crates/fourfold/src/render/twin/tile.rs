@@ -13,7 +13,7 @@ use crate::tree::Hierarchy;
 use super::bundle::RootFree;
 use super::certify::{Bracket, Certifier, SearchBox};
 use super::evals::{AxisSlope, Deferred, Evaluators};
-use super::pixel::{AIMED, Marched, Pixel, SEEK_STARTS, insert_hit};
+use super::pixel::{AIMED, Marched, Pixel, insert_hit};
 use super::section::Band;
 use super::shading::{
     V4, add, origins, pcg, scale, shade, slice_reach, stratified_offset, undecided_color, unorm8,
@@ -223,25 +223,15 @@ fn trace_pixel(
         .seed
         .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
     let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
-    scratch.hits.clear();
     let defers = u.control.flags & FLAG_SLICE != 0 && scratch.evals.defers_roots();
-    let mut pixel = Pixel {
-        u,
-        formula,
-        params,
-        eval: &mut scratch.evals,
-        seed,
-        offset,
-        hits: &mut scratch.hits,
-        k_max: u.size.hits.clamp(1, 16) as usize,
-        deferred: defers.then_some(&mut scratch.deferred),
-        aim: [1.0, 0.0],
+    let mut pixel = Pixel::new(
+        (u, formula, params),
+        (&mut scratch.evals, &mut scratch.hits),
+        &scratch.one_signed,
         plane,
-        bracket: None,
-        closest: ([0.0; 2], f32::INFINITY),
-        one_signed: &scratch.one_signed,
-        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
-    };
+        (seed, offset),
+    );
+    pixel.deferred = defers.then_some(&mut scratch.deferred);
     let boxes = &mut scratch.boxes;
     boxes_of(h, u, o, (&scratch.bands[0], &scratch.kept[0]), boxes);
     for b in boxes.iter() {
@@ -292,26 +282,17 @@ fn settle_pixel(
         bracket,
         ..
     } = traced;
-    scratch.hits.clear();
-    let hits = &scratch.tile_hits[first..first + count];
-    scratch.hits.extend_from_slice(hits);
-    let mut pixel = Pixel {
-        u,
-        formula,
-        params,
-        eval: &mut scratch.evals,
-        seed,
-        offset,
-        hits: &mut scratch.hits,
-        k_max: u.size.hits.clamp(1, 16) as usize,
-        deferred: None,
-        aim: [1.0, 0.0],
+    let mut pixel = Pixel::new(
+        (u, formula, params),
+        (&mut scratch.evals, &mut scratch.hits),
+        &scratch.one_signed,
         plane,
-        bracket,
-        closest: ([0.0; 2], f32::INFINITY),
-        one_signed: &scratch.one_signed,
-        starts: [([0.0; 2], f32::INFINITY); SEEK_STARTS],
-    };
+        (seed, offset),
+    );
+    pixel
+        .hits
+        .extend_from_slice(&scratch.tile_hits[first..first + count]);
+    pixel.bracket = bracket;
     let mut verdict = Verdict::Empty;
     if u.control.flags & FLAG_CERTIFIED != 0 {
         let (covered, bounds) = (&mut scratch.covered, &mut scratch.bounds);
