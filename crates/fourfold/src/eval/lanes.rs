@@ -60,6 +60,9 @@ impl PointLanes {
                 Op::Neg(a) => lanes1(out, at(a), |x| -x),
                 Op::Square(a) => lanes1(out, at(a), |x| flush(x * x)),
                 // (Library calls, lane by lane: only the points' lanes.)
+                // (A positive power: `powi`'s products, lane by lane in step, which
+                // vectorize.)
+                Op::Powi(a, k) if k > 0 => *out = powers(at(a), k.unsigned_abs()),
                 Op::Powi(a, k) => {
                     let a = at(a);
                     for l in 0..n {
@@ -87,6 +90,29 @@ impl PointLanes {
         debug_assert!(lane < self.len);
         self.slots[tape.outputs()[k] as usize][lane]
     }
+}
+
+/// x^k in every lane for k ≥ 1, narrowed: the products `ops::powi` takes, in its order,
+/// in f64.
+fn powers(a: &[f32; LANES], k: u32) -> [f32; LANES] {
+    let mut base: [f64; LANES] = a.map(f64::from);
+    let mut product = [1.0f64; LANES];
+    let mut rest = k;
+    loop {
+        if rest & 1 != 0 {
+            for l in 0..LANES {
+                product[l] *= base[l];
+            }
+        }
+        rest >>= 1;
+        if rest == 0 {
+            break;
+        }
+        for l in 0..LANES {
+            base[l] *= base[l];
+        }
+    }
+    product.map(narrow)
 }
 
 #[inline(always)]
