@@ -59,10 +59,10 @@ impl PointLanes {
                 Op::Mul(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x * y)),
                 Op::Neg(a) => lanes1(out, at(a), |x| -x),
                 Op::Square(a) => lanes1(out, at(a), |x| flush(x * x)),
-                // (Library calls, lane by lane: only the points' lanes.)
                 // (A positive power: `powi`'s products, lane by lane in step, which
                 // vectorize.)
                 Op::Powi(a, k) if k > 0 => *out = powers(at(a), k.unsigned_abs()),
+                // (Library calls, lane by lane: only the points' lanes.)
                 Op::Powi(a, k) => {
                     let a = at(a);
                     for l in 0..n {

@@ -15,6 +15,8 @@ pub(super) struct Evaluators {
     pub(super) all: PointEvaluator,
     pub(super) along: Option<(AxisSlope, PointEvaluator)>,
     lanes: PointLanes,
+    /// The roots of [`Self::find_roots`] still seeking, by index.
+    seeking: Vec<usize>,
     /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
     /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
     arithmetic: [bool; 2],
@@ -45,6 +47,7 @@ impl Evaluators {
             all: PointEvaluator::single_precision(),
             along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
             lanes: PointLanes::new(),
+            seeking: Vec::new(),
             arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
         }
     }
@@ -64,7 +67,9 @@ impl Evaluators {
         roots: &mut [Deferred],
     ) {
         let tape = &formula.tape_f;
-        let mut active: Vec<usize> = (0..roots.len()).collect();
+        let mut active = std::mem::take(&mut self.seeking);
+        active.clear();
+        active.extend(0..roots.len());
         let mut batch = [[0.0; 4]; LANES];
         let mut which = [0usize; LANES];
         while !active.is_empty() {
@@ -87,6 +92,7 @@ impl Evaluators {
             }
             active.retain(|&k| roots[k].search.next().is_some());
         }
+        self.seeking = active;
     }
 
     /// ∇F at each of `points` into `out`, in f32 as `Pixel::f_grad` has it: [`LANES`] at

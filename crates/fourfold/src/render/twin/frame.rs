@@ -95,7 +95,7 @@ pub fn render_rgba(
 }
 
 /// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
-pub(super) const TILE: u32 = 8;
+const TILE: u32 = 8;
 
 /// The pixels `columns` × `rows` as a [`Tile`]: around the origin of their plane (or, with
 /// `rays` in a slice, of their rays' line) at the square's centre.

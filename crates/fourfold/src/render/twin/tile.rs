@@ -11,7 +11,7 @@ use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
 use super::bundle::RootFree;
-use super::certify::{Bracket, Certifier, SearchBox};
+use super::certify::{Certifier, SearchBox};
 use super::evals::{AxisSlope, Deferred, Evaluators};
 use super::pixel::{AIMED, Marched, Pixel, insert_hit};
 use super::section::Band;
@@ -44,12 +44,8 @@ pub(super) fn draw_tile(
     let mut signs = std::mem::take(&mut scratch.signs);
     signs.clear();
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        scratch.brackets.clear();
         let brackets = traced.iter().map(|t| (t.plane, t.bracket));
-        scratch.brackets.extend(brackets);
-        scratch
-            .certifier
-            .bracket_signs(&scratch.brackets, &mut signs);
+        scratch.certifier.bracket_signs(brackets, &mut signs);
     }
     let mut settled = std::mem::take(&mut scratch.settled);
     settled.clear();
@@ -132,15 +128,14 @@ pub(super) struct Scratch<'a> {
     /// The boxes of the pixel's certified search, walked and then with their forms.
     covered: Vec<Marched>,
     bounds: Vec<SearchBox>,
-    /// The tile's pixels after their rays, their hits, and their brackets with F's signs
-    /// at their ends (see [`draw_tile`]).
+    /// The tile's pixels after their rays, their hits, and F's signs at their brackets'
+    /// ends (see [`draw_tile`]).
     traced: Vec<Traced>,
     tile_hits: Vec<(f32, u32)>,
+    signs: Vec<Option<[i8; 2]>>,
     /// A pixel's roots left for later, and the tile's (see `Pixel::deferred`).
     deferred: Vec<Deferred>,
     tile_roots: Vec<Deferred>,
-    brackets: Vec<Bracket>,
-    signs: Vec<Option<[i8; 2]>>,
     /// The tile's pixels settled, the hits they shade (point, direction), farthest first
     /// by pixel, and ∇F at each (see [`draw_tile`]).
     settled: Vec<Settled>,
@@ -176,7 +171,6 @@ impl<'a> Scratch<'a> {
             tile_hits: Vec::new(),
             deferred: Vec::new(),
             tile_roots: Vec::new(),
-            brackets: Vec::new(),
             signs: Vec::new(),
             settled: Vec::new(),
             shades: Vec::new(),

@@ -85,11 +85,15 @@ impl<'a> Certifier<'a> {
     /// in their order: None where a pixel has no bracket or F may not be continuous
     /// between its ends (then it proves nothing). The ends' enclosures are those
     /// [`Self::pixel`] would take one by one, bit for bit, taken [`LANES`] at a time.
-    pub fn bracket_signs(&mut self, brackets: &[Bracket], out: &mut Vec<Option<[i8; 2]>>) {
+    pub fn bracket_signs(
+        &mut self,
+        brackets: impl IntoIterator<Item = Bracket>,
+        out: &mut Vec<Option<[i8; 2]>>,
+    ) {
         out.clear();
         self.pending.clear();
         let domain = self.domain();
-        for (k, &(o, bracket)) in brackets.iter().enumerate() {
+        for (k, (o, bracket)) in brackets.into_iter().enumerate() {
             let tried = bracket.filter(|&(a, b)| self.continuous_between(o, a, b));
             if let Some((a, b)) = tried {
                 for (end, p) in [a, b].into_iter().enumerate() {
