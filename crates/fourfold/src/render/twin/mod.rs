@@ -8,6 +8,7 @@ mod certify;
 mod evals;
 mod forms;
 mod frame;
+mod march;
 mod pixel;
 mod root;
 mod section;

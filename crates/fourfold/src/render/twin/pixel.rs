@@ -10,6 +10,7 @@ use crate::render::view::{
 use crate::tree::Curvature;
 
 use super::evals::{Deferred, Evaluators};
+use super::march::{Crossing, March, Skips};
 use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
 
@@ -53,17 +54,6 @@ pub(super) struct Pixel<'a, 'e> {
     /// |F| over |∇F|, nearest first (+∞: none): where the search between the rays starts
     /// (the shader's `starts`).
     pub(super) starts: [([f32; 2], f32); SEEK_STARTS],
-}
-
-/// What lets a march step over samples that cannot change sign: its box's steps, the bounds
-/// on |dF/dt| and on d²F/dt² there (+∞ and (−∞, +∞): none), and the stretches of its line
-/// (ascending distances from its start) on which F keeps one sign.
-#[derive(Clone, Copy)]
-pub(super) struct Skips<'s> {
-    pub(super) steps: u32,
-    pub(super) slope: f32,
-    pub(super) bend: (f32, f32),
-    pub(super) one_signed: &'s [(f32, f32)],
 }
 
 /// A box the pixel marches, as `trace_box` takes it.
@@ -293,96 +283,64 @@ impl Pixel<'_, '_> {
         )
     }
 
-    /// Marches o + t d over [t0, t1] in `steps` equal steps (docs/method.md §5.3), stepping over
-    /// the samples that cannot change sign by `skips` (as the shader's `march_ray`, and a
-    /// slice's one-signed stretches, the twin's own: the same sign changes as taking every
-    /// sample); the span's closest sample is a start of the search.
-    pub(super) fn find_roots(&mut self, o: V4, d: V4, span: (f32, f32), skips: Skips, ray: u32) {
+    /// Marches `march` to its end, a sample at a time; the span's closest sample is a
+    /// start of the search.
+    fn find_roots(&mut self, mut march: March) {
         self.closest = ([0.0; 2], f32::INFINITY);
-        self.march(o, d, span, skips, ray);
+        let (o, d, bent) = (march.o, march.d, march.bent);
+        let along = [dot(d, self.u.n1), dot(d, self.u.n2)];
+        while let Some(t) = march.next(self.stop(), self.one_signed) {
+            let sample = self.sample(add(o, scale(d, t)), t, d, along, bent);
+            if let Some(crossing) = march.take(t, sample) {
+                self.cross(&march, crossing);
+            }
+        }
         if self.keeps_closest() {
             self.keep_start();
         }
     }
 
-    fn march(&mut self, o: V4, d: V4, (t0, t1): (f32, f32), skips: Skips, ray: u32) {
-        let Skips {
-            steps,
-            slope,
-            bend,
-            one_signed,
-        } = skips;
-        let dt = (t1 - t0) / steps as f32;
-        // Samples per unit of t and per unit of |F| sure to keep its sign (0.999: a margin
-        // for rounding).
-        let per_t = 0.999 / dt;
-        let reach = per_t / slope;
-        // (dF/dt serves only the curvature bound.)
-        let bent = bend.0.is_finite() && bend.1.is_finite();
-        let along = [dot(d, self.u.n1), dot(d, self.u.n2)];
-        let mut ta = t0;
-        let [mut fa, mut ga] = self.sample(add(o, scale(d, ta)), ta, d, along, bent);
-        // The first one-signed stretch that does not end before ta.
-        let mut next = 0;
-        let mut s = 1;
-        // Whether fa is F at ta (after a skip, it is F's sign there, from an earlier sample).
-        let mut fresh = true;
-        loop {
-            let m = fa.abs() * reach;
-            let m = m.max(zero_ahead(fa, ga, bend) * per_t);
-            while next < one_signed.len() && one_signed[next].1 < ta {
-                next += 1;
-            }
-            let m = match one_signed.get(next) {
-                Some(&(from, to)) if from <= ta => m.max((to - ta) * per_t),
-                _ => m,
+    /// Where a march stops: at the farthest hit where the hits are full (+∞: nowhere).
+    pub(super) fn stop(&self) -> f32 {
+        if self.full() {
+            self.farthest()
+        } else {
+            f32::INFINITY
+        }
+    }
+
+    /// A sign change `march` found: the pixel's bracket, if it has none and is certified,
+    /// and the root, found now or left for later (see [`Self::deferred`]), as a hit.
+    pub(super) fn cross(&mut self, march: &March, c: Crossing) {
+        let (o, d, ray) = (march.o, march.d, march.ray);
+        if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
+            let at = |t: f32| {
+                let p = sub(add(o, scale(d, t)), self.plane);
+                [f64::from(dot(p, self.u.n1)), f64::from(dot(p, self.u.n2))]
             };
-            if m >= 1.0 {
-                s += m.min(steps as f32) as u32;
-                ta = t0 + (s - 1) as f32 * dt;
-                fresh = false;
+            self.bracket = Some((at(c.ta), at(c.tb)));
+        }
+        // The root's steps need F's value at ta, of which a skip kept the sign only.
+        let f_ta = if c.fresh {
+            c.fa
+        } else {
+            self.f(add(o, scale(d, c.ta)))
+        };
+        let f_lo = if same_side(c.fa, f_ta) { f_ta } else { c.fa };
+        let defer = self.hits.len() + 1 < self.k_max;
+        match self.deferred.as_deref_mut().filter(|_| defer) {
+            Some(deferred) => {
+                let (iters, approximation) =
+                    (self.u.control.bisection_iters, self.u.root.approximation);
+                let search = RootSearch::new((c.ta, c.tb), (f_lo, c.fb), iters, approximation);
+                deferred.push(Deferred { search, o, d, ray });
+                self.insert(c.tb, ray);
             }
-            if s > steps || (self.full() && ta >= self.farthest()) {
-                return;
+            None => {
+                self.find_deferred();
+                let root = self.refine_root(o, d, (c.ta, c.tb), (f_lo, c.fb));
+                self.insert(root, ray);
             }
-            let tb = t0 + s as f32 * dt;
-            let [fb, gb] = self.sample(add(o, scale(d, tb)), tb, d, along, bent);
-            if !same_side(fa, fb) {
-                if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
-                    let at = |t: f32| {
-                        let p = sub(add(o, scale(d, t)), self.plane);
-                        [f64::from(dot(p, self.u.n1)), f64::from(dot(p, self.u.n2))]
-                    };
-                    self.bracket = Some((at(ta), at(tb)));
-                }
-                // The root's steps need F's value at ta, of which a skip kept the sign only.
-                let f_ta = if fresh {
-                    fa
-                } else {
-                    self.f(add(o, scale(d, ta)))
-                };
-                let f_lo = if same_side(fa, f_ta) { f_ta } else { fa };
-                let defer = self.hits.len() + 1 < self.k_max;
-                match self.deferred.as_deref_mut().filter(|_| defer) {
-                    Some(deferred) => {
-                        let (iters, approximation) =
-                            (self.u.control.bisection_iters, self.u.root.approximation);
-                        let search = RootSearch::new((ta, tb), (f_lo, fb), iters, approximation);
-                        deferred.push(Deferred { search, o, d, ray });
-                        self.insert(tb, ray);
-                    }
-                    None => {
-                        self.find_deferred();
-                        let root = self.refine_root(o, d, (ta, tb), (f_lo, fb));
-                        self.insert(root, ray);
-                    }
-                }
-            }
-            ta = tb;
-            fa = fb;
-            ga = gb;
-            fresh = true;
-            s += 1;
         }
     }
 
@@ -397,12 +355,21 @@ impl Pixel<'_, '_> {
 
     /// Marches ray k (or AIMED) over its span in the box `b`.
     pub(super) fn trace_ray(&mut self, o: V4, b: &Marched, k: u32) {
+        if let Some(march) = self.march_of(o, b, k) {
+            self.find_roots(march);
+        }
+    }
+
+    /// The march of ray k (or AIMED) over its span in the box `b`, if it has one that
+    /// starts before the march would stop.
+    pub(super) fn march_of(&self, o: V4, b: &Marched, k: u32) -> Option<March> {
         let Marched {
             lo,
             hi,
             steps,
             slope,
             curvature,
+            one_signed,
             ..
         } = *b;
         let d = self.direction(k);
@@ -417,16 +384,13 @@ impl Pixel<'_, '_> {
         if self.u.control.flags & FLAG_SLAB != 0 {
             (t0, t1) = clip_to_slab(self.u, (t0, t1), self.plane_dir(k)[1]);
         }
-        if t0 < t1 && !(self.full() && t0 >= self.farthest()) {
-            let (first, end) = b.one_signed;
-            let skips = Skips {
-                steps,
-                slope: slope_along(slope, d.map(f64::from)),
-                bend: curvature.along(d.map(f64::from)),
-                one_signed: &self.one_signed[first as usize..end as usize],
-            };
-            self.find_roots(o, d, (t0, t1), skips, k);
-        }
+        let skips = Skips {
+            steps,
+            slope: slope_along(slope, d.map(f64::from)),
+            bend: curvature.along(d.map(f64::from)),
+            one_signed,
+        };
+        (t0 < t1 && t0 < self.stop()).then(|| March::new(o, d, (t0, t1), skips, k))
     }
 }
 
@@ -448,23 +412,4 @@ pub(super) fn insert_hit(hits: &mut Vec<(f32, u32)>, k_max: usize, t: f32, ray: 
 /// compares them (a product of tiny values underflows to 0).
 pub(super) fn same_side(fa: f32, fb: f32) -> bool {
     !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
-}
-
-/// How far from a sample with value `f` and slope `g` (dF/dt) F surely keeps its sign when
-/// d²F/dt² lies in `bend`: the first zero of the parabola that bounds |F| from below
-/// (+∞: none; 0 where F, its slope or the bound is not finite). The shader's rule (`march_ray`).
-fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
-    // |F|, its slope, and how fast it can bend towards 0.
-    let (g, c) = if f > 0.0 { (g, -lo) } else { (-g, hi) };
-    let f = f.abs();
-    if !(f.is_finite() && g.is_finite() && c.is_finite()) {
-        return 0.0;
-    }
-    let disc = g * g + 2.0 * c * f;
-    let root = disc.max(0.0).sqrt();
-    if disc >= 0.0 && root > g {
-        2.0 * f / (root - g)
-    } else {
-        f32::INFINITY
-    }
 }
