@@ -6,7 +6,7 @@ use crate::eval::{LANES, Op, PointEvaluator, PointLanes, Tape};
 use crate::formula::CompiledFormula;
 
 use super::root::RootSearch;
-use super::shading::{V4, add, scale};
+use super::shading::{V4, add, scale, slope};
 
 /// The point evaluators of a row of pixels, one per tape so that each keeps its tape's
 /// uniform prefix from pixel to pixel, and F and ∇F's at up to [`LANES`] points at once.
@@ -17,9 +17,10 @@ pub(super) struct Evaluators {
     lanes: PointLanes,
     /// The roots of [`Self::find_roots`] still seeking, by index.
     seeking: Vec<usize>,
-    /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
-    /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
-    arithmetic: [bool; 2],
+    /// Whether F's tape, F and ∇F's, and a slice's samples' (F and one partial's where
+    /// `along`, else F and ∇F's) are arithmetic alone (no library function past their
+    /// uniform prefix): where lanes of them pay (see [`Self::gradients`]).
+    arithmetic: [bool; 3],
 }
 
 /// Whether `tape` calls no library function past its uniform prefix.
@@ -42,13 +43,18 @@ pub(super) struct Deferred {
 impl Evaluators {
     /// With `along`, a slice's march takes its samples' slopes from that tape.
     pub(super) fn new(formula: &CompiledFormula, along: Option<&AxisSlope>) -> Self {
+        let samples = along.map_or(&formula.tape_all, |a| &a.tape);
         Self {
             f: PointEvaluator::single_precision(),
             all: PointEvaluator::single_precision(),
             along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
             lanes: PointLanes::new(),
             seeking: Vec::new(),
-            arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
+            arithmetic: [
+                arithmetic(&formula.tape_f),
+                arithmetic(&formula.tape_all),
+                arithmetic(samples),
+            ],
         }
     }
 
@@ -56,6 +62,45 @@ impl Evaluators {
     /// where F's tape is arithmetic alone.
     pub(super) fn defers_roots(&self) -> bool {
         self.arithmetic[0]
+    }
+
+    /// Whether a slice's pixels are better marched side by side (see `abreast`): where
+    /// the tapes of their samples and roots are arithmetic alone.
+    pub(super) fn samples_abreast(&self) -> bool {
+        self.arithmetic[0] && self.arithmetic[2]
+    }
+
+    /// F and dF/dt along `d` at each of `points` (1 to [`LANES`]) into `out`, bit for bit
+    /// as `Pixel::f_slope` has them where the sample needs dF/dt.
+    pub(super) fn samples(
+        &mut self,
+        formula: &CompiledFormula,
+        params: &[f64],
+        (points, d): (&[[f64; 4]], V4),
+        out: &mut [[f32; 2]],
+    ) {
+        let lanes = &mut self.lanes;
+        match &self.along {
+            Some((along, _)) => {
+                lanes.eval(&along.tape, points, params);
+                let k = along.axis;
+                for (l, out) in out[..points.len()].iter_mut().enumerate() {
+                    let partial = f64::from(lanes.output(&along.tape, 1, l));
+                    *out = [
+                        lanes.output(&along.tape, 0, l),
+                        (partial * f64::from(d[k])) as f32,
+                    ];
+                }
+            }
+            None => {
+                let tape = &formula.tape_all;
+                lanes.eval(tape, points, params);
+                for (l, out) in out[..points.len()].iter_mut().enumerate() {
+                    let g: V4 = std::array::from_fn(|k| lanes.output(tape, k + 1, l));
+                    *out = [lanes.output(tape, 0, l), slope(g, d)];
+                }
+            }
+        }
     }
 
     /// Finds each of `roots`, their evaluations [`LANES`] at a time (the same values
@@ -173,7 +218,6 @@ impl AxisSlope {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::twin::shading::slope;
     use proptest::prelude::*;
 
     /// Only an axis (either way) makes an [`AxisSlope`]; a turned direction does not.

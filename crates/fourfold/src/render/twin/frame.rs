@@ -27,6 +27,18 @@ pub fn render_rgba(
     certifying: Option<&Hierarchy>,
     u: &Uniforms,
 ) -> Vec<u8> {
+    render(formula, params, (hierarchy, certifying), u, true)
+}
+
+/// [`render_rgba`], a slice's pixels marched side by side where `abreast` and their tapes
+/// allow (see `abreast`), else one by one: the same picture.
+fn render(
+    formula: &CompiledFormula,
+    params: &[f64],
+    (hierarchy, certifying): (&Hierarchy, Option<&Hierarchy>),
+    u: &Uniforms,
+    abreast: bool,
+) -> Vec<u8> {
     let certifying = certifying.unwrap_or(hierarchy);
     let certified = u.control.flags & FLAG_CERTIFIED != 0;
     let slice = u.control.flags & FLAG_SLICE != 0;
@@ -53,7 +65,11 @@ pub fn render_rgba(
     let mut rgba = vec![0u8; (width * height * 4) as usize];
     let band_bytes = (TILE * width * 4) as usize;
     rgba.par_chunks_mut(band_bytes).enumerate().for_each_init(
-        || Scratch::new(formula, params, u, along.as_ref(), (&forms, &bands)),
+        || {
+            let mut scratch = Scratch::new(formula, params, u, along.as_ref(), (&forms, &bands));
+            scratch.abreast &= abreast;
+            scratch
+        },
         |scratch, (strip, out)| {
             let strip = strip as u32;
             let rows = strip * TILE..((strip + 1) * TILE).min(height);
@@ -143,4 +159,56 @@ fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundl
     let corners = [first, (last.0, first.1), (first.0, last.1), last]
         .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).1);
     Bundle::of(u, corners, slice_reach(u))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::prepare::Prepared;
+    use crate::render::view::FrameOptions;
+    use crate::scene::Scene;
+
+    /// A slice's pixels marched side by side draw, byte for byte, the picture they draw one
+    /// by one: square on and turned, certified and plain, one hit and several, on shapes
+    /// with thin parts, kinks and parameters.
+    #[test]
+    fn slices_marched_abreast_are_the_pixels_marched_one_by_one() {
+        let shapes = [
+            ("(x^2 + y^2 + z^2 + R^2 - r^2)^2 - 4R^2(x^2 + y^2) - w", 0.5),
+            ("x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1", 0.5),
+            ("abs(x) + abs(y) + abs(z) + abs(w) - 1", -0.2),
+            ("(x^2 + y^2 - 0.6)^2 + z^2 - 0.003 - 0.01 w", 0.1),
+            ("x y z - w^3 + 0.1", 0.4),
+        ];
+        let views = [
+            ("[0, 0, 0, 0, 0, 0]", 4, true),
+            ("[0.3, -0.2, 0.5, 0.1, 0.7, -0.4]", 4, true),
+            ("[0, 0, 0, 0, 0, 0]", 1, false),
+            ("[0.9, 0.1, -0.3, 0.2, 0, 0.5]", 1, true),
+        ];
+        for (source, slice) in shapes {
+            for (angles, hits, certified) in views {
+                let text = format!(
+                    "formula = \"{source}\"\n[params]\nR = 1.0\nr = 0.4\n\
+                     [view]\nangles = {angles}\nslice = {slice}\n\
+                     [render]\nhits = {hits}\ncertified = {certified}\n\
+                     [domain]\nx = [-1.5, 1.5]\ny = [-1.5, 1.5]\nz = [-1.5, 1.5]\nw = [-1.5, 1.5]\n"
+                );
+                let scene = Scene::parse(&text, "test").unwrap();
+                let formula = CompiledFormula::compile(&scene.formula).unwrap();
+                let prepared = Prepared::new(&formula, &scene).unwrap();
+                let (_, u) = prepared.frame(&scene, 48, 40, FrameOptions::default());
+                let certifying = certified.then(|| prepared.certifying(&formula));
+                let h = (&prepared.hierarchy, certifying);
+                let params = &prepared.params;
+                let abreast = render(&formula, params, h, &u, true);
+                let one_by_one = render(&formula, params, h, &u, false);
+                let differ = abreast.chunks(4).zip(one_by_one.chunks(4));
+                let differ = differ.filter(|(a, b)| a != b).count();
+                assert_eq!(differ, 0, "{source} at {slice}, {angles}, {hits} hits");
+                let shown = abreast.chunks(4).filter(|p| p[..3] != abreast[..3]).count();
+                assert!(shown > 0, "{source} at {slice}, {angles}: nothing drawn");
+            }
+        }
+    }
 }

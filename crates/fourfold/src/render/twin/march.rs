@@ -2,7 +2,6 @@
 //! takes it, held as a state that asks for one sample at a time: so that a pixel can take
 //! its samples one by one, and a tile's slice pixels theirs side by side (see `abreast`).
 
-use super::pixel::same_side;
 use super::shading::V4;
 
 /// What lets a march step over samples that cannot change sign: its box's steps, the bounds
@@ -156,4 +155,10 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
     } else {
         f32::INFINITY
     }
+}
+
+/// Whether F keeps its sign from `fa` to `fb`: signs compared as the shader's `same_side`
+/// compares them (a product of tiny values underflows to 0).
+pub(super) fn same_side(fa: f32, fb: f32) -> bool {
+    !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
 }

@@ -3,6 +3,7 @@
 //! its certified pixels' search in rigorous f64 intervals. Same hierarchy, same uniforms,
 //! same hash and sampling, so GPU and CPU pictures can be compared pixel for pixel.
 
+mod abreast;
 mod bundle;
 mod certify;
 mod evals;
@@ -15,6 +16,7 @@ mod section;
 mod seek;
 mod shading;
 mod tile;
+mod traced;
 mod walk;
 
 pub use certify::{CERT_STACK, Certifier, Outcome};

@@ -10,7 +10,7 @@ use crate::render::view::{
 use crate::tree::Curvature;
 
 use super::evals::{Deferred, Evaluators};
-use super::march::{Crossing, March, Skips};
+use super::march::{Crossing, March, Skips, same_side};
 use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
 
@@ -71,9 +71,9 @@ pub(super) struct Marched {
 }
 
 impl<'a, 'e> Pixel<'a, 'e> {
-    /// A pixel before its rays, whose plane starts at `plane` and whose rays take `seed`
-    /// and `offset`, with a worker's evaluators, hits (cleared) and a slice's tile's
-    /// one-signed stretches; no bracket, no roots left for later.
+    /// A pixel whose plane starts at `plane` and whose rays take `seed` and `offset`, with
+    /// a worker's evaluators, its hits so far and a slice's tile's one-signed stretches;
+    /// no bracket, no roots left for later.
     pub(super) fn new(
         (u, formula, params): (&'a Uniforms, &'a CompiledFormula, &'a [f64]),
         (eval, hits): (&'e mut Evaluators, &'e mut Vec<(f32, u32)>),
@@ -81,7 +81,6 @@ impl<'a, 'e> Pixel<'a, 'e> {
         plane: V4,
         (seed, offset): (u32, f32),
     ) -> Self {
-        hits.clear();
         Self {
             u,
             formula,
@@ -210,14 +209,6 @@ impl Pixel<'_, '_> {
         self.u.control.flags & FLAG_SLICE != 0
     }
 
-    pub(super) fn full(&self) -> bool {
-        self.hits.len() == self.k_max
-    }
-
-    pub(super) fn farthest(&self) -> f32 {
-        self.hits.last().map_or(f32::INFINITY, |h| h.0)
-    }
-
     pub(super) fn insert(&mut self, t: f32, ray: u32) {
         insert_hit(self.hits, self.k_max, t, ray);
     }
@@ -302,11 +293,7 @@ impl Pixel<'_, '_> {
 
     /// Where a march stops: at the farthest hit where the hits are full (+∞: nowhere).
     pub(super) fn stop(&self) -> f32 {
-        if self.full() {
-            self.farthest()
-        } else {
-            f32::INFINITY
-        }
+        stop_at(self.hits, self.k_max)
     }
 
     /// A sign change `march` found: the pixel's bracket, if it has none and is certified,
@@ -394,6 +381,15 @@ impl Pixel<'_, '_> {
     }
 }
 
+/// Where a march stops with `hits` (nearest first, at most `k_max`): at the farthest where
+/// they are full (+∞: nowhere).
+pub(super) fn stop_at(hits: &[(f32, u32)], k_max: usize) -> f32 {
+    match hits.last() {
+        Some(&(t, _)) if hits.len() == k_max => t,
+        _ => f32::INFINITY,
+    }
+}
+
 /// Inserts the hit (t, ray) into `hits` (nearest first, at most `k_max`): after those as
 /// near, the farthest dropped where they are full.
 pub(super) fn insert_hit(hits: &mut Vec<(f32, u32)>, k_max: usize, t: f32, ray: u32) {
@@ -406,10 +402,4 @@ pub(super) fn insert_hit(hits: &mut Vec<(f32, u32)>, k_max: usize, t: f32, ray: 
     }
     let at = hits.partition_point(|h| h.0 <= t);
     hits.insert(at, (t, ray));
-}
-
-/// Whether F keeps its sign from `fa` to `fb`: signs compared as the shader's `same_side`
-/// compares them (a product of tiny values underflows to 0).
-pub(super) fn same_side(fa: f32, fb: f32) -> bool {
-    !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
 }

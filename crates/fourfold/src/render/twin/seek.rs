@@ -5,7 +5,8 @@
 
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLAB, plane_ray};
 
-use super::pixel::{Marched, Pixel, same_side};
+use super::march::same_side;
+use super::pixel::{Marched, Pixel};
 use super::shading::{V4, add, dot, scale, sub};
 
 /// Evaluations of F and ∇F (a step's, a valley floor's) from each start, and how much each

@@ -10,14 +10,14 @@ use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
 use crate::tree::Hierarchy;
 
+use super::abreast::{self, Lane, Work};
 use super::bundle::RootFree;
 use super::certify::{Certifier, SearchBox};
 use super::evals::{AxisSlope, Deferred, Evaluators};
-use super::pixel::{AIMED, Marched, Pixel, insert_hit};
+use super::pixel::{AIMED, Marched, insert_hit};
 use super::section::Band;
-use super::shading::{
-    V4, add, origins, pcg, scale, shade, slice_reach, stratified_offset, undecided_color, unorm8,
-};
+use super::shading::{V4, add, scale, shade, slice_reach, undecided_color, unorm8};
+use super::traced::{Start, Traced};
 use super::walk::{Kept, boxes_of};
 
 /// Draws the pixels `columns` × `rows` into `out` (the band of rows from `rows.start`,
@@ -35,16 +35,29 @@ pub(super) fn draw_tile(
     let mut traced = std::mem::take(&mut scratch.traced);
     traced.clear();
     scratch.tile_hits.clear();
-    for py in rows.clone() {
-        for px in columns.clone() {
-            traced.push(trace_pixel(formula, params, h[0], u, scratch, (px, py)));
+    let pixels = rows
+        .clone()
+        .flat_map(|py| columns.clone().map(move |px| (px, py)));
+    if u.control.flags & FLAG_SLICE != 0 && scratch.abreast {
+        let mut work = Work {
+            lanes: &mut scratch.lanes,
+            evals: &mut scratch.evals,
+            one_signed: &scratch.one_signed,
+            walk: (&scratch.bands[0], &scratch.kept[0]),
+            tile: (&mut scratch.tile_hits, &mut scratch.tile_roots),
+        };
+        let context = (formula, params);
+        abreast::trace_pixels(context, (h[0], u), &mut work, pixels, &mut traced);
+    } else {
+        for at in pixels {
+            traced.push(trace_pixel(formula, params, h[0], u, scratch, at));
         }
     }
     find_deferred_roots(formula, params, u, scratch, &traced);
     let mut signs = std::mem::take(&mut scratch.signs);
     signs.clear();
     if u.control.flags & FLAG_CERTIFIED != 0 {
-        let brackets = traced.iter().map(|t| (t.plane, t.bracket));
+        let brackets = traced.iter().map(|t| (t.start.plane, t.bracket));
         scratch.certifier.bracket_signs(brackets, &mut signs);
     }
     let mut settled = std::mem::take(&mut scratch.settled);
@@ -115,7 +128,11 @@ pub(super) struct Scratch<'a> {
     pub(super) one_signed: Vec<(f32, f32)>,
     pub(super) stretches: Vec<(f32, f32)>,
     evals: Evaluators,
-    /// The pixel's hits (see [`Pixel::hits`]), kept for its storage.
+    /// A slice's pixels' lanes, and whether its pixels are marched side by side in them
+    /// (see `abreast`; where its samples' tapes are arithmetic alone).
+    lanes: Vec<Lane>,
+    pub(super) abreast: bool,
+    /// The pixel's hits (see `Pixel::hits`), kept for its storage.
     hits: Vec<(f32, u32)>,
     /// The boxes of the pixel's rays.
     boxes: Vec<Marched>,
@@ -154,12 +171,15 @@ impl<'a> Scratch<'a> {
         along: Option<&AxisSlope>,
         (forms, bands): (&'a [[f32; 6]], &'a [Option<Band>; 2]),
     ) -> Self {
+        let evals = Evaluators::new(formula, along);
         Self {
             certifier: Certifier::new(formula, params, u),
             root_free: RootFree::new(formula, params),
             one_signed: Vec::new(),
             stretches: Vec::new(),
-            evals: Evaluators::new(formula, along),
+            abreast: evals.samples_abreast(),
+            evals,
+            lanes: abreast::lanes(),
             hits: Vec::with_capacity(16),
             boxes: Vec::new(),
             forms,
@@ -186,22 +206,7 @@ struct Settled {
     shades: (usize, usize),
 }
 
-/// A pixel after its rays' march, until its bracket's signs are proved with its tile's:
-/// where it is, its plane's and its rays' origins, its seed and offset, its hits (in the
-/// tile's, from the first, how many) and its bracket (see [`Pixel::bracket`]).
-struct Traced {
-    at: (u32, u32),
-    plane: V4,
-    o: V4,
-    seed: u32,
-    offset: f32,
-    hits: (usize, usize),
-    /// Its roots left for later (see `Pixel::deferred`), in the tile's: from, how many.
-    roots: (usize, usize),
-    bracket: Option<([f64; 2], [f64; 2])>,
-}
-
-/// Pixel (px, py)'s rays across the boxes of `h` they meet (and, where they find nothing,
+/// Pixel `at`'s rays across the boxes of `h` they meet (and, where they find nothing,
 /// the search between them): its hits, kept in the tile's, and its bracket.
 fn trace_pixel(
     formula: &CompiledFormula,
@@ -209,21 +214,16 @@ fn trace_pixel(
     h: &Hierarchy,
     u: &Uniforms,
     scratch: &mut Scratch<'_>,
-    (px, py): (u32, u32),
+    at: (u32, u32),
 ) -> Traced {
-    let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
-    let seed = pcg(px.wrapping_add(pcg(py.wrapping_add(pcg(u
-        .control
-        .seed
-        .wrapping_add(7919u32.wrapping_mul(u.counts.frame)))))));
-    let offset = stratified_offset(u.control.seed, u.counts.frame, px, py);
+    let start = Start::of(u, at);
+    let o = start.o;
     let defers = u.control.flags & FLAG_SLICE != 0 && scratch.evals.defers_roots();
-    let mut pixel = Pixel::new(
+    scratch.hits.clear();
+    let mut pixel = start.pixel(
         (u, formula, params),
         (&mut scratch.evals, &mut scratch.hits),
         &scratch.one_signed,
-        plane,
-        (seed, offset),
     );
     pixel.deferred = defers.then_some(&mut scratch.deferred);
     let boxes = &mut scratch.boxes;
@@ -238,20 +238,9 @@ fn trace_pixel(
         }
     }
     let bracket = pixel.bracket;
-    let first = scratch.tile_hits.len();
-    scratch.tile_hits.extend_from_slice(&scratch.hits);
-    let roots = scratch.tile_roots.len();
-    scratch.tile_roots.append(&mut scratch.deferred);
-    Traced {
-        at: (px, py),
-        plane,
-        o,
-        seed,
-        offset,
-        hits: (first, scratch.hits.len()),
-        roots: (roots, scratch.tile_roots.len() - roots),
-        bracket,
-    }
+    let (hits, deferred) = (&scratch.hits, &mut scratch.deferred);
+    let tile = (&mut scratch.tile_hits, &mut scratch.tile_roots);
+    Traced::keep(start, (hits, deferred, bracket), tile)
 }
 
 /// A traced pixel's verdict, F's signs at its bracket's ends proved as `signs` (see
@@ -267,21 +256,22 @@ fn settle_pixel(
     signs: Option<[i8; 2]>,
 ) -> Settled {
     let &Traced {
-        at: (px, py),
-        plane,
-        o,
-        seed,
-        offset,
+        start,
         hits: (first, count),
         bracket,
         ..
     } = traced;
-    let mut pixel = Pixel::new(
+    let Start {
+        at: (px, py),
+        plane,
+        o,
+        ..
+    } = start;
+    scratch.hits.clear();
+    let mut pixel = start.pixel(
         (u, formula, params),
         (&mut scratch.evals, &mut scratch.hits),
         &scratch.one_signed,
-        plane,
-        (seed, offset),
     );
     pixel
         .hits
