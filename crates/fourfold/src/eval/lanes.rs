@@ -24,9 +24,9 @@ impl PointLanes {
         Self::default()
     }
 
-    /// Evaluates every output of `tape` at each of `points` (1 to [`LANES`] of them); read
-    /// the results with [`Self::output`].
-    pub fn eval(&mut self, tape: &Tape, points: &[[f64; 4]], params: &[f64]) {
+    /// Evaluates every output of `tape` at each of `points` (1 to [`LANES`] of them, in
+    /// f32 as the GPU's); read the results with [`Self::output`].
+    pub fn eval(&mut self, tape: &Tape, points: &[[f32; 4]], params: &[f64]) {
         assert!(
             (1..=LANES).contains(&points.len()),
             "a batch holds 1 to {LANES} points, not {}",
@@ -41,9 +41,10 @@ impl PointLanes {
             params,
             [0.0; LANES],
         );
-        // The coordinates in f32, lane by lane (lanes past the points' repeat the last).
+        // The coordinates lane by lane, flushed as the point evaluator's (lanes past the
+        // points' repeat the last).
         let coordinate: [[f32; LANES]; 4] =
-            std::array::from_fn(|k| std::array::from_fn(|l| narrow(points[l.min(n - 1)][k])));
+            std::array::from_fn(|k| std::array::from_fn(|l| flush(points[l.min(n - 1)][k])));
         for (i, &op) in tape.ops().iter().enumerate().skip(start) {
             let (done, rest) = slots.split_at_mut(i);
             let out = &mut rest[0];
@@ -157,7 +158,8 @@ mod tests {
                 let f = CompiledFormula::compile(src).unwrap();
                 let tape = &f.tape_all;
                 let mut lanes = PointLanes::new();
-                lanes.eval(tape, &points, &params);
+                let in_f32: Vec<[f32; 4]> = points.iter().map(|p| p.map(|v| v as f32)).collect();
+                lanes.eval(tape, &in_f32, &params);
                 for (lane, &p) in points.iter().enumerate() {
                     let mut one = [0.0; 5];
                     PointEvaluator::single_precision().eval_into(tape, p, &params, &mut one);

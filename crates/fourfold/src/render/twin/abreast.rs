@@ -59,7 +59,7 @@ pub(super) fn trace_pixels(
     traced: &mut Vec<Traced>,
 ) {
     let context = (u, formula, params);
-    let mut points = [[0.0f64; 4]; LANES];
+    let mut points = [[0.0f32; 4]; LANES];
     let mut values = [[0.0f32; 2]; LANES];
     // (Each point's lane and t.)
     let mut asked = [(0usize, 0.0f32); LANES];
@@ -73,7 +73,7 @@ pub(super) fn trace_pixels(
                 .march
                 .as_ref()
                 .expect("a lane that asks marches");
-            points[n] = add(march.o, scale(march.d, t)).map(f64::from);
+            points[n] = add(march.o, scale(march.d, t));
             asked[n] = (l, t);
             n += 1;
         }

@@ -76,7 +76,7 @@ impl Evaluators {
         &mut self,
         formula: &CompiledFormula,
         params: &[f64],
-        (points, d): (&[[f64; 4]], V4),
+        (points, d): (&[V4], V4),
         out: &mut [[f32; 2]],
     ) {
         let lanes = &mut self.lanes;
@@ -115,7 +115,7 @@ impl Evaluators {
         let mut active = std::mem::take(&mut self.seeking);
         active.clear();
         active.extend(0..roots.len());
-        let mut batch = [[0.0; 4]; LANES];
+        let mut batch = [[0.0f32; 4]; LANES];
         let mut which = [0usize; LANES];
         while !active.is_empty() {
             for chunk in active.chunks(LANES) {
@@ -123,7 +123,7 @@ impl Evaluators {
                 for &k in chunk {
                     let r = &mut roots[k];
                     if let Some(t) = r.search.next() {
-                        (batch[n], which[n]) = (add(r.o, scale(r.d, t)).map(f64::from), k);
+                        (batch[n], which[n]) = (add(r.o, scale(r.d, t)), k);
                         n += 1;
                     }
                 }
@@ -162,10 +162,10 @@ impl Evaluators {
             }));
             return;
         }
-        let mut batch = [[0.0; 4]; LANES];
+        let mut batch = [[0.0f32; 4]; LANES];
         let mut n = 0;
         for p in points {
-            batch[n] = p.map(f64::from);
+            batch[n] = p;
             n += 1;
             if n == LANES {
                 self.lanes_into(formula, params, n, &batch, out);
@@ -182,7 +182,7 @@ impl Evaluators {
         formula: &CompiledFormula,
         params: &[f64],
         n: usize,
-        batch: &[[f64; 4]; LANES],
+        batch: &[V4; LANES],
         out: &mut Vec<V4>,
     ) {
         let tape = &formula.tape_all;
