@@ -10,7 +10,9 @@ use crate::eval::{Box4, Interval, IntervalEvaluator};
 use crate::formula::CompiledFormula;
 use crate::render::view::Uniforms;
 
-use super::shading::V4;
+use std::ops::Range;
+
+use super::shading::{V4, origins, slice_reach};
 
 /// The tile's lines: each pixel's slice line from its start (the rays' origin) along n1;
 /// `base` holds every start, and `slack` the widening of a box that covers the rounding of
@@ -48,6 +50,14 @@ impl Bundle {
             // at most `far`, twice `reach` and `offset`: far beyond their rounding.
             slack: 1e-5 * (far + 2.0 * f64::from(reach) + offset) + 1e-30,
         }
+    }
+
+    /// The lines of a slice's pixels `columns` × `rows`, from their corner pixels' lines.
+    pub(super) fn of_pixels(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Self {
+        let (first, last) = ((columns.start, rows.start), (columns.end - 1, rows.end - 1));
+        let corners = [first, (last.0, first.1), (first.0, last.1), last]
+            .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).1);
+        Self::of(u, corners, slice_reach(u))
     }
 
     /// A box around the lines' points within [lo, hi] (widened by the slack); None where

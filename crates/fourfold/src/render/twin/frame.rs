@@ -15,7 +15,7 @@ use super::bundle::Bundle;
 use super::evals::AxisSlope;
 use super::section::Band;
 use super::shading::{add, origins, slice_reach, sub, unorm8};
-use super::tile::{Scratch, draw_tile};
+use super::tile::{Scratch, TILE, draw_tile};
 use super::walk::{Tile, steps_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
@@ -77,7 +77,7 @@ fn render(
                 let columns = x0..(x0 + TILE).min(width);
                 // (The certifying hierarchy's only where pixels are certified.)
                 let walked = if certified { 2 } else { 1 };
-                let bundle = slice.then(|| tile_bundle(u, (columns.clone(), rows.clone())));
+                let bundle = slice.then(|| Bundle::of_pixels(u, (columns.clone(), rows.clone())));
                 let mut free = |lo, hi| {
                     bundle
                         .as_ref()
@@ -109,9 +109,6 @@ fn render(
     );
     rgba
 }
-
-/// The side of the squares of pixels that share a walk of the hierarchy (see `walk`).
-const TILE: u32 = 8;
 
 /// The pixels `columns` × `rows` as a [`Tile`]: around the origin of their plane (or, with
 /// `rays` in a slice, of their rays' line) at the square's centre.
@@ -151,14 +148,6 @@ fn one_signed_stretches(h: &Hierarchy, u: &Uniforms, bundle: &Bundle, scratch: &
         scratch.one_signed.extend_from_slice(stretches);
         kept.one_signed = (first, scratch.one_signed.len() as u32);
     }
-}
-
-/// The lines of a slice's pixels `columns` × `rows`, from their corner pixels' lines.
-fn tile_bundle(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>)) -> Bundle {
-    let (first, last) = ((columns.start, rows.start), (columns.end - 1, rows.end - 1));
-    let corners = [first, (last.0, first.1), (first.0, last.1), last]
-        .map(|(px, py)| origins(u, (px as f32 + 0.5, py as f32 + 0.5)).1);
-    Bundle::of(u, corners, slice_reach(u))
 }
 
 #[cfg(test)]

@@ -86,6 +86,44 @@ pub(super) fn tile_nodes(
     }
 }
 
+/// The entries of a tile's walk `kept` that a part of the tile may still visit, in order,
+/// into `out`: an entry whose box `free` proves free of M for that part is left out with
+/// its subtree, as [`tile_nodes`] leaves one out for the whole tile.
+pub(super) fn narrow_kept(
+    h: &Hierarchy,
+    u: &Uniforms,
+    kept: &[Kept],
+    mut free: impl FnMut(V4, V4) -> bool,
+    out: &mut Vec<Kept>,
+) {
+    out.clear();
+    // (Entries of `out` whose subtree is still being walked, and the index in `kept`
+    // where it ends.)
+    let mut open: Vec<(usize, usize)> = Vec::new();
+    let mut e = 0usize;
+    while e < kept.len() {
+        while let Some(&(entry, end)) = open.last()
+            && end <= e
+        {
+            out[entry].skip = out.len() as u32;
+            open.pop();
+        }
+        let k = kept[e];
+        let node = &h.nodes[k.node()];
+        let half = u.levels[node.level() as usize].half;
+        if free(sub(node.center, half), add(node.center, half)) {
+            e = k.skip as usize;
+            continue;
+        }
+        out.push(k);
+        open.push((out.len() - 1, k.skip as usize));
+        e += 1;
+    }
+    for (entry, _) in open {
+        out[entry].skip = out.len() as u32;
+    }
+}
+
 /// Whether some pixel of `tile` may pass a node's tests (see [`pixel_skips`]): each in f64
 /// from the tile's centre, widened by the tile's radius and far beyond the f32 rounding of
 /// the pixels' origins and of the picture's directions.
