@@ -9,7 +9,7 @@
 //! which F is continuous, prove a root: the pixel is a hit. Every cell excluded: empty.
 //! Otherwise undecided.
 
-use crate::eval::{BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES};
+use crate::eval::{BallLanes, BatchEvaluator, Box4, Interval, IntervalEvaluator, LANES};
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLICE, Uniforms};
@@ -58,6 +58,8 @@ pub struct Certifier<'a> {
     eval: IntervalEvaluator,
     /// F's proved signs at the ends of a tile's brackets, [`LANES`] at a time.
     batch: BatchEvaluator,
+    /// F's signs at brackets' ends by balls, where F's tape takes them (see [`BallLanes`]).
+    balls: Option<BallLanes>,
     /// The points of those ends that lie in the domain (their boxes, and where each goes).
     pending: Vec<(Box4, usize)>,
 }
@@ -77,14 +79,16 @@ impl<'a> Certifier<'a> {
             u,
             eval: IntervalEvaluator::new(),
             batch: BatchEvaluator::new(),
+            balls: BallLanes::takes(&formula.tape_f).then(BallLanes::new),
             pending: Vec::new(),
         }
     }
 
     /// F's proved signs (1, −1; 0: none) at the two ends of each of `brackets`, into `out`
     /// in their order: None where a pixel has no bracket or F may not be continuous
-    /// between its ends (then it proves nothing). The ends' enclosures are those
-    /// [`Self::pixel`] would take one by one, bit for bit, taken [`LANES`] at a time.
+    /// between its ends (then it proves nothing). The ends' boxes are those [`Self::pixel`]
+    /// would take one by one, [`LANES`] at a time: by balls where F's tape takes them, by
+    /// intervals (bit for bit those one by one) where balls prove nothing.
     pub fn bracket_signs(
         &mut self,
         brackets: impl IntoIterator<Item = Bracket>,
@@ -108,12 +112,24 @@ impl<'a> Certifier<'a> {
         let tape = &self.formula.tape_f;
         let mut boxes = [[Interval::EMPTY; 4]; LANES];
         for chunk in self.pending.chunks(LANES) {
+            let n = chunk.len();
             for (b, &(x, _)) in boxes.iter_mut().zip(chunk) {
                 *b = x;
             }
-            self.batch.eval(tape, &boxes[..chunk.len()], self.params);
-            for (lane, &(_, at)) in chunk.iter().enumerate() {
-                let sign = proved_sign(self.batch.output(tape, 0, lane));
+            let mut proved = [0i8; LANES];
+            if let Some(balls) = &mut self.balls {
+                balls.signs(tape, &boxes[..n], self.params, &mut proved);
+            }
+            // (Intervals for all sixteen where balls left any: a batch's cost.)
+            if proved[..n].contains(&0) {
+                self.batch.eval(tape, &boxes[..n], self.params);
+                for (lane, sign) in proved[..n].iter_mut().enumerate() {
+                    if *sign == 0 {
+                        *sign = proved_sign(self.batch.output(tape, 0, lane));
+                    }
+                }
+            }
+            for (&sign, &(_, at)) in proved.iter().zip(chunk) {
                 if let Some(signs) = &mut out[at / 2] {
                     signs[at % 2] = sign;
                 }
