@@ -1,7 +1,9 @@
 //! Point evaluation of a [`Tape`] in f32, as the GPU computes (see `point`), at up to
 //! [`LANES`] points at once: each instruction dispatched once for all of them, its
 //! arithmetic a loop over all lanes (which the compiler vectorizes), a library function's
-//! a loop over the points'. The results are bit for bit those of
+//! a loop over the points' whose coordinates it reads moved since the lane's last point
+//! (a slice's march moves one: a lattice's cosines of the others are kept). The results
+//! are bit for bit those of
 //! [`PointEvaluator::single_precision`](super::PointEvaluator::single_precision): each lane
 //! takes the same operations, rounded and flushed the same way.
 
@@ -9,7 +11,7 @@ use crate::ops::powi;
 
 use super::LANES;
 use super::point::{flush, narrow};
-use super::tape::{Op, PrefixKey, Tape, prepare_slots};
+use super::tape::{Op, PrefixKey, Tape, sized};
 
 /// Reusable evaluator at up to [`LANES`] points.
 #[derive(Debug, Clone, Default)]
@@ -17,6 +19,11 @@ pub struct PointLanes {
     slots: Vec<[f32; LANES]>,
     prefix: PrefixKey,
     len: usize,
+    /// Each lane's last point's coordinates (bits), where its slots hold that point's
+    /// values (None: they do not); kept only where the tape calls a library function past
+    /// its uniform prefix (`calls`).
+    last: [Option<[u32; 4]>; LANES],
+    calls: bool,
 }
 
 impl PointLanes {
@@ -34,17 +41,36 @@ impl PointLanes {
         );
         let n = points.len();
         self.len = n;
-        let (slots, start) = prepare_slots(
-            &mut self.slots,
-            &mut self.prefix,
-            tape,
-            params,
-            [0.0; LANES],
-        );
+        // (A tape or parameters new since the last call: the uniform prefix is computed
+        // again, and no lane's slots hold the tape's values.)
+        let stale = self.prefix.stale(tape, params);
+        if stale {
+            self.last = [None; LANES];
+            self.calls = tape.ops()[tape.uniform_len()..]
+                .iter()
+                .any(|op| matches!(op, Op::Powi(_, ..=0) | Op::Unary(..) | Op::Binary(..)));
+        }
+        let start = if stale { 0 } else { tape.uniform_len() };
+        let slots = sized(&mut self.slots, tape, [0.0; LANES]);
         // The coordinates lane by lane, flushed as the point evaluator's (lanes past the
-        // points' repeat the last).
+        // points' repeat the last), and which moved since each lane's last point.
         let coordinate: [[f32; LANES]; 4] =
             std::array::from_fn(|k| std::array::from_fn(|l| flush(points[l.min(n - 1)][k])));
+        let calls = self.calls;
+        let moved: [u8; LANES] = std::array::from_fn(|l| {
+            if !calls {
+                return 0xf;
+            }
+            let bits: [u32; 4] = std::array::from_fn(|k| coordinate[k][l].to_bits());
+            let moved = match self.last[l] {
+                Some(last) => (0..4).fold(0, |m, k| m | (u8::from(last[k] != bits[k]) << k)),
+                None => 0xf,
+            };
+            // (Lanes past the points' take no library function: their slots hold nothing.)
+            self.last[l] = (l < n).then_some(bits);
+            moved
+        });
+        let reads = tape.reads();
         for (i, &op) in tape.ops().iter().enumerate().skip(start) {
             let (done, rest) = slots.split_at_mut(i);
             let out = &mut rest[0];
@@ -63,22 +89,23 @@ impl PointLanes {
                 // (A positive power: `powi`'s products, lane by lane in step, which
                 // vectorize.)
                 Op::Powi(a, k) if k > 0 => *out = powers(at(a), k.unsigned_abs()),
-                // (Library calls, lane by lane: only the points' lanes.)
+                // (Library calls, lane by lane: only the points' lanes whose operands'
+                // coordinates moved.)
                 Op::Powi(a, k) => {
                     let a = at(a);
-                    for l in 0..n {
+                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
                         out[l] = narrow(powi(f64::from(a[l]), k));
                     }
                 }
                 Op::Unary(op, a) => {
                     let (point, a) = (op.spec().point, at(a));
-                    for l in 0..n {
+                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
                         out[l] = narrow(point(f64::from(a[l])));
                     }
                 }
                 Op::Binary(op, a, b) => {
                     let (point, a, b) = (op.spec().point, at(a), at(b));
-                    for l in 0..n {
+                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
                         out[l] = narrow(point(f64::from(a[l]), f64::from(b[l])));
                     }
                 }
@@ -138,6 +165,46 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
+        /// Batch after batch, each lane moving along one axis or taking a new point, or
+        /// the batch shrinking, its outputs stay the single-precision evaluator's: values
+        /// kept for a lane whose operands did not move are its point's.
+        #[test]
+        fn lanes_that_keep_coordinates_keep_the_evaluator_s_values(
+            start in prop::collection::vec(prop::array::uniform4(-2.0f32..2.0), LANES),
+            moves in prop::collection::vec(
+                (0usize..4, prop::collection::vec(prop_oneof![Just(0.0f32), -0.5f32..0.5], LANES), 1..=LANES),
+                1..6,
+            ),
+        ) {
+            let sources = [
+                "cos(3x) + cos(3y) + cos(3z) + cos(3w)",
+                "sqrt(x^2 + y^2) * exp(z) - w/(1 + y^2) + x^-3",
+            ];
+            for src in sources {
+                let f = CompiledFormula::compile(src).unwrap();
+                let tape = &f.tape_all;
+                let mut lanes = PointLanes::new();
+                let mut points = start.clone();
+                lanes.eval(tape, &points, &[]);
+                for (axis, steps, n) in &moves {
+                    for (p, step) in points.iter_mut().zip(steps) {
+                        p[*axis] += step;
+                    }
+                    lanes.eval(tape, &points[..*n], &[]);
+                    for (lane, p) in points[..*n].iter().enumerate() {
+                        let mut one = [0.0; 5];
+                        let p64 = p.map(f64::from);
+                        PointEvaluator::single_precision().eval_into(tape, p64, &[], &mut one);
+                        for (j, &v) in one.iter().enumerate() {
+                            let (w, v) = (lanes.output(tape, j, lane), v as f32);
+                            prop_assert!(w.to_bits() == v.to_bits() || (w.is_nan() && v.is_nan()),
+                                "{} at {:?}, output {}: {} against {}", src, p, j, w, v);
+                        }
+                    }
+                }
+            }
+        }
+
         /// Each lane's outputs are the single-precision evaluator's at its point, bit for
         /// bit (NaN as NaN), for batches of any size, formulas of every kind of operation.
         #[test]

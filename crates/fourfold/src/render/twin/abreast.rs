@@ -1,7 +1,8 @@
 //! A tile's slice pixels marched side by side: each of [`LANES`] lanes holds a pixel's
 //! march (see `march`), and each round takes the next sample of every lane's at once, by
-//! lanes of F's tape (which vectorize), where a pixel alone takes them one by one through
-//! the point evaluator. A pixel's march asks for each sample only after the one before
+//! lanes of F's tape (its arithmetic vectorized, a library function run again only in the
+//! lanes whose coordinates it reads moved), where a pixel alone takes them one by one
+//! through the point evaluator. A pixel's march asks for each sample only after the one before
 //! (where it goes next depends on F there), so the pixels' side by side are what can be
 //! evaluated together. The samples, the sign changes and the hits are the same as one
 //! pixel at a time: the lanes' values are the point evaluator's, bit for bit.
@@ -92,8 +93,10 @@ pub(super) fn trace_pixels(
             };
             let march = *march;
             let start = lane.start.expect("a lane that marches has a pixel");
+            let defers = work.evals.defers_roots();
             let mut pixel = start.pixel(context, (work.evals, &mut lane.hits), work.one_signed);
-            (pixel.bracket, pixel.deferred) = (lane.bracket, Some(&mut lane.deferred));
+            let deferred = defers.then_some(&mut lane.deferred);
+            (pixel.bracket, pixel.deferred) = (lane.bracket, deferred);
             pixel.cross(&march, crossing);
             lane.bracket = pixel.bracket;
         }

@@ -17,10 +17,9 @@ pub(super) struct Evaluators {
     lanes: PointLanes,
     /// The roots of [`Self::find_roots`] still seeking, by index.
     seeking: Vec<usize>,
-    /// Whether F's tape, F and ∇F's, and a slice's samples' (F and one partial's where
-    /// `along`, else F and ∇F's) are arithmetic alone (no library function past their
-    /// uniform prefix): where lanes of them pay (see [`Self::gradients`]).
-    arithmetic: [bool; 3],
+    /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
+    /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
+    arithmetic: [bool; 2],
 }
 
 /// Whether `tape` calls no library function past its uniform prefix.
@@ -43,18 +42,13 @@ pub(super) struct Deferred {
 impl Evaluators {
     /// With `along`, a slice's march takes its samples' slopes from that tape.
     pub(super) fn new(formula: &CompiledFormula, along: Option<&AxisSlope>) -> Self {
-        let samples = along.map_or(&formula.tape_all, |a| &a.tape);
         Self {
             f: PointEvaluator::single_precision(),
             all: PointEvaluator::single_precision(),
             along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
             lanes: PointLanes::new(),
             seeking: Vec::new(),
-            arithmetic: [
-                arithmetic(&formula.tape_f),
-                arithmetic(&formula.tape_all),
-                arithmetic(samples),
-            ],
+            arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
         }
     }
 
@@ -62,12 +56,6 @@ impl Evaluators {
     /// where F's tape is arithmetic alone.
     pub(super) fn defers_roots(&self) -> bool {
         self.arithmetic[0]
-    }
-
-    /// Whether a slice's pixels are better marched side by side (see `abreast`): where
-    /// the tapes of their samples and roots are arithmetic alone.
-    pub(super) fn samples_abreast(&self) -> bool {
-        self.arithmetic[0] && self.arithmetic[2]
     }
 
     /// F and dF/dt along `d` at each of `points` (1 to [`LANES`]) into `out`, bit for bit

@@ -132,7 +132,7 @@ pub(super) struct Scratch<'a> {
     pub(super) stretches: Vec<(f32, f32)>,
     evals: Evaluators,
     /// A slice's pixels' lanes, and whether its pixels are marched side by side in them
-    /// (see `abreast`; where its samples' tapes are arithmetic alone).
+    /// (see `abreast`; always but in a test).
     lanes: Vec<Lane>,
     pub(super) abreast: bool,
     /// The pixel's hits (see `Pixel::hits`), kept for its storage.
@@ -177,14 +177,13 @@ impl<'a> Scratch<'a> {
         along: Option<&AxisSlope>,
         (forms, bands): (&'a [[f32; 6]], &'a [Option<Band>; 2]),
     ) -> Self {
-        let evals = Evaluators::new(formula, along);
         Self {
             certifier: Certifier::new(formula, params, u),
             root_free: RootFree::new(formula, params),
             one_signed: Vec::new(),
             stretches: Vec::new(),
-            abreast: evals.samples_abreast(),
-            evals,
+            abreast: true,
+            evals: Evaluators::new(formula, along),
             lanes: abreast::lanes(),
             hits: Vec::with_capacity(16),
             boxes: Vec::new(),
