@@ -18,9 +18,12 @@ const TINY: f64 = f64::MIN_POSITIVE;
 /// Reusable ball evaluator at up to [`LANES`] points.
 #[derive(Debug, Clone, Default)]
 pub struct BallLanes {
-    mid: Vec<[f64; LANES]>,
-    rad: Vec<[f64; LANES]>,
+    /// Each instruction's balls: midpoints and radii, lane by lane.
+    slots: Vec<Balls>,
 }
+
+/// Midpoints and radii, lane by lane.
+type Balls = [[f64; LANES]; 2];
 
 impl BallLanes {
     pub fn new() -> Self {
@@ -43,9 +46,8 @@ impl BallLanes {
     /// box, in exact arithmetic with the tape's f64 constants and `params`.
     pub fn signs(&mut self, tape: &Tape, boxes: &[Box4], params: &[f64], out: &mut [i8]) {
         self.eval(tape, boxes, params);
-        let f = tape.outputs()[0] as usize;
         for (l, sign) in out[..boxes.len()].iter_mut().enumerate() {
-            let (m, r) = (self.mid[f][l], self.rad[f][l]);
+            let (m, r) = self.ball(tape, 0, l);
             *sign = if m.is_finite() && r.is_finite() && m.abs() > r {
                 if m > 0.0 { 1 } else { -1 }
             } else {
@@ -57,8 +59,8 @@ impl BallLanes {
     /// Output `k` of `tape` over box `lane` of the last [`Self::eval`]: a midpoint and a
     /// radius that hold each of its values in exact arithmetic (none where not finite).
     pub fn ball(&self, tape: &Tape, k: usize, lane: usize) -> (f64, f64) {
-        let i = tape.outputs()[k] as usize;
-        (self.mid[i][lane], self.rad[i][lane])
+        let [mid, rad] = &self.slots[tape.outputs()[k] as usize];
+        (mid[lane], rad[lane])
     }
 
     /// Evaluates every output of `tape` over each of `boxes` (1 to [`LANES`]); read them
@@ -71,81 +73,74 @@ impl BallLanes {
         assert!((1..=LANES).contains(&boxes.len()));
         let n = boxes.len();
         let ops = tape.ops();
-        self.mid.resize(ops.len(), [0.0; LANES]);
-        self.rad.resize(ops.len(), [0.0; LANES]);
-        // Each coordinate's ball around its interval (lanes past the boxes' repeat the last).
-        let coordinate: [([f64; LANES], [f64; LANES]); 4] = std::array::from_fn(|k| {
-            let mut ball = ([0.0; LANES], [0.0; LANES]);
-            for l in 0..LANES {
-                let x = boxes[l.min(n - 1)][k];
-                let m = 0.5 * x.lo() + 0.5 * x.hi();
-                let r = (x.hi() - m).max(m - x.lo());
-                (ball.0[l], ball.1[l]) = (m, r * GROW + TINY);
-            }
-            ball
-        });
+        self.slots.resize(ops.len(), [[0.0; LANES]; 2]);
         for (i, &op) in ops.iter().enumerate() {
-            let (mid, rad) = (&mut self.mid, &mut self.rad);
-            let ball = |k: u32| (mid[k as usize], rad[k as usize]);
-            let (m, r) = match op {
-                Op::Const(c) => ([c; LANES], [0.0; LANES]),
-                Op::Var(a) => coordinate[a as usize & 3],
-                Op::Param(p) => (
-                    [params.get(p as usize).copied().unwrap_or(1.0); LANES],
-                    [0.0; LANES],
-                ),
-                Op::Add(a, b) => add(ball(a), ball(b), 1.0),
-                Op::Sub(a, b) => add(ball(a), ball(b), -1.0),
-                Op::Mul(a, b) => mul(ball(a), ball(b)),
-                Op::Neg(a) => {
-                    let (m, r) = ball(a);
-                    (m.map(|v| -v), r)
+            let (done, rest) = self.slots.split_at_mut(i);
+            let out = &mut rest[0];
+            let at = |k: u32| &done[k as usize];
+            match op {
+                Op::Const(c) => *out = [[c; LANES], [0.0; LANES]],
+                Op::Var(a) => {
+                    // The coordinate's ball around its interval (lanes past the boxes'
+                    // repeat the last).
+                    for l in 0..LANES {
+                        let x = boxes[l.min(n - 1)][a as usize & 3];
+                        let m = 0.5 * x.lo() + 0.5 * x.hi();
+                        let r = (x.hi() - m).max(m - x.lo());
+                        (out[0][l], out[1][l]) = (m, r * GROW + TINY);
+                    }
                 }
-                Op::Square(a) => mul(ball(a), ball(a)),
-                Op::Powi(a, k) => power(ball(a), k.unsigned_abs()),
+                Op::Param(p) => {
+                    let v = params.get(p as usize).copied().unwrap_or(1.0);
+                    *out = [[v; LANES], [0.0; LANES]];
+                }
+                Op::Add(a, b) => add(out, at(a), at(b), 1.0),
+                Op::Sub(a, b) => add(out, at(a), at(b), -1.0),
+                Op::Mul(a, b) => mul(out, at(a), at(b)),
+                Op::Neg(a) => {
+                    let [m, r] = at(a);
+                    *out = [m.map(|v| -v), *r];
+                }
+                Op::Square(a) => mul(out, at(a), at(a)),
+                Op::Powi(a, k) => *out = power(at(a), k.unsigned_abs()),
                 Op::Unary(..) | Op::Binary(..) => unreachable!("checked by `takes`"),
-            };
-            (mid[i], rad[i]) = (m, r);
+            }
         }
     }
 }
 
-type Balls = ([f64; LANES], [f64; LANES]);
-
 /// a + s·b (s = ±1): |x ± y − (a ± b)| ≤ ra + rb, and the sum's rounding.
-fn add((am, ar): Balls, (bm, br): Balls, s: f64) -> Balls {
-    let mut out = ([0.0; LANES], [0.0; LANES]);
+fn add(out: &mut Balls, [am, ar]: &Balls, [bm, br]: &Balls, s: f64) {
     for l in 0..LANES {
         let m = am[l] + s * bm[l];
-        out.0[l] = m;
-        out.1[l] = (ar[l] + br[l] + f64::EPSILON * m.abs()) * GROW + TINY;
+        out[0][l] = m;
+        out[1][l] = (ar[l] + br[l] + f64::EPSILON * m.abs()) * GROW + TINY;
     }
-    out
 }
 
 /// a·b: |xy − ab| ≤ |a|·rb + |b|·ra + ra·rb, and the product's rounding.
-fn mul((am, ar): Balls, (bm, br): Balls) -> Balls {
-    let mut out = ([0.0; LANES], [0.0; LANES]);
+fn mul(out: &mut Balls, [am, ar]: &Balls, [bm, br]: &Balls) {
     for l in 0..LANES {
         let m = am[l] * bm[l];
-        out.0[l] = m;
+        out[0][l] = m;
         let spread = am[l].abs() * br[l] + bm[l].abs() * ar[l] + ar[l] * br[l];
-        out.1[l] = (spread + f64::EPSILON * m.abs()) * GROW + TINY;
+        out[1][l] = (spread + f64::EPSILON * m.abs()) * GROW + TINY;
     }
-    out
 }
 
 /// a^k for k ≥ 0, by squarings and products.
-fn power(a: Balls, k: u32) -> Balls {
-    let mut acc: Balls = ([1.0; LANES], [0.0; LANES]);
-    let (mut base, mut rest) = (a, k);
+fn power(a: &Balls, k: u32) -> Balls {
+    let mut acc: Balls = [[1.0; LANES], [0.0; LANES]];
+    let (mut base, mut rest) = (*a, k);
     while rest > 0 {
         if rest & 1 == 1 {
-            acc = mul(acc, base);
+            let product = acc;
+            mul(&mut acc, &product, &base);
         }
         rest >>= 1;
         if rest > 0 {
-            base = mul(base, base);
+            let b = base;
+            mul(&mut base, &b, &b);
         }
     }
     acc
