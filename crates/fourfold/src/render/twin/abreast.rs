@@ -14,7 +14,7 @@ use crate::tree::Hierarchy;
 
 use super::evals::{Deferred, Evaluators};
 use super::march::March;
-use super::pixel::{Marched, stop_at};
+use super::pixel::{Marched, hits_kept, stop_at};
 use super::section::Band;
 use super::shading::{add, scale};
 use super::traced::{PlaneBracket, Start, Traced};
@@ -114,7 +114,7 @@ fn next_sample(
     traced: &mut Vec<Traced>,
 ) -> Option<f32> {
     let u = context.0;
-    let k_max = u.size.hits.clamp(1, 16) as usize;
+    let k_max = hits_kept(u);
     let lane = &mut work.lanes[l];
     loop {
         if let Some(march) = lane.march.as_mut() {

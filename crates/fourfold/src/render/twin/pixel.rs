@@ -89,7 +89,7 @@ impl<'a, 'e> Pixel<'a, 'e> {
             seed,
             offset,
             hits,
-            k_max: u.size.hits.clamp(1, 16) as usize,
+            k_max: hits_kept(u),
             deferred: None,
             aim: [1.0, 0.0],
             plane,
@@ -379,6 +379,11 @@ impl Pixel<'_, '_> {
         };
         (t0 < t1 && t0 < self.stop()).then(|| March::new(o, d, (t0, t1), skips, k))
     }
+}
+
+/// How many hits a pixel keeps, nearest first (as the shader's: 1 to 16).
+pub(super) fn hits_kept(u: &Uniforms) -> usize {
+    u.size.hits.clamp(1, 16) as usize
 }
 
 /// Where a march stops with `hits` (nearest first, at most `k_max`): at the farthest where

@@ -14,7 +14,7 @@ use super::abreast::{self, Lane, Work};
 use super::bundle::{Bundle, RootFree};
 use super::certify::{Certifier, SearchBox};
 use super::evals::{AxisSlope, Deferred, Evaluators};
-use super::pixel::{AIMED, Marched, insert_hit};
+use super::pixel::{AIMED, Marched, hits_kept, insert_hit};
 use super::section::Band;
 use super::shading::{V4, add, scale, shade, slice_reach, undecided_color, unorm8};
 use super::traced::{Start, Traced};
@@ -98,7 +98,7 @@ fn find_deferred_roots(
     }
     let roots = &mut scratch.tile_roots;
     scratch.evals.find_roots(formula, params, roots);
-    let k_max = u.size.hits.clamp(1, 16) as usize;
+    let k_max = hits_kept(u);
     for t in traced.iter().filter(|t| t.roots.1 > 0) {
         let ((first, count), (hits, n)) = (t.roots, t.hits);
         scratch.hits.clear();

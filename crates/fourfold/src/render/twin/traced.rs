@@ -23,6 +23,7 @@ pub(super) struct Start {
 }
 
 impl Start {
+    /// Pixel (px, py) of the frame `u`.
     pub(super) fn of(u: &Uniforms, (px, py): (u32, u32)) -> Self {
         let (plane, o) = origins(u, (px as f32 + 0.5, py as f32 + 0.5));
         let frame = u
