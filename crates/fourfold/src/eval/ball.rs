@@ -31,13 +31,10 @@ impl BallLanes {
     }
 
     /// Whether every instruction of `tape` is one balls take: constants, coordinates,
-    /// parameters, sums, differences, products, negation and powers k ≥ 0.
+    /// parameters, sums, differences, products, negation and powers k > 0 (no library
+    /// call, see [`Op::calls_library`]).
     pub fn takes(tape: &Tape) -> bool {
-        tape.ops().iter().all(|op| match op {
-            Op::Powi(_, k) => *k >= 0,
-            Op::Unary(..) | Op::Binary(..) => false,
-            _ => true,
-        })
+        !tape.ops().iter().any(Op::calls_library)
     }
 
     /// The proved sign (1, −1; 0: not proved) of `tape`'s first output over each of
@@ -102,8 +99,10 @@ impl BallLanes {
                     *out = [m.map(|v| -v), *r];
                 }
                 Op::Square(a) => mul(out, at(a), at(a)),
-                Op::Powi(a, k) => *out = power(at(a), k.unsigned_abs()),
-                Op::Unary(..) | Op::Binary(..) => unreachable!("checked by `takes`"),
+                Op::Powi(a, k) if k > 0 => *out = power(at(a), k.unsigned_abs()),
+                Op::Powi(..) | Op::Unary(..) | Op::Binary(..) => {
+                    unreachable!("checked by `takes`")
+                }
             }
         }
     }

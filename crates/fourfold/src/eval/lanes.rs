@@ -48,7 +48,7 @@ impl PointLanes {
             self.last = [None; LANES];
             self.calls = tape.ops()[tape.uniform_len()..]
                 .iter()
-                .any(|op| matches!(op, Op::Powi(_, ..=0) | Op::Unary(..) | Op::Binary(..)));
+                .any(Op::calls_library);
         }
         let start = if stale { 0 } else { tape.uniform_len() };
         let slots = sized(&mut self.slots, tape, [0.0; LANES]);

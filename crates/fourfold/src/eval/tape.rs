@@ -39,6 +39,15 @@ pub enum Op {
     Binary(BinaryOp, u32, u32),
 }
 
+impl Op {
+    /// Whether the instruction calls a library function (a power k ≤ 0 among them), which
+    /// an evaluator of many points at once runs point by point: the rest is arithmetic
+    /// that runs for all of them together.
+    pub fn calls_library(&self) -> bool {
+        matches!(self, Op::Powi(_, ..=0) | Op::Unary(..) | Op::Binary(..))
+    }
+}
+
 impl From<Instr> for Op {
     fn from(instr: Instr) -> Self {
         match instr {

@@ -26,7 +26,7 @@ pub(super) struct Evaluators {
 fn arithmetic(tape: &Tape) -> bool {
     !tape.ops()[tape.uniform_len()..]
         .iter()
-        .any(|op| matches!(op, Op::Unary(..) | Op::Binary(..)))
+        .any(Op::calls_library)
 }
 
 /// A root a slice's ray found a sign change for, its steps left for later (see
@@ -71,13 +71,9 @@ impl Evaluators {
         match &self.along {
             Some((along, _)) => {
                 lanes.eval(&along.tape, points, params);
-                let k = along.axis;
                 for (l, out) in out[..points.len()].iter_mut().enumerate() {
                     let partial = f64::from(lanes.output(&along.tape, 1, l));
-                    *out = [
-                        lanes.output(&along.tape, 0, l),
-                        (partial * f64::from(d[k])) as f32,
-                    ];
+                    *out = [lanes.output(&along.tape, 0, l), along.slope(partial, d)];
                 }
             }
             None => {
@@ -192,6 +188,11 @@ pub(super) struct AxisSlope {
 }
 
 impl AxisSlope {
+    /// dF/dt along `d` (±e_k) from ∂F/∂x_k.
+    pub(super) fn slope(&self, partial: f64, d: V4) -> f32 {
+        (partial * f64::from(d[self.axis])) as f32
+    }
+
     /// The tape for the rays along `n1`, if n1 is an axis.
     pub(super) fn of(formula: &CompiledFormula, n1: V4) -> Option<Self> {
         let axis = (0..4).find(|&k| n1[k].abs() == 1.0)?;
@@ -252,7 +253,7 @@ mod tests {
                 let g: V4 = std::array::from_fn(|k| all[k + 1] as f32);
                 prop_assume!(g.iter().all(|v| v.is_finite()));
                 prop_assert_eq!((one[0] as f32).to_bits(), (all[0] as f32).to_bits(), "{}", src);
-                let mine = (one[1] * f64::from(d[axis])) as f32;
+                let mine = along.slope(one[1], d);
                 prop_assert_eq!(mine, slope(g, d), "{} at {:?}", src, p);
             }
         }

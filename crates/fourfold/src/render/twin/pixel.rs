@@ -127,8 +127,7 @@ impl Pixel<'_, '_> {
         if let Some((along, eval)) = &mut self.eval.along {
             let mut out = [0.0; 2];
             eval.eval_into(&along.tape, p.map(f64::from), self.params, &mut out);
-            let k = along.axis;
-            return [out[0] as f32, (out[1] * f64::from(d[k])) as f32];
+            return [out[0] as f32, along.slope(out[1], d)];
         }
         let (f, g) = self.f_grad(p);
         [f, slope(g, d)]

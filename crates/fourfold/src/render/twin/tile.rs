@@ -64,10 +64,9 @@ pub(super) fn draw_tile(
     settled.clear();
     scratch.shades.clear();
     scratch.quads_walked = [false; QUADS];
-    let tile = (columns.clone(), rows.clone());
+    let (tile, context) = ((columns.clone(), rows.clone()), (formula, params, h, u));
     for (k, t) in traced.iter().enumerate() {
         let signs = signs.get(k).copied().flatten();
-        let context = (formula, params, h, u);
         settled.push(settle_pixel(context, scratch, &tile, t, signs));
     }
     let shades = scratch.shades.iter().map(|&(p, _)| p);

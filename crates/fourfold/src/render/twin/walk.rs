@@ -48,16 +48,10 @@ pub(super) fn tile_nodes(
     kept: &mut Vec<Kept>,
 ) {
     kept.clear();
-    // (Entries whose subtree is still being walked, and the node index where it ends.)
-    let mut open: Vec<(usize, usize)> = Vec::new();
+    let mut open = Open::default();
     let mut i = 0usize;
     while i < h.nodes.len() {
-        while let Some(&(entry, end)) = open.last()
-            && end <= i
-        {
-            kept[entry].skip = kept.len() as u32;
-            open.pop();
-        }
+        open.close_to(i, kept);
         let node = &h.nodes[i];
         let level = node.level() as usize;
         let half = u.levels[level].half;
@@ -72,17 +66,37 @@ pub(super) fn tile_nodes(
             skip: 0,
             one_signed: (0, 0),
         });
-        let entry = kept.len() - 1;
-        if node.is_marched() {
-            kept[entry].skip = kept.len() as u32;
-            i = node.skip as usize;
+        open.push(kept, node.skip as usize);
+        // (A marched box is walked whole: its subtree is not.)
+        i = if node.is_marched() {
+            node.skip as usize
         } else {
-            open.push((entry, node.skip as usize));
-            i += 1;
-        }
+            i + 1
+        };
     }
-    for (entry, _) in open {
-        kept[entry].skip = kept.len() as u32;
+    open.close_to(usize::MAX, kept);
+}
+
+/// The entries of a walk's list whose subtree is still being walked, and the index (in
+/// what is walked) where each ends: an entry's `skip` is the list's length once the walk
+/// reaches that end.
+#[derive(Default)]
+struct Open(Vec<(usize, usize)>);
+
+impl Open {
+    /// The list's last entry, whose subtree ends at `end`.
+    fn push(&mut self, kept: &[Kept], end: usize) {
+        self.0.push((kept.len() - 1, end));
+    }
+
+    /// Closes the entries whose subtree ends at `at` or before.
+    fn close_to(&mut self, at: usize, kept: &mut [Kept]) {
+        while let Some(&(entry, end)) = self.0.last()
+            && end <= at
+        {
+            kept[entry].skip = kept.len() as u32;
+            self.0.pop();
+        }
     }
 }
 
@@ -97,17 +111,10 @@ pub(super) fn narrow_kept(
     out: &mut Vec<Kept>,
 ) {
     out.clear();
-    // (Entries of `out` whose subtree is still being walked, and the index in `kept`
-    // where it ends.)
-    let mut open: Vec<(usize, usize)> = Vec::new();
+    let mut open = Open::default();
     let mut e = 0usize;
     while e < kept.len() {
-        while let Some(&(entry, end)) = open.last()
-            && end <= e
-        {
-            out[entry].skip = out.len() as u32;
-            open.pop();
-        }
+        open.close_to(e, out);
         let k = kept[e];
         let node = &h.nodes[k.node()];
         let half = u.levels[node.level() as usize].half;
@@ -116,12 +123,10 @@ pub(super) fn narrow_kept(
             continue;
         }
         out.push(k);
-        open.push((out.len() - 1, k.skip as usize));
+        open.push(out, k.skip as usize);
         e += 1;
     }
-    for (entry, _) in open {
-        out[entry].skip = out.len() as u32;
-    }
+    open.close_to(usize::MAX, out);
 }
 
 /// Whether some pixel of `tile` may pass a node's tests (see [`pixel_skips`]): each in f64
