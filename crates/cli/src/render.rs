@@ -2,7 +2,7 @@
 //! settings (each checked by the library's scene rules, so a flag and a scene key share
 //! their ranges and messages), and what the picture's making says.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use clap::Args;
@@ -152,6 +152,33 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
     Ok((w, h))
 }
 
+/// Checks `--output` before anything is drawn, so that a long render is not lost to a name
+/// it cannot be written under: a PNG file (any name but another picture kind's) in a
+/// folder that exists.
+pub fn check_output(path: &Path) -> Result<(), Failure> {
+    let shown = path.display();
+    if path.as_os_str().is_empty() || path.to_string_lossy().ends_with('/') || path.is_dir() {
+        return Err(Failure::usage(format!(
+            "--output {shown}: name a file to write the PNG to, as in {}",
+            path.join("picture.png").display()
+        )));
+    }
+    if let Some(e) = path.extension().and_then(|e| e.to_str())
+        && !e.eq_ignore_ascii_case("png")
+    {
+        return Err(Failure::usage(format!(
+            "--output {shown}: fourfold writes PNG pictures, not '.{e}': name it {}",
+            path.with_extension("png").display()
+        )));
+    }
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => Err(Failure::usage(
+            format!("--output {shown}: there is no folder {}", folder.display()),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// The scene of a `render` command, with every flag applied and checked.
 pub fn render_scene_of(args: &RenderArgs) -> Result<Scene, Failure> {
     let mut scene = load_scene(&args.input)?;
@@ -276,6 +303,7 @@ fn tree_line(tree: &TreeStats, marched: Option<&str>, within: Option<Section>) -
 
 /// `fourfold render`.
 pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
+    check_output(&args.output)?;
     let scene = render_scene_of(args)?;
     let (width, height) = parse_size(&args.size)?;
     let t = std::time::Instant::now();
@@ -299,10 +327,8 @@ pub fn render(args: &RenderArgs, warn: Warn) -> Result<String, Failure> {
     let cut = picture.cut_pixels.len();
     let verdicts = picture.verdict_counts();
     let t = std::time::Instant::now();
-    let image = image::RgbaImage::from_raw(width, height, picture.rgba)
-        .ok_or_else(|| Failure::runtime("internal error: wrong image size"))?;
-    image
-        .save(&args.output)
+    let png = picture.to_png().map_err(Failure::runtime)?;
+    std::fs::write(&args.output, png)
         .map_err(|e| Failure::runtime(format!("cannot write {}: {e}", args.output.display())))?;
     let png_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = &picture.times;

@@ -173,6 +173,56 @@ fn bad_render_flags_are_usage_errors_that_name_the_flag() {
     }
 }
 
+/// A name the picture cannot be written under is said before anything is drawn (a long
+/// render is not lost to it); any other name gets the PNG.
+#[test]
+fn bad_outputs_are_said_before_anything_is_drawn() {
+    let dir = std::env::temp_dir().join(format!("fourfold-outputs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let missing = dir.join("no-such-folder").join("x.png");
+    let cases = [
+        (
+            dir.join("x.jpg"),
+            "fourfold writes PNG pictures, not '.jpg': name it",
+        ),
+        (missing.clone(), "there is no folder"),
+        (dir.clone(), "name a file to write the PNG to"),
+    ];
+    for (out, expected) in cases {
+        // (A picture that takes long to draw: the failure must come before it.)
+        let argv = [
+            "render",
+            SCENE,
+            "--size",
+            "2000x2000",
+            "--max-level",
+            "12",
+            "-o",
+        ];
+        let args = parse_render(&[&argv[..], &[out.to_str().unwrap()]].concat());
+        let failure = fourfold_cli::render(&args, &mut |_| {}).expect_err(expected);
+        assert_eq!(failure.code, 2, "{}", failure.message);
+        assert!(
+            failure.message.contains(expected),
+            "{:?} does not say {expected:?}",
+            failure.message
+        );
+    }
+    assert!(!dir.join("x.jpg").exists() && !missing.exists());
+    for name in ["picture.png", "PICTURE.PNG", "no-extension"] {
+        let out = dir.join(name);
+        let argv = ["render", SCENE, "--size", "24x16", "--cpu", "-o"];
+        let args = parse_render(&[&argv[..], &[out.to_str().unwrap()]].concat());
+        fourfold_cli::render(&args, &mut |_| {}).unwrap_or_else(|f| panic!("{}", f.message));
+        let reader = image::ImageReader::open(&out).unwrap();
+        let reader = reader.with_guessed_format().unwrap();
+        assert_eq!(reader.format(), Some(image::ImageFormat::Png), "{name}");
+        let picture = reader.decode().unwrap();
+        assert_eq!((picture.width(), picture.height()), (24, 16), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn a_negative_number_for_a_count_is_clap_s_clear_error_not_an_unknown_flag() {
     for flag in ["--rays", "--seed", "--max-level", "--steps"] {
