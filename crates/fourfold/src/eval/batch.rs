@@ -4,6 +4,8 @@
 //! The results are bit for bit those of [`IntervalEvaluator`](super::IntervalEvaluator): both
 //! call the same [`Interval`] operations.
 
+use multiversion::multiversion;
+
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::interval_eval::{Box4, apply, continuous, unary};
@@ -121,54 +123,7 @@ impl BatchEvaluator {
             let v = apply!(ops[i], boxes[0], params, |k| slots[k as usize].get(0));
             slots[i] = Lanes::splat(v);
         }
-        let last = boxes.len() - 1;
-        for i in uniform..ops.len() {
-            let (done, rest) = slots.split_at_mut(i);
-            let out = &mut rest[0];
-            let s = |k: u32| &done[k as usize];
-            match ops[i] {
-                Op::Add(a, b) => zip(out, s(a), s(b), Interval::add),
-                Op::Sub(a, b) => zip(out, s(a), s(b), Interval::sub),
-                Op::Mul(a, b) => guarded(
-                    out,
-                    (s(a), s(b)),
-                    Interval::multiplies_finite,
-                    Interval::mul_finite,
-                    Interval::mul,
-                ),
-                Op::Binary(BinaryOp::Div, a, b) => guarded(
-                    out,
-                    (s(a), s(b)),
-                    Interval::divides_finite,
-                    Interval::div_finite,
-                    Interval::div,
-                ),
-                Op::Neg(a) => map(out, s(a), Interval::neg),
-                Op::Square(a) => map(out, s(a), Interval::square),
-                Op::Unary(UnaryOp::Sqrt, a) => map(out, s(a), Interval::sqrt),
-                Op::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) => {
-                    let shift = i64::from(op == UnaryOp::Cos);
-                    guarded(
-                        out,
-                        (s(a), s(a)),
-                        |x, _| trig::reducible(x),
-                        |x, _| trig::shifted_sin(x, shift),
-                        |x, _| unary(op, x),
-                    )
-                }
-                Op::Var(axis) => {
-                    for l in 0..LANES {
-                        out.set(l, boxes[l.min(last)][axis as usize & 3]);
-                    }
-                }
-                op => {
-                    for l in 0..LANES {
-                        let v = apply!(op, boxes[l.min(last)], params, |k| s(k).get(l));
-                        out.set(l, v);
-                    }
-                }
-            }
-        }
+        run(ops, slots, uniform, boxes, params);
     }
 
     /// Output `k` of `tape`, just evaluated, over box `lane` of the batch.
@@ -182,5 +137,60 @@ impl BatchEvaluator {
     pub fn continuous(&self, tape: &Tape, lane: usize) -> bool {
         debug_assert!(lane < self.len);
         continuous(tape, |i| self.slots[i as usize].get(lane))
+    }
+}
+
+/// The tape's instructions `ops` past its uniform prefix (`uniform` long) over `boxes` into
+/// `slots`, every lane in step. Compiled again for AVX2 where the processor has it (twice
+/// the lanes of SSE2 in a vector; the same roundings, so the same bits).
+#[multiversion(targets("x86_64+avx2"))]
+fn run(ops: &[Op], slots: &mut [Lanes], uniform: usize, boxes: &[Box4], params: &[f64]) {
+    let last = boxes.len() - 1;
+    for i in uniform..ops.len() {
+        let (done, rest) = slots.split_at_mut(i);
+        let out = &mut rest[0];
+        let s = |k: u32| &done[k as usize];
+        match ops[i] {
+            Op::Add(a, b) => zip(out, s(a), s(b), Interval::add),
+            Op::Sub(a, b) => zip(out, s(a), s(b), Interval::sub),
+            Op::Mul(a, b) => guarded(
+                out,
+                (s(a), s(b)),
+                Interval::multiplies_finite,
+                Interval::mul_finite,
+                Interval::mul,
+            ),
+            Op::Binary(BinaryOp::Div, a, b) => guarded(
+                out,
+                (s(a), s(b)),
+                Interval::divides_finite,
+                Interval::div_finite,
+                Interval::div,
+            ),
+            Op::Neg(a) => map(out, s(a), Interval::neg),
+            Op::Square(a) => map(out, s(a), Interval::square),
+            Op::Unary(UnaryOp::Sqrt, a) => map(out, s(a), Interval::sqrt),
+            Op::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) => {
+                let shift = i64::from(op == UnaryOp::Cos);
+                guarded(
+                    out,
+                    (s(a), s(a)),
+                    |x, _| trig::reducible(x),
+                    |x, _| trig::shifted_sin(x, shift),
+                    |x, _| unary(op, x),
+                )
+            }
+            Op::Var(axis) => {
+                for l in 0..LANES {
+                    out.set(l, boxes[l.min(last)][axis as usize & 3]);
+                }
+            }
+            op => {
+                for l in 0..LANES {
+                    let v = apply!(op, boxes[l.min(last)], params, |k| s(k).get(l));
+                    out.set(l, v);
+                }
+            }
+        }
     }
 }

@@ -7,6 +7,8 @@
 //! [`PointEvaluator::single_precision`](super::PointEvaluator::single_precision): each lane
 //! takes the same operations, rounded and flushed the same way.
 
+use multiversion::multiversion;
+
 use crate::ops::powi;
 
 use super::LANES;
@@ -70,47 +72,8 @@ impl PointLanes {
             self.last[l] = (l < n).then_some(bits);
             moved
         });
-        let reads = tape.reads();
-        for (i, &op) in tape.ops().iter().enumerate().skip(start) {
-            let (done, rest) = slots.split_at_mut(i);
-            let out = &mut rest[0];
-            let at = |a: u32| &done[a as usize];
-            match op {
-                Op::Const(c) => *out = [narrow(c); LANES],
-                Op::Var(a) => *out = coordinate[a as usize & 3],
-                Op::Param(i) => {
-                    *out = [narrow(params.get(i as usize).copied().unwrap_or(1.0)); LANES]
-                }
-                Op::Add(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x + y)),
-                Op::Sub(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x - y)),
-                Op::Mul(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x * y)),
-                Op::Neg(a) => lanes1(out, at(a), |x| -x),
-                Op::Square(a) => lanes1(out, at(a), |x| flush(x * x)),
-                // (A positive power: `powi`'s products, lane by lane in step, which
-                // vectorize.)
-                Op::Powi(a, k) if k > 0 => *out = powers(at(a), k.unsigned_abs()),
-                // (Library calls, lane by lane: only the points' lanes whose operands'
-                // coordinates moved.)
-                Op::Powi(a, k) => {
-                    let a = at(a);
-                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
-                        out[l] = narrow(powi(f64::from(a[l]), k));
-                    }
-                }
-                Op::Unary(op, a) => {
-                    let (point, a) = (op.spec().point, at(a));
-                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
-                        out[l] = narrow(point(f64::from(a[l])));
-                    }
-                }
-                Op::Binary(op, a, b) => {
-                    let (point, a, b) = (op.spec().point, at(a), at(b));
-                    for l in (0..n).filter(|&l| moved[l] & reads[i] != 0) {
-                        out[l] = narrow(point(f64::from(a[l]), f64::from(b[l])));
-                    }
-                }
-            }
-        }
+        let ops = (&tape.ops()[start..], &tape.reads()[start..]);
+        run(ops, &mut slots[..], start, (&coordinate, &moved, n), params);
     }
 
     /// Output `k` of `tape` at point `lane` of the last batch.
@@ -120,8 +83,62 @@ impl PointLanes {
     }
 }
 
+/// The tape's instructions `ops` (with the coordinates each reads), from instruction
+/// `first` on, into `slots`: each instruction's lanes in step, a library call's in the
+/// first `n` lanes whose read coordinates `moved`. Compiled again for AVX2 where the
+/// processor has it (twice the lanes of SSE2 in a vector; the same roundings, so the
+/// same bits).
+#[multiversion(targets("x86_64+avx2"))]
+fn run(
+    (ops, reads): (&[Op], &[u8]),
+    slots: &mut [[f32; LANES]],
+    first: usize,
+    (coordinate, moved, n): (&[[f32; LANES]; 4], &[u8; LANES], usize),
+    params: &[f64],
+) {
+    for (k, (&op, &read)) in ops.iter().zip(reads).enumerate() {
+        let (done, rest) = slots.split_at_mut(first + k);
+        let out = &mut rest[0];
+        let at = |a: u32| &done[a as usize];
+        match op {
+            Op::Const(c) => *out = [narrow(c); LANES],
+            Op::Var(a) => *out = coordinate[a as usize & 3],
+            Op::Param(i) => *out = [narrow(params.get(i as usize).copied().unwrap_or(1.0)); LANES],
+            Op::Add(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x + y)),
+            Op::Sub(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x - y)),
+            Op::Mul(a, b) => lanes2(out, at(a), at(b), |x, y| flush(x * y)),
+            Op::Neg(a) => lanes1(out, at(a), |x| -x),
+            Op::Square(a) => lanes1(out, at(a), |x| flush(x * x)),
+            // (A positive power: `powi`'s products, lane by lane in step, which
+            // vectorize.)
+            Op::Powi(a, k) if k > 0 => *out = powers(at(a), k.unsigned_abs()),
+            // (Library calls, lane by lane: only the points' lanes whose operands'
+            // coordinates moved.)
+            Op::Powi(a, k) => {
+                let a = at(a);
+                for l in (0..n).filter(|&l| moved[l] & read != 0) {
+                    out[l] = narrow(powi(f64::from(a[l]), k));
+                }
+            }
+            Op::Unary(op, a) => {
+                let (point, a) = (op.spec().point, at(a));
+                for l in (0..n).filter(|&l| moved[l] & read != 0) {
+                    out[l] = narrow(point(f64::from(a[l])));
+                }
+            }
+            Op::Binary(op, a, b) => {
+                let (point, a, b) = (op.spec().point, at(a), at(b));
+                for l in (0..n).filter(|&l| moved[l] & read != 0) {
+                    out[l] = narrow(point(f64::from(a[l]), f64::from(b[l])));
+                }
+            }
+        }
+    }
+}
+
 /// x^k in every lane for k ≥ 1, narrowed: the products `ops::powi` takes, in its order,
 /// in f64.
+#[inline(always)]
 fn powers(a: &[f32; LANES], k: u32) -> [f32; LANES] {
     let mut base: [f64; LANES] = a.map(f64::from);
     let mut product = [1.0f64; LANES];
