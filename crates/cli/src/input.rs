@@ -106,3 +106,18 @@ pub fn override_tree(
         scene.tree.node_budget = v;
     }
 }
+
+/// Whether the folder a file named by `flag` goes in exists: said before anything is
+/// computed, so that a long computation is not lost to a mistyped folder.
+pub fn folder_exists(flag: &str, path: &std::path::Path) -> Result<(), Failure> {
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => {
+            Err(Failure::usage(format!(
+                "{flag} {}: there is no folder {}",
+                path.display(),
+                folder.display()
+            )))
+        }
+        _ => Ok(()),
+    }
+}

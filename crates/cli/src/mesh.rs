@@ -9,7 +9,7 @@ use fourfold::mesh::{MeshError, MeshFormat, MeshSettings, describe_slice, mesh_s
 use fourfold::scene::limits::DEFAULT_MESH_LEVEL;
 
 use crate::failure::Failure;
-use crate::input::{Input, Warn, checked, compile_warning, load_scene};
+use crate::input::{Input, Warn, checked, compile_warning, folder_exists, load_scene};
 use crate::render::parse_angles;
 
 /// The largest print side --size takes, in millimetres.
@@ -53,6 +53,7 @@ pub struct MeshArgs {
 pub fn mesh(args: &MeshArgs, warn: Warn) -> Result<String, Failure> {
     let format =
         MeshFormat::from_path(&args.output).map_err(|e| Failure::usage(format!("-o: {e}")))?;
+    folder_exists("-o", &args.output)?;
     let mm = print_size(args)?;
     let mut scene = load_scene(&args.input)?;
     if let Some(text) = &args.angles {

@@ -17,7 +17,9 @@ use fourfold::scene::{Color, ColorBy, MAX_PICTURE_SIDE, Sampling, Scene, Undecid
 use fourfold::tree::TreeStats;
 
 use crate::failure::Failure;
-use crate::input::{Input, Warn, checked, compile_warning, load_scene, override_tree};
+use crate::input::{
+    Input, Warn, checked, compile_warning, folder_exists, load_scene, override_tree,
+};
 
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
@@ -171,12 +173,7 @@ pub fn check_output(path: &Path) -> Result<(), Failure> {
             path.with_extension("png").display()
         )));
     }
-    match path.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() && !folder.is_dir() => Err(Failure::usage(
-            format!("--output {shown}: there is no folder {}", folder.display()),
-        )),
-        _ => Ok(()),
-    }
+    folder_exists("--output", path)
 }
 
 /// The scene of a `render` command, with every flag applied and checked.

@@ -1017,6 +1017,12 @@ fn bad_mesh_requests_say_what_to_do_and_write_nothing() {
         stderr.contains("write a .stl, .obj, .ply or .glb file"),
         "{stderr}"
     );
+    // A folder that does not exist, said before the mesh is made (at level 9, seconds).
+    let missing = dir.join("no-such-folder").join("m.stl");
+    let argv = ["mesh", glome, "--slice", "0", "--max-level", "9", "-o"];
+    let (code, _, stderr) = fourfold(&[&argv[..], &[missing.to_str().unwrap()]].concat());
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("there is no folder"), "{stderr}");
 }
 
 /// `render` of a slice or a slab builds its tree within the slice's hyperplane or the
