@@ -76,9 +76,8 @@ impl BallLanes {
     }
 }
 
-/// The tape's instructions `ops` over `boxes` into `slots`, every lane in step. Compiled
-/// again for AVX2 where the processor has it (twice the lanes of SSE2 in a vector; the
-/// same roundings, so the same bits).
+/// The tape's instructions `ops` over `boxes` into `slots`, every lane in step. (Also compiled
+/// for AVX2: see `eval`.)
 #[multiversion(targets("x86_64+avx2"))]
 fn run(ops: &[Op], slots: &mut [Balls], boxes: &[Box4], params: &[f64]) {
     let n = boxes.len();

@@ -141,8 +141,7 @@ impl BatchEvaluator {
 }
 
 /// The tape's instructions `ops` past its uniform prefix (`uniform` long) over `boxes` into
-/// `slots`, every lane in step. Compiled again for AVX2 where the processor has it (twice
-/// the lanes of SSE2 in a vector; the same roundings, so the same bits).
+/// `slots`, every lane in step. (Also compiled for AVX2: see `eval`.)
 #[multiversion(targets("x86_64+avx2"))]
 fn run(ops: &[Op], slots: &mut [Lanes], uniform: usize, boxes: &[Box4], params: &[f64]) {
     let last = boxes.len() - 1;

@@ -85,9 +85,7 @@ impl PointLanes {
 
 /// The tape's instructions `ops` (with the coordinates each reads), from instruction
 /// `first` on, into `slots`: each instruction's lanes in step, a library call's in the
-/// first `n` lanes whose read coordinates `moved`. Compiled again for AVX2 where the
-/// processor has it (twice the lanes of SSE2 in a vector; the same roundings, so the
-/// same bits).
+/// first `n` lanes whose read coordinates `moved`. (Also compiled for AVX2: see `eval`.)
 #[multiversion(targets("x86_64+avx2"))]
 fn run(
     (ops, reads): (&[Op], &[u8]),

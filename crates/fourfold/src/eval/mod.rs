@@ -2,6 +2,12 @@
 //! box, and interval over 16 boxes at once, all keeping one contract ([`Evaluator`]); f32
 //! as the GPU at 16 points at once (the CPU twin's); and F's sign proved at 16 points at
 //! once by ball arithmetic, where a tape is sums and products alone.
+//!
+//! The three evaluators at 16 at once run each instruction as a loop over the lanes, which
+//! the compiler vectorizes; those loops (each module's `run`) are compiled for x86-64's
+//! baseline, SSE2, and again for AVX2 (twice the lanes in a vector), and the processor's is
+//! chosen at run time (the `multiversion` crate). AVX2 rounds each operation as SSE2 does
+//! and no product is fused with a sum, so both give the same bits.
 
 pub mod ball;
 pub mod batch;
