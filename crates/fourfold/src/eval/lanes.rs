@@ -13,7 +13,7 @@ use crate::ops::powi;
 
 use super::LANES;
 use super::point::{flush, narrow};
-use super::tape::{Op, PrefixKey, Tape, sized};
+use super::tape::{Op, PrefixKey, Tape, moved, sized};
 
 /// Reusable evaluator at up to [`LANES`] points.
 #[derive(Debug, Clone, Default)]
@@ -48,9 +48,7 @@ impl PointLanes {
         let stale = self.prefix.stale(tape, params);
         if stale {
             self.last = [None; LANES];
-            self.calls = tape.ops()[tape.uniform_len()..]
-                .iter()
-                .any(Op::calls_library);
+            self.calls = tape.calls_library();
         }
         let start = if stale { 0 } else { tape.uniform_len() };
         let slots = sized(&mut self.slots, tape, [0.0; LANES]);
@@ -64,10 +62,7 @@ impl PointLanes {
                 return 0xf;
             }
             let bits: [u32; 4] = std::array::from_fn(|k| coordinate[k][l].to_bits());
-            let moved = match self.last[l] {
-                Some(last) => (0..4).fold(0, |m, k| m | (u8::from(last[k] != bits[k]) << k)),
-                None => 0xf,
-            };
+            let moved = moved(self.last[l], &bits);
             // (Lanes past the points' take no library function: their slots hold nothing.)
             self.last[l] = (l < n).then_some(bits);
             moved

@@ -7,7 +7,7 @@
 
 use crate::ops::powi;
 
-use super::tape::{Op, PrefixKey, Tape, sized};
+use super::tape::{Op, PrefixKey, Tape, moved, sized};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
 /// keep their values from one call to the next: an instruction that reads none of the
@@ -82,10 +82,7 @@ impl PointEvaluator {
         if stale {
             self.runs.iter_mut().for_each(|r| *r = None);
         }
-        let moved = match self.last.filter(|_| !stale) {
-            Some(last) => (0..4).fold(0, |m, k| m | (u8::from(last[k] != bits[k]) << k)),
-            None => 0xf,
-        };
+        let moved = moved(self.last.filter(|_| !stale), &bits);
         self.last = Some(bits);
         (moved, stale)
     }

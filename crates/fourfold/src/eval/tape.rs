@@ -183,6 +183,13 @@ impl Tape {
         &self.ops
     }
 
+    /// Whether an instruction past the uniform prefix calls a library function (see
+    /// [`Op::calls_library`]): where none does, a tape at many points at once is
+    /// arithmetic alone.
+    pub fn calls_library(&self) -> bool {
+        self.ops[self.uniform_len..].iter().any(Op::calls_library)
+    }
+
     /// The coordinates each instruction reads (bit k: x_k), itself or through its operands.
     pub fn reads(&self) -> &[u8] {
         &self.reads
@@ -198,6 +205,15 @@ impl Tape {
 
     pub fn is_empty(&self) -> bool {
         self.instrs.is_empty()
+    }
+}
+
+/// The coordinates (bit k: x_k) that differ between a point's `last` (bits; None: no point,
+/// all differ) and `now`: the instructions reading them are the ones to run again.
+pub(crate) fn moved<T: PartialEq>(last: Option<[T; 4]>, now: &[T; 4]) -> u8 {
+    match last {
+        Some(last) => (0..4).fold(0, |m, k| m | (u8::from(last[k] != now[k]) << k)),
+        None => 0xf,
     }
 }
 

@@ -2,7 +2,7 @@
 //! from point to point; a square-on slice's tape of F and one partial; and F, or F and ∇F,
 //! at up to sixteen points at once, for a tile's roots and hits.
 
-use crate::eval::{LANES, Op, PointEvaluator, PointLanes, Tape};
+use crate::eval::{LANES, PointEvaluator, PointLanes, Tape};
 use crate::formula::CompiledFormula;
 
 use super::root::RootSearch;
@@ -20,13 +20,6 @@ pub(super) struct Evaluators {
     /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
     /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
     arithmetic: [bool; 2],
-}
-
-/// Whether `tape` calls no library function past its uniform prefix.
-fn arithmetic(tape: &Tape) -> bool {
-    !tape.ops()[tape.uniform_len()..]
-        .iter()
-        .any(Op::calls_library)
 }
 
 /// A root a slice's ray found a sign change for, its steps left for later (see
@@ -48,7 +41,10 @@ impl Evaluators {
             along: along.map(|a| (a.clone(), PointEvaluator::single_precision())),
             lanes: PointLanes::new(),
             seeking: Vec::new(),
-            arithmetic: [arithmetic(&formula.tape_f), arithmetic(&formula.tape_all)],
+            arithmetic: [
+                !formula.tape_f.calls_library(),
+                !formula.tape_all.calls_library(),
+            ],
         }
     }
 
