@@ -9,6 +9,7 @@ use crate::render::view::{
 };
 use crate::tree::Curvature;
 
+use super::certify::SignChange;
 use super::evals::{Deferred, Evaluators};
 use super::march::{Crossing, March, Skips, same_side};
 use super::root::{self, RootSearch};
@@ -41,9 +42,10 @@ pub(super) struct Pixel<'a, 'e> {
     /// The direction of ray AIMED in (n1, n2).
     pub(super) aim: [f32; 2],
     /// With certification: the pixel's origin in its observer plane, and the first sign
-    /// change a ray found as its two ends' (s, t) there (as the shader's `bracket`).
+    /// change a ray found, its two ends' (s, t) there (as the shader's `bracket`) and the
+    /// march's samples at them.
     pub(super) plane: V4,
-    pub(super) bracket: Option<([f64; 2], [f64; 2])>,
+    pub(super) bracket: Option<SignChange>,
     /// The sample of the ray being marched, over its span in the box, that M may be nearest:
     /// its (s, t) in the observer plane and |F| over |∇F| there (the shader's `closest`).
     pub(super) closest: ([f32; 2], f32),
@@ -299,19 +301,19 @@ impl Pixel<'_, '_> {
     /// and the root, found now or left for later (see [`Self::deferred`]), as a hit.
     pub(super) fn cross(&mut self, march: &March, c: Crossing) {
         let (o, d, ray) = (march.o, march.d, march.ray);
+        let (pa, pb) = (add(o, scale(d, c.ta)), add(o, scale(d, c.tb)));
+        // The root's steps need F's value at ta, of which a skip kept the sign only.
+        let f_ta = if c.fresh { c.fa } else { self.f(pa) };
         if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
-            let at = |t: f32| {
-                let p = sub(add(o, scale(d, t)), self.plane);
+            let at = |p: V4| {
+                let p = sub(p, self.plane);
                 [f64::from(dot(p, self.u.n1)), f64::from(dot(p, self.u.n2))]
             };
-            self.bracket = Some((at(c.ta), at(c.tb)));
+            self.bracket = Some(SignChange {
+                ends: [at(pa), at(pb)],
+                samples: Some([(pa, f_ta), (pb, c.fb)]),
+            });
         }
-        // The root's steps need F's value at ta, of which a skip kept the sign only.
-        let f_ta = if c.fresh {
-            c.fa
-        } else {
-            self.f(add(o, scale(d, c.ta)))
-        };
         let f_lo = if same_side(c.fa, f_ta) { f_ta } else { c.fa };
         let defer = self.hits.len() + 1 < self.k_max;
         match self.deferred.as_deref_mut().filter(|_| defer) {

@@ -5,6 +5,7 @@
 
 use crate::render::view::{FLAG_CERTIFIED, FLAG_SLAB, plane_ray};
 
+use super::certify::SignChange;
 use super::march::same_side;
 use super::pixel::{Marched, Pixel};
 use super::shading::{V4, add, dot, scale, sub};
@@ -353,7 +354,11 @@ impl Pixel<'_, '_> {
             && self.in_slab(a)
             && self.in_slab(b)
         {
-            self.bracket = Some((a.map(f64::from), b.map(f64::from)));
+            // (No samples: the search's points are not the plane's as a march has them.)
+            self.bracket = Some(SignChange {
+                ends: [a.map(f64::from), b.map(f64::from)],
+                samples: None,
+            });
         }
         // The root on the segment from a to b, as a ray's.
         let ab = [b[0] - a[0], b[1] - a[1]];

@@ -5,12 +5,13 @@
 use crate::formula::CompiledFormula;
 use crate::render::view::Uniforms;
 
+use super::certify::SignChange;
 use super::evals::{Deferred, Evaluators};
 use super::pixel::Pixel;
 use super::shading::{V4, origins, pcg, stratified_offset};
 
-/// A pixel's first sign change, its two ends' (s, t) in its plane (see [`Pixel::bracket`]).
-pub(super) type PlaneBracket = Option<([f64; 2], [f64; 2])>;
+/// A pixel's first sign change (see [`Pixel::bracket`]).
+pub(super) type PlaneBracket = Option<SignChange>;
 
 /// Where a pixel is, its plane's and its rays' origins, and its rays' seed and offset.
 #[derive(Debug, Clone, Copy)]

@@ -15,9 +15,12 @@ use crate::render::verdict::Verdict;
 use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLICE, Uniforms};
 
 mod plane;
+mod sampled;
 
 use super::forms::{bowl_above_zero, half_second_order, magnitude};
+use super::shading::V4;
 use plane::{dot, inside, within};
+use sampled::SampledSigns;
 
 /// Cells a pixel may have waiting (the shader's CERT_STACK); a cell that would go deeper
 /// stays undecided.
@@ -58,15 +61,25 @@ pub struct Certifier<'a> {
     eval: IntervalEvaluator,
     /// F's proved signs at the ends of a tile's brackets, [`LANES`] at a time.
     batch: BatchEvaluator,
-    /// F's signs at brackets' ends by balls, where F's tape takes them (see [`BallLanes`]).
+    /// F's signs at brackets' ends from the march's samples there, where F's f32 error has
+    /// a bound (see `sampled`), and by balls, where F's tape takes them (see [`BallLanes`]).
+    sampled: Option<SampledSigns>,
     balls: Option<BallLanes>,
     /// The points of those ends that lie in the domain (their boxes, and where each goes).
     pending: Vec<(Box4, usize)>,
 }
 
-/// A pixel's ray's sign change (see [`Certifier::pixel`]): its plane's origin, and the two
-/// points (s, t) of its plane F was found on either side of 0 at, if a ray found one.
-pub type Bracket = ([f32; 4], Option<([f64; 2], [f64; 2])>);
+/// A pixel's ray's sign change (see [`Certifier::pixel`]): its plane's origin, and the sign
+/// change, if a ray found one.
+pub type Bracket = ([f32; 4], Option<SignChange>);
+
+/// Two points (s, t) of a pixel's plane F was found on either side of 0 at, and where a
+/// march sampled them, each one's point as the march had it in f32 and F's f32 value there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SignChange {
+    pub ends: [[f64; 2]; 2],
+    pub samples: Option<[(V4, f32); 2]>,
+}
 
 /// A cell: ranges of s and t.
 type Cell = (Interval, Interval);
@@ -79,6 +92,7 @@ impl<'a> Certifier<'a> {
             u,
             eval: IntervalEvaluator::new(),
             batch: BatchEvaluator::new(),
+            sampled: SampledSigns::new(formula, params, u),
             balls: BallLanes::takes(&formula.tape_f).then(BallLanes::new),
             pending: Vec::new(),
         }
@@ -87,7 +101,8 @@ impl<'a> Certifier<'a> {
     /// F's proved signs (1, −1; 0: none) at the two ends of each of `brackets`, into `out`
     /// in their order: None where a pixel has no bracket or F may not be continuous
     /// between its ends (then it proves nothing). The ends' boxes are those [`Self::pixel`]
-    /// would take one by one, [`LANES`] at a time: by balls where F's tape takes them, by
+    /// would take one by one: from the march's samples where they are far enough from 0
+    /// (see `sampled`), else [`LANES`] at a time, by balls where F's tape takes them, by
     /// intervals (bit for bit those one by one) where balls prove nothing.
     pub fn bracket_signs(
         &mut self,
@@ -98,16 +113,24 @@ impl<'a> Certifier<'a> {
         self.pending.clear();
         let domain = self.domain();
         for (k, (o, bracket)) in brackets.into_iter().enumerate() {
-            let tried = bracket.filter(|&(a, b)| self.continuous_between(o, a, b));
-            if let Some((a, b)) = tried {
-                for (end, p) in [a, b].into_iter().enumerate() {
-                    let x = self.point_box(o, p);
-                    if inside(&x, &domain) {
-                        self.pending.push((x, 2 * k + end));
-                    }
+            let tried = bracket.filter(|c| self.continuous_between(o, c.ends[0], c.ends[1]));
+            let Some(change) = tried else {
+                out.push(None);
+                continue;
+            };
+            let mut signs = [0; 2];
+            for (end, p) in change.ends.into_iter().enumerate() {
+                let sampled = self.sampled.as_ref().zip(change.samples);
+                signs[end] = sampled.map_or(0, |(s, samples)| s.sign((o, p), samples[end]));
+                if signs[end] != 0 {
+                    continue;
+                }
+                let x = self.point_box(o, p);
+                if inside(&x, &domain) {
+                    self.pending.push((x, 2 * k + end));
                 }
             }
-            out.push(tried.map(|_| [0, 0]));
+            out.push(Some(signs));
         }
         let tape = &self.formula.tape_f;
         let mut boxes = [[Interval::EMPTY; 4]; LANES];
@@ -155,9 +178,9 @@ impl<'a> Certifier<'a> {
             pos: None,
             neg: None,
         };
-        if let (Some((a, b)), Some(signs)) = (bracket, signs) {
-            search.note(signs[0], a);
-            search.note(signs[1], b);
+        if let (Some(change), Some(signs)) = (bracket, signs) {
+            search.note(signs[0], change.ends[0]);
+            search.note(signs[1], change.ends[1]);
         }
         if let Some(bracket) = search.hit() {
             return Outcome {
@@ -498,7 +521,9 @@ fn meet(a: Interval, b: Interval) -> Interval {
 
 #[cfg(test)]
 mod tests {
+    use super::super::shading::{add, dot as dot4, scale, sub};
     use super::*;
+    use crate::eval::PointEvaluator;
     use bytemuck::Zeroable;
     use proptest::prelude::*;
 
@@ -519,6 +544,56 @@ mod tests {
             let bits = |b: Box4| b.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
             let plane = certifier.plane_box(o, Interval::point(p[0]), Interval::point(p[1]));
             prop_assert_eq!(bits(certifier.point_box(o, p)), bits(plane));
+        }
+    }
+
+    proptest! {
+        /// A bracket end's sign proved from the march's sample is F's sign there, and the
+        /// one balls prove where they prove one, however the plane is turned; a sample
+        /// clear of 0 proves it.
+        #[test]
+        fn signs_from_samples_are_the_signs_balls_prove(
+            angles in prop::array::uniform2(-3.0f32..3.0),
+            o in prop::array::uniform4(-0.7f32..0.7),
+            ts in prop::array::uniform2(-1.2f32..1.2),
+            offset in -0.4f32..0.4,
+        ) {
+            let text = "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1";
+            let formula = CompiledFormula::compile(text).unwrap();
+            let mut u = Uniforms::zeroed();
+            let ([ca, sa], [cb, sb]) = (angles.map(f32::cos), angles.map(f32::sin));
+            (u.n1, u.n2) = ([ca, 0.0, sa, 0.0], [0.0, cb, 0.0, sb]);
+            (u.domain_lo, u.domain_hi) = ([-1.5; 4], [1.5; 4]);
+            u.control.flags = FLAG_CONTINUOUS;
+            let mut certifier = Certifier::new(&formula, &[], &u);
+            // The ends as a slice's march has them: along n1 from the line's start.
+            let start = add(o, scale(u.n2, offset));
+            let ends = ts.map(|t| {
+                let p = add(start, scale(u.n1, t));
+                let f = PointEvaluator::single_precision().eval(&formula.tape_f, p.map(f64::from), &[]);
+                let rel = sub(p, o);
+                ([f64::from(dot4(rel, u.n1)), f64::from(dot4(rel, u.n2))], (p, f as f32))
+            });
+            let change = SignChange { ends: ends.map(|e| e.0), samples: Some(ends.map(|e| e.1)) };
+            let mut signs = Vec::new();
+            certifier.bracket_signs([(o, Some(change))], &mut signs);
+            let sampled = signs[0].unwrap();
+            certifier.bracket_signs([(o, Some(SignChange { samples: None, ..change }))], &mut signs);
+            let by_balls = signs[0].unwrap();
+            for end in 0..2 {
+                let [s, t] = change.ends[end];
+                let x: [f64; 4] = std::array::from_fn(|k| {
+                    f64::from(o[k]) + s * f64::from(u.n1[k]) + t * f64::from(u.n2[k])
+                });
+                let exact = PointEvaluator::new().eval(&formula.tape_f, x, &[]);
+                let (proved, f) = (sampled[end], f64::from(ends[end].1.1));
+                if proved != 0 {
+                    prop_assert_eq!(f64::from(proved), exact.signum(), "{:?}", x);
+                    prop_assert!(by_balls[end] == 0 || by_balls[end] == proved);
+                }
+                let inside = x.iter().all(|v| v.abs() < 1.49);
+                prop_assert!(!inside || f.abs() < 1e-3 || proved != 0, "{f} at {x:?} not proved");
+            }
         }
     }
 

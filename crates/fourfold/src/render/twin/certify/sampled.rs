@@ -1,0 +1,117 @@
+//! F's sign at a bracket's end from the march's own sample there, with no evaluation: where
+//! the sample's f32 value is farther from 0 than F at the end can lie from it. That is at
+//! most the single-precision evaluators' error over the domain (`eval::rounding`) plus F's
+//! slope times the distance from the sample's f32 point to the end's box (the end is the
+//! plane's exact point, the sample the march's rounded one). Most ends of a polynomial's
+//! brackets are a march step from M, far beyond both; the rest are left to balls.
+
+use crate::eval::{Box4, Interval, IntervalEvaluator, single_precision_error};
+use crate::formula::CompiledFormula;
+use crate::render::view::Uniforms;
+
+use super::super::shading::V4;
+
+/// What proves signs from samples, for one frame's formula, parameters, domain and plane.
+#[derive(Debug, Clone)]
+pub(super) struct SampledSigns {
+    /// The bound on the f32 value's error anywhere in the domain.
+    error: f64,
+    /// Bounds on |∂F/∂x_k| over the domain.
+    slopes: [f64; 4],
+    /// The domain less [`NEAR`] on every side: a sample's point there, and an end within
+    /// NEAR of it, lie in the domain.
+    lo: [f64; 4],
+    hi: [f64; 4],
+    n1: [f64; 4],
+    n2: [f64; 4],
+}
+
+/// How far from its sample an end may be for the sample to prove its sign: far beyond f32's
+/// rounding of the points (the twin's distances are a few units), far within any domain.
+const NEAR: f64 = 1e-4;
+
+impl SampledSigns {
+    /// None where the single-precision error has no bound (a library function), or F's
+    /// slopes over the domain none.
+    pub(super) fn new(formula: &CompiledFormula, params: &[f64], u: &Uniforms) -> Option<Self> {
+        let domain: Box4 = std::array::from_fn(|k| {
+            Interval::new(f64::from(u.domain_lo[k]), f64::from(u.domain_hi[k]))
+        });
+        let error = single_precision_error(&formula.tape_f, 0, &domain, params)?;
+        // (F and ∇F: the tape's first five outputs.)
+        let mut all = [Interval::EMPTY; 5];
+        IntervalEvaluator::new().eval_into(&formula.tape_all, &domain, params, &mut all);
+        let slopes: [f64; 4] = std::array::from_fn(|k| {
+            let g = all[k + 1];
+            g.lo().abs().max(g.hi().abs())
+        });
+        slopes.iter().all(|g| g.is_finite()).then(|| Self {
+            error,
+            slopes,
+            lo: domain.map(|d| d.lo() + NEAR),
+            hi: domain.map(|d| d.hi() - NEAR),
+            n1: u.n1.map(f64::from),
+            n2: u.n2.map(f64::from),
+        })
+    }
+
+    /// F's sign (1, −1; 0: not proved) at the point (s, t) = `at` of the plane through `o`,
+    /// from F's f32 value `f` at the f32 point `p` (the march's point there): by the mean
+    /// value theorem on the segment between them, in the (convex) domain.
+    pub(super) fn sign(&self, (o, at): (V4, [f64; 2]), (p, f): (V4, f32)) -> i8 {
+        let (mut reach, mut near) = (self.error, true);
+        for k in 0..4 {
+            let (a, b, c) = (f64::from(o[k]), at[0] * self.n1[k], at[1] * self.n2[k]);
+            let pk = f64::from(p[k]);
+            // (The end's coordinate in f64 is within 4 roundings of 2^-53 of its terms.)
+            let far = (a + b + c - pk).abs() + (a.abs() + b.abs() + c.abs()) * 4.0 * f64::EPSILON;
+            near &= far <= NEAR && pk >= self.lo[k] && pk <= self.hi[k];
+            reach += self.slopes[k] * far;
+        }
+        // (A relative margin for this sum's own rounding.)
+        let (f, reach) = (f64::from(f), reach * (1.0 + 1e-9));
+        match (near, f > reach, f < -reach) {
+            (true, true, _) => 1,
+            (true, _, true) => -1,
+            _ => 0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bytemuck::Zeroable;
+
+    /// The samples' signs for `text` over [−1.5, 1.5]⁴, the plane along x and y.
+    fn signs(text: &str) -> Option<SampledSigns> {
+        let f = CompiledFormula::compile(text).unwrap();
+        let mut u = Uniforms::zeroed();
+        (u.domain_lo, u.domain_hi) = ([-1.5; 4], [1.5; 4]);
+        (u.n1, u.n2) = ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]);
+        SampledSigns::new(&f, &[], &u)
+    }
+
+    /// A sample well away from 0 proves its sign at an end by its point; one near 0, an end
+    /// farther from it, or a point outside the domain, not.
+    #[test]
+    fn a_sample_proves_its_sign_only_far_from_zero_and_near_its_end() {
+        let s = signs("x^2 + y^2 + z^2 + w^2 - 1").unwrap();
+        let o = [0.0, 0.0, 0.2, 0.0];
+        let p = [0.5, 0.0, 0.2, 0.0];
+        assert_eq!(s.sign((o, [0.5, 0.0]), (p, -0.71)), -1);
+        let q = [1.2, 0.1, 0.2, 0.0];
+        assert_eq!(s.sign((o, [1.2, 0.1]), (q, 0.49)), 1);
+        assert_eq!(s.sign((o, [1.2, 0.1]), (q, 1e-7)), 0);
+        // |∂F/∂x| ≤ 3 over the domain: an end 0.2 away may have the other sign.
+        assert_eq!(s.sign((o, [1.0, 0.1]), (q, 0.49)), 0);
+        let out = [1.6, 0.0, 0.2, 0.0];
+        assert_eq!(s.sign((o, [1.6, 0.0]), (out, 1.6)), 0);
+    }
+
+    /// No bound without one on the f32 error.
+    #[test]
+    fn library_functions_prove_nothing_here() {
+        assert!(signs("sin(3x) + y").is_none());
+    }
+}
