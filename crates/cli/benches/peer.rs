@@ -11,7 +11,7 @@
 //! 2. whole processes, as a user runs them: `fourfold render SCENE --slice C` (certified,
 //!    on the device `render` chooses: the CPU twin for a slice this size on most machines)
 //!    against this bench re-run as a program that JIT-compiles, renders with fidget and
-//!    writes a PNG, median of RUNS; the same on the GPU (`--gpu`), its first run with an
+//!    writes a PNG, taken in turn with it, the median of RUNS of each; the same on the GPU (`--gpu`), its first run with an
 //!    empty pipeline cache (cold), then the median of RUNS (warm); and the median of RUNS
 //!    with `--uncertified` (fidget proves nothing either) on the GPU and on the CPU twin.
 //!
@@ -301,23 +301,25 @@ fn measure(gpu: &Gpu, index: usize, size: u32, runs: u32, work: &Path) -> Row {
     };
     // (The GPU's first run before any other: its pipeline cache is still empty.)
     let cold = process_ms(&mut fourfold(&["--gpu"])).ms;
-    let (default, chosen) = median_of(&[]);
+    // fourfold's default render and fidget's process taken in turn, so that both meet the
+    // same moments of a noisy machine.
+    let this = std::env::current_exe().expect("the bench's own path");
+    let fidget = || {
+        let mut c = Command::new(&this);
+        c.env(PEER_RUN, index.to_string())
+            .env(PEER_OUT, work.join("fidget.png"));
+        c
+    };
+    let (mut mine, mut peers, mut chosen) = (Vec::new(), Vec::new(), Process::default());
+    for _ in 0..runs {
+        chosen = process_ms(&mut fourfold(&[]));
+        mine.push(chosen.ms);
+        peers.push(process_ms(&mut fidget()).ms);
+    }
+    let (default, peer_process) = (median(mine), median(peers));
     let (warm, on_gpu) = median_of(&["--gpu"]);
     let (plain, _) = median_of(&["--uncertified", "--gpu"]);
     let (cpu, _) = median_of(&["--uncertified", "--cpu"]);
-    let this = std::env::current_exe().expect("the bench's own path");
-    let peer_process = median(
-        (0..runs)
-            .map(|_| {
-                process_ms(
-                    Command::new(&this)
-                        .env(PEER_RUN, index.to_string())
-                        .env(PEER_OUT, work.join("fidget.png")),
-                )
-                .ms
-            })
-            .collect(),
-    );
     Row {
         name: surface.name,
         peer,
