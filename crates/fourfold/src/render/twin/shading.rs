@@ -58,11 +58,22 @@ pub(super) fn shade(u: &Uniforms, p: V4, d: V4, g: V4) -> [f32; 3] {
     let l = u.light;
     let diffuse = dot(n, l).max(0.0);
     let r = sub(scale(n, 2.0 * dot(n, l)), l);
-    let specular = dot(r, scale(d, -1.0)).max(0.0).powf(u.shading.shininess);
+    let specular = highlight(dot(r, scale(d, -1.0)).max(0.0), u.shading.shininess);
     std::array::from_fn(|i| {
         surface[i] * (u.shading.ambient + u.shading.diffuse * diffuse)
             + u.shading.specular * specular
     })
+}
+
+/// `facing` to the power `shininess`: by products in f64 where the shininess is a whole
+/// number (the default 24 among them; f32's power in a fraction of the time, rounded the
+/// same but in rare ties), else by f32's power.
+fn highlight(facing: f32, shininess: f32) -> f32 {
+    if shininess.fract() == 0.0 && (1.0..=64.0).contains(&shininess) {
+        f64::from(facing).powi(shininess as i32) as f32
+    } else {
+        facing.powf(shininess)
+    }
 }
 
 /// Undecided pixels' colour (as the shader's `UNDECIDED_COLOR`).
