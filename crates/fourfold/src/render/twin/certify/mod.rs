@@ -547,56 +547,6 @@ mod tests {
         }
     }
 
-    proptest! {
-        /// A bracket end's sign proved from the march's sample is F's sign there, and the
-        /// one balls prove where they prove one, however the plane is turned; a sample
-        /// clear of 0 proves it.
-        #[test]
-        fn signs_from_samples_are_the_signs_balls_prove(
-            angles in prop::array::uniform2(-3.0f32..3.0),
-            o in prop::array::uniform4(-0.7f32..0.7),
-            ts in prop::array::uniform2(-1.2f32..1.2),
-            offset in -0.4f32..0.4,
-        ) {
-            let text = "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1";
-            let formula = CompiledFormula::compile(text).unwrap();
-            let mut u = Uniforms::zeroed();
-            let ([ca, sa], [cb, sb]) = (angles.map(f32::cos), angles.map(f32::sin));
-            (u.n1, u.n2) = ([ca, 0.0, sa, 0.0], [0.0, cb, 0.0, sb]);
-            (u.domain_lo, u.domain_hi) = ([-1.5; 4], [1.5; 4]);
-            u.control.flags = FLAG_CONTINUOUS;
-            let mut certifier = Certifier::new(&formula, &[], &u);
-            // The ends as a slice's march has them: along n1 from the line's start.
-            let start = add(o, scale(u.n2, offset));
-            let ends = ts.map(|t| {
-                let p = add(start, scale(u.n1, t));
-                let f = PointEvaluator::single_precision().eval(&formula.tape_f, p.map(f64::from), &[]);
-                let rel = sub(p, o);
-                ([f64::from(dot4(rel, u.n1)), f64::from(dot4(rel, u.n2))], (p, f as f32))
-            });
-            let change = SignChange { ends: ends.map(|e| e.0), samples: Some(ends.map(|e| e.1)) };
-            let mut signs = Vec::new();
-            certifier.bracket_signs([(o, Some(change))], &mut signs);
-            let sampled = signs[0].unwrap();
-            certifier.bracket_signs([(o, Some(SignChange { samples: None, ..change }))], &mut signs);
-            let by_balls = signs[0].unwrap();
-            for end in 0..2 {
-                let [s, t] = change.ends[end];
-                let x: [f64; 4] = std::array::from_fn(|k| {
-                    f64::from(o[k]) + s * f64::from(u.n1[k]) + t * f64::from(u.n2[k])
-                });
-                let exact = PointEvaluator::new().eval(&formula.tape_f, x, &[]);
-                let (proved, f) = (sampled[end], f64::from(ends[end].1.1));
-                if proved != 0 {
-                    prop_assert_eq!(f64::from(proved), exact.signum(), "{:?}", x);
-                    prop_assert!(by_balls[end] == 0 || by_balls[end] == proved);
-                }
-                let inside = x.iter().all(|v| v.abs() < 1.49);
-                prop_assert!(!inside || f.abs() < 1e-3 || proved != 0, "{f} at {x:?} not proved");
-            }
-        }
-    }
-
     /// The side split is the one along which F may change the most (its length times the
     /// slope's bound), not the longer one; with no bound, the longer; where f32 cannot halve
     /// the chosen side, the other.
