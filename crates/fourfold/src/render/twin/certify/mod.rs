@@ -521,9 +521,7 @@ fn meet(a: Interval, b: Interval) -> Interval {
 
 #[cfg(test)]
 mod tests {
-    use super::super::shading::{add, dot as dot4, scale, sub};
     use super::*;
-    use crate::eval::PointEvaluator;
     use bytemuck::Zeroable;
     use proptest::prelude::*;
 
