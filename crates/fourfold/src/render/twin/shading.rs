@@ -66,8 +66,8 @@ pub(super) fn shade(u: &Uniforms, p: V4, d: V4, g: V4) -> [f32; 3] {
 }
 
 /// `facing` to the power `shininess`: by products in f64 where the shininess is a whole
-/// number (the default 24 among them; f32's power in a fraction of the time, rounded the
-/// same but in rare ties), else by f32's power.
+/// number (the default 24 among them: f32's power, but for a last bit now and then, in a
+/// fraction of the time), else by f32's power.
 fn highlight(facing: f32, shininess: f32) -> f32 {
     if shininess.fract() == 0.0 && (1.0..=64.0).contains(&shininess) {
         f64::from(facing).powi(shininess as i32) as f32
