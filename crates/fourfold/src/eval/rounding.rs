@@ -158,6 +158,47 @@ mod tests {
         }
     }
 
+    /// Random sums, differences, products and powers of the coordinates, numbers (small
+    /// and large) and the parameters a and b.
+    fn polynomial() -> impl Strategy<Value = String> {
+        let leaf = prop_oneof![
+            prop::sample::select(vec!["x", "y", "z", "w", "a", "b", "1e-3", "1e4"])
+                .prop_map(String::from),
+            (-9.99f64..9.99).prop_map(|c| format!("({c:.3})")),
+        ];
+        leaf.prop_recursive(5, 48, 2, |inner| {
+            prop_oneof![
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} + {b})")),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} - {b})")),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} * {b})")),
+                (inner.clone(), 2u32..8).prop_map(|(a, k)| format!("({a})^{k}")),
+                inner.prop_map(|a| format!("-({a})")),
+            ]
+        })
+    }
+
+    proptest! {
+        /// The same on formulas nobody wrote: the f32 value within the bound, wherever the
+        /// bound exists (not past f32's range).
+        #[test]
+        fn random_polynomials_keep_within_their_bound(
+            text in polynomial(),
+            r in 0.1f64..2.0,
+            at in prop::array::uniform4(-1.0f64..1.0),
+            params in prop::array::uniform2(-3.0f64..3.0),
+        ) {
+            let Ok(f) = CompiledFormula::compile(&text) else {
+                return Ok(());
+            };
+            let Some(bound) = single_precision_error(&f.tape_f, 0, &cube(r), &params) else {
+                return Ok(());
+            };
+            let p = at.map(|v| f64::from((v * r) as f32));
+            let (lo, hi) = (single(&f, p, &params), exact(&f, p, &params));
+            prop_assert!((lo - hi).abs() <= bound, "{text} at {p:?}: {lo} against {hi}, bound {bound}");
+        }
+    }
+
     /// The bound is close to the rounding it covers: a few units of f32's rounding of F's
     /// largest terms, not orders of magnitude more.
     #[test]
