@@ -17,8 +17,8 @@ pub(super) struct Evaluators {
     lanes: PointLanes,
     /// The roots of [`Self::find_roots`] still seeking, by index.
     seeking: Vec<usize>,
-    /// Whether F's tape, and F and ∇F's, are arithmetic alone (no library function past
-    /// their uniform prefix): where lanes of them pay (see [`Self::gradients`]).
+    /// Whether F's tape, and ∇F's, are arithmetic alone (no library function past their
+    /// uniform prefix): where lanes of them pay (see [`Self::gradients`]).
     arithmetic: [bool; 2],
 }
 
@@ -43,7 +43,7 @@ impl Evaluators {
             seeking: Vec::new(),
             arithmetic: [
                 !formula.tape_f.calls_library(),
-                !formula.tape_all.calls_library(),
+                !formula.tape_grad.calls_library(),
             ],
         }
     }
@@ -121,8 +121,8 @@ impl Evaluators {
     }
 
     /// ∇F at each of `points` into `out`, in f32 as `Pixel::f_grad` has it: [`LANES`] at
-    /// a time where F and ∇F's tape is arithmetic alone (lanes of it vectorize), else point
-    /// by point (a library function runs lane by lane anyway, and the point evaluator does
+    /// a time by ∇F's own tape where it is arithmetic alone (lanes of it vectorize; the same
+    /// values, from the same instructions, without F's), else point by point (a library function runs lane by lane anyway, and the point evaluator does
     /// not run again what reads only coordinates that did not move, most of it along a
     /// slice's rays).
     pub(super) fn gradients(
@@ -165,10 +165,10 @@ impl Evaluators {
         batch: &[V4; LANES],
         out: &mut Vec<V4>,
     ) {
-        let tape = &formula.tape_all;
+        let tape = &formula.tape_grad;
         self.lanes.eval(tape, &batch[..n], params);
         let lanes = &self.lanes;
-        out.extend((0..n).map(|l| std::array::from_fn(|k| lanes.output(tape, k + 1, l))));
+        out.extend((0..n).map(|l| std::array::from_fn(|k| lanes.output(tape, k, l))));
     }
 }
 
