@@ -82,13 +82,20 @@ impl Bundle {
     fn segment(&self, (first, last): (f64, f64), sides: [(f64, f64); 4]) -> Option<Box4> {
         // (The quotients' rounding: a millionth of the range's ends.)
         let e = 1e-6 * (first.abs() + last.abs()) + 1e-30;
-        let along = Interval::new(first - e, last + e);
+        let (first, last) = (first - e, last + e);
         let mut x = [Interval::EMPTY; 4];
         for k in 0..4 {
-            let ((bl, bh), (l, h)) = (self.base[k], sides[k]);
-            x[k] = Interval::new(bl, bh)
-                .add(along.mul(Interval::point(self.n1[k])))
-                .intersect(l, h);
+            let ((bl, bh), (l, h), n) = (self.base[k], sides[k], self.n1[k]);
+            // In f64 rounded to nearest, widened past its three roundings.
+            let (a, b) = (first * n, last * n);
+            let (lo, hi) = (bl + a.min(b), bh + a.max(b));
+            let slack = 1e-15 * (bl.abs().max(bh.abs()) + a.abs().max(b.abs())) + 1e-300;
+            let line = if lo.is_finite() && hi.is_finite() {
+                Interval::new(lo - slack, hi + slack)
+            } else {
+                Interval::ENTIRE
+            };
+            x[k] = line.intersect(l, h);
             if x[k].is_empty() {
                 return None;
             }
