@@ -98,3 +98,47 @@ fn directed_pow(x: f64, mut k: u32, mul: impl Fn(f64, f64) -> f64) -> f64 {
 pub(super) fn mul0(a: f64, b: f64) -> f64 {
     if a == 0.0 || b == 0.0 { 0.0 } else { a * b }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// x^k in double-double arithmetic (each product's rounding error recovered exactly by
+    /// a fused multiply-add): within k·2^-100 of the exact power, relative.
+    fn double_double_pow(x: f64, k: u32) -> (f64, f64) {
+        let mul = |(ah, al): (f64, f64), (bh, bl): (f64, f64)| {
+            let p = ah * bh;
+            let e = ah.mul_add(bh, -p) + (ah * bl + al * bh);
+            let hi = p + e;
+            (hi, e - (hi - p))
+        };
+        let mut acc = (1.0, 0.0);
+        for _ in 0..k {
+            acc = mul(acc, (x, 0.0));
+        }
+        acc
+    }
+
+    proptest! {
+        /// The bounds hold the exact power and lie within a few ulps per product of it, for
+        /// small, tiny and huge bases.
+        #[test]
+        fn powers_bounds_hold_the_exact_power(
+            mantissa in 1.0f64..2.0,
+            exponent in prop_oneof![-8i32..8, -400i32..400],
+            k in 1u32..40,
+        ) {
+            let x = mantissa * 2f64.powi(exponent);
+            let (hi, lo) = double_double_pow(x, k);
+            prop_assume!(hi.is_normal() && hi < f64::MAX / 4.0);
+            let margin = hi * f64::from(k) * 2f64.powi(-100);
+            let (down, up) = (pow_down(x, k), pow_up(x, k));
+            // (down − hi and up − hi are exact: each lies within a few ulps of hi.)
+            prop_assert!(down - hi <= lo - margin, "{x}^{k}: {down} above {hi} + {lo}");
+            prop_assert!(up - hi >= lo + margin, "{x}^{k}: {up} below {hi} + {lo}");
+            let ulps = 4.0 * f64::from(k) * f64::EPSILON * hi;
+            prop_assert!(hi - down <= ulps && up - hi <= ulps, "{x}^{k}: [{down}, {up}] around {hi}");
+        }
+    }
+}
