@@ -3,17 +3,25 @@
 
 use crate::expr::{BinaryOp, UnaryOp};
 
-use super::tape::{Op, PrefixKey, Tape, prepare_slots};
+use super::plan::{Plans, run_tape};
+use super::tape::{Op, PrefixKey, Tape, moved, sized};
 use crate::interval::Interval;
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
 pub type Box4 = [Interval; 4];
 
-/// Reusable interval evaluator.
+/// Reusable interval evaluator. As the point evaluator's, its slots keep their values from
+/// one call to the next, and an instruction reading none of the coordinates whose interval
+/// changed since is not run again (a tile's lines along an axis: x^6 and y^6 of a slice
+/// seen along z are the same for all their pieces).
 #[derive(Debug, Clone, Default)]
 pub struct IntervalEvaluator {
     slots: Vec<Interval>,
     prefix: PrefixKey,
+    /// The box the slots hold the values over, as bits (None: they hold none).
+    last: Option<[[u64; 2]; 4]>,
+    /// What each set of moved coordinates runs, for the tape and parameters the slots hold.
+    runs: Plans,
 }
 
 impl IntervalEvaluator {
@@ -23,16 +31,21 @@ impl IntervalEvaluator {
 
     /// Evaluates every output of `tape` over `bx`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, bx: &Box4, params: &[f64], out: &mut [Interval]) {
-        let (slots, start) = prepare_slots(
-            &mut self.slots,
-            &mut self.prefix,
-            tape,
-            params,
-            Interval::EMPTY,
-        );
-        for (i, &op) in tape.ops().iter().enumerate().skip(start) {
-            slots[i] = apply!(op, bx, params, |k| slots[k as usize]);
+        let bits = bx.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
+        let stale = self.prefix.stale(tape, params);
+        if stale {
+            self.runs.clear();
         }
+        let moved = moved(self.last.filter(|_| !stale), &bits);
+        self.last = Some(bits);
+        let slots = sized(&mut self.slots, tape, Interval::EMPTY);
+        run_tape!(
+            slots,
+            &mut self.runs,
+            tape,
+            (moved, stale),
+            interval_op(bx, params)
+        );
         for (o, &slot) in out.iter_mut().zip(tape.outputs()) {
             *o = slots[slot as usize];
         }
@@ -56,6 +69,12 @@ impl IntervalEvaluator {
         self.eval_into(tape, bx, params, &mut out);
         out[0]
     }
+}
+
+/// Instruction `op`'s enclosure over `bx`, its operands in `slots`.
+#[inline(always)]
+fn interval_op(op: Op, slots: &[Interval], bx: &Box4, params: &[f64]) -> Interval {
+    apply!(op, bx, params, |k| slots[k as usize])
 }
 
 /// The value of instruction `$op` over the box `$bx`, where `|$k| $read` reads slot `$k`. A
@@ -108,4 +127,54 @@ pub fn unary(op: UnaryOp, a: Interval) -> Interval {
 #[inline]
 pub fn binary(op: BinaryOp, a: Interval, b: Interval) -> Interval {
     (op.spec().interval)(a, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formula::CompiledFormula;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// An evaluator that ran other boxes before, some of their coordinates the same
+        /// (the instructions reading only those not run again), encloses each box bit for
+        /// bit as a new one does.
+        #[test]
+        fn boxes_after_others_are_enclosed_as_by_a_new_evaluator(
+            which in 0..3usize,
+            boxes in prop::collection::vec(
+                (prop::array::uniform4(-2.0f64..2.0), prop::array::uniform4(0.0f64..1.0), 0u8..16),
+                1..12,
+            ),
+        ) {
+            let text = [
+                "x^6 + y^6 + z^6 + w^6 + 4x^2 y^2 z^2 - 1",
+                "sqrt(x^2 + y^2) - sin(3z) * w + a",
+                "max(abs(x), y z) - exp(w) / (1 + x^2)",
+            ][which];
+            let f = CompiledFormula::compile(text).unwrap();
+            let mut kept = IntervalEvaluator::new();
+            let mut bx: Box4 = [Interval::new(0.0, 0.5); 4];
+            for (lo, width, keep) in boxes {
+                // (Bit k of `keep`: coordinate k stays as it was.)
+                for k in (0..4).filter(|&k| keep & (1 << k) == 0) {
+                    bx[k] = Interval::new(lo[k], lo[k] + width[k]);
+                }
+                let mut fresh = [Interval::EMPTY; 5];
+                let mut again = [Interval::EMPTY; 5];
+                IntervalEvaluator::new().eval_into(&f.tape_all, &bx, &[0.5], &mut fresh);
+                kept.eval_into(&f.tape_all, &bx, &[0.5], &mut again);
+                let bits = |v: [Interval; 5]| v.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
+                prop_assert_eq!(bits(fresh), bits(again));
+                prop_assert_eq!(
+                    kept.continuous_on_last_box(&f.tape_all),
+                    {
+                        let mut e = IntervalEvaluator::new();
+                        e.eval_into(&f.tape_all, &bx, &[0.5], &mut fresh);
+                        e.continuous_on_last_box(&f.tape_all)
+                    }
+                );
+            }
+        }
+    }
 }

@@ -15,6 +15,7 @@ pub mod batch;
 pub mod evaluator;
 pub mod interval_eval;
 pub mod lanes;
+mod plan;
 pub mod point;
 pub mod rounding;
 pub mod tape;

@@ -7,6 +7,7 @@
 
 use crate::ops::powi;
 
+use super::plan::{Plans, run_tape};
 use super::tape::{Op, PrefixKey, Tape, moved, sized};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
@@ -21,34 +22,10 @@ pub struct PointEvaluator {
     prefix: PrefixKey,
     /// The point the slots hold the values at, as bits (None: they hold none).
     last: Option<[u64; 4]>,
-    /// For the tape and parameters the slots hold, by the set of coordinates that moved (a
-    /// bit each), the instructions reading any of them (see [`plan`]).
-    runs: [Option<Run>; 16],
+    /// What each set of moved coordinates runs, for the tape and parameters the slots hold.
+    runs: Plans,
     /// Round every operation's result to f32, as the GPU computes.
     single: bool,
-}
-
-/// Runs the instructions of `$tape` that `($moved, $all)` ask for (see
-/// [`PointEvaluator::moved`]) into `$slots`, each by `$value(op, slots, args…)`: all where
-/// `$all`, else those reading a moved coordinate, listed in `$runs` ([`plan`]) or, where
-/// they are most of the tape, straight through. A macro, not a function taking a closure,
-/// which made frames 5–20% slower.
-macro_rules! run_tape {
-    ($slots:expr, $runs:expr, $tape:expr, ($moved:expr, $all:expr), $value:ident($($arg:expr),*)) => {{
-        let only = (!$all && $moved != 0xf)
-            .then(|| plan($runs, $tape, $moved))
-            .flatten();
-        if let Some(list) = only {
-            for &(i, op) in list {
-                $slots[i as usize] = $value(op, $slots, $($arg),*);
-            }
-        } else {
-            let start = if $all { 0 } else { $tape.uniform_len() };
-            for (i, &op) in $tape.ops().iter().enumerate().skip(start) {
-                $slots[i] = $value(op, $slots, $($arg),*);
-            }
-        }
-    }};
 }
 
 impl PointEvaluator {
@@ -80,7 +57,7 @@ impl PointEvaluator {
         let bits = p.map(f64::to_bits);
         let stale = self.prefix.stale(tape, params);
         if stale {
-            self.runs.iter_mut().for_each(|r| *r = None);
+            self.runs.clear();
         }
         let moved = moved(self.last.filter(|_| !stale), &bits);
         self.last = Some(bits);
@@ -124,36 +101,6 @@ impl PointEvaluator {
         self.eval_into(tape, p, params, &mut out);
         out[0]
     }
-}
-
-/// The instructions of `tape` that read a coordinate in `moved`, in order, with their
-/// indices, from `runs` (made there when first needed); None where they are most of those
-/// past the uniform prefix, which then run straight through (a list costs more a step).
-fn plan<'a>(runs: &'a mut [Option<Run>; 16], tape: &Tape, moved: u8) -> Option<&'a [(u32, Op)]> {
-    let run = runs[usize::from(moved)].get_or_insert_with(|| {
-        let reads = tape.reads().iter().zip(tape.ops()).enumerate();
-        let list: Vec<(u32, Op)> = reads
-            .filter(|&(_, (&r, _))| r & moved != 0)
-            .map(|(i, (_, &op))| (i as u32, op))
-            .collect();
-        let rest = tape.len() - tape.uniform_len();
-        if moved != 0 && 5 * list.len() > 4 * rest {
-            Run::Whole
-        } else {
-            Run::Only(list)
-        }
-    });
-    match run {
-        Run::Whole => None,
-        Run::Only(list) => Some(list),
-    }
-}
-
-/// What a set of moved coordinates runs (see [`plan`]).
-#[derive(Debug, Clone)]
-enum Run {
-    Whole,
-    Only(Vec<(u32, Op)>),
 }
 
 /// Instruction `op`'s value at `p` in f64, its operands in `slots`.
