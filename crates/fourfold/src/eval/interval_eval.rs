@@ -3,8 +3,8 @@
 
 use crate::expr::{BinaryOp, UnaryOp};
 
-use super::plan::{Plans, run_tape};
-use super::tape::{Op, PrefixKey, Tape, moved, sized};
+use super::plan::{Moves, run_tape};
+use super::tape::{Op, PrefixKey, Tape, sized};
 use crate::interval::Interval;
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
@@ -18,10 +18,8 @@ pub type Box4 = [Interval; 4];
 pub struct IntervalEvaluator {
     slots: Vec<Interval>,
     prefix: PrefixKey,
-    /// The box the slots hold the values over, as bits (None: they hold none).
-    last: Option<[[u64; 2]; 4]>,
-    /// What each set of moved coordinates runs, for the tape and parameters the slots hold.
-    runs: Plans,
+    /// The box the slots hold the values over, and what each set of moved coordinates runs.
+    moves: Moves<[u64; 2]>,
 }
 
 impl IntervalEvaluator {
@@ -31,17 +29,13 @@ impl IntervalEvaluator {
 
     /// Evaluates every output of `tape` over `bx`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, bx: &Box4, params: &[f64], out: &mut [Interval]) {
-        let bits = bx.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
         let stale = self.prefix.stale(tape, params);
-        if stale {
-            self.runs.clear();
-        }
-        let moved = moved(self.last.filter(|_| !stale), &bits);
-        self.last = Some(bits);
+        let bits = bx.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
+        let moved = self.moves.since(bits, stale);
         let slots = sized(&mut self.slots, tape, Interval::EMPTY);
         run_tape!(
             slots,
-            &mut self.runs,
+            &mut self.moves.plans,
             tape,
             (moved, stale),
             interval_op(bx, params)

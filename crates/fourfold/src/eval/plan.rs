@@ -4,7 +4,28 @@
 //! lines), that is most of a tape: the point evaluator's samples, the interval evaluator's
 //! pieces of a tile's lines.
 
-use super::tape::{Op, Tape};
+use super::tape::{Op, Tape, moved};
+
+/// What an evaluator keeps between calls to run again only what moved: its last point's
+/// or box's coordinates, as bits (None: its slots hold no values), and its plans.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Moves<B> {
+    last: Option<[B; 4]>,
+    pub(crate) plans: Plans,
+}
+
+impl<B: PartialEq> Moves<B> {
+    /// The coordinates that moved since the last call (bit k: x_k), now at `bits`; all
+    /// where `stale` (another tape or parameters: the slots hold nothing of theirs).
+    pub(crate) fn since(&mut self, bits: [B; 4], stale: bool) -> u8 {
+        if stale {
+            self.plans.clear();
+        }
+        let moved = moved(self.last.take().filter(|_| !stale), &bits);
+        self.last = Some(bits);
+        moved
+    }
+}
 
 /// For one tape and parameters, by the set of coordinates that moved (a bit each), the
 /// instructions reading any of them (made when first needed).
@@ -20,7 +41,7 @@ enum Run {
 
 impl Plans {
     /// Forgets every plan (another tape or parameters).
-    pub(crate) fn clear(&mut self) {
+    fn clear(&mut self) {
         self.0.iter_mut().for_each(|r| *r = None);
     }
 

@@ -7,8 +7,8 @@
 
 use crate::ops::powi;
 
-use super::plan::{Plans, run_tape};
-use super::tape::{Op, PrefixKey, Tape, moved, sized};
+use super::plan::{Moves, run_tape};
+use super::tape::{Op, PrefixKey, Tape, sized};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
 /// keep their values from one call to the next: an instruction that reads none of the
@@ -20,10 +20,8 @@ pub struct PointEvaluator {
     /// The slots of an evaluation in f32 (`single`).
     narrow_slots: Vec<f32>,
     prefix: PrefixKey,
-    /// The point the slots hold the values at, as bits (None: they hold none).
-    last: Option<[u64; 4]>,
-    /// What each set of moved coordinates runs, for the tape and parameters the slots hold.
-    runs: Plans,
+    /// The point the slots hold the values at, and what each set of moved coordinates runs.
+    moves: Moves<u64>,
     /// Round every operation's result to f32, as the GPU computes.
     single: bool,
 }
@@ -54,14 +52,8 @@ impl PointEvaluator {
     /// (bit k: x_k changed since the last call), or, where the second is true, all (another
     /// tape or parameters: the slots hold nothing of theirs).
     fn moved(&mut self, tape: &Tape, p: [f64; 4], params: &[f64]) -> (u8, bool) {
-        let bits = p.map(f64::to_bits);
         let stale = self.prefix.stale(tape, params);
-        if stale {
-            self.runs.clear();
-        }
-        let moved = moved(self.last.filter(|_| !stale), &bits);
-        self.last = Some(bits);
-        (moved, stale)
+        (self.moves.since(p.map(f64::to_bits), stale), stale)
     }
 
     fn run_double(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
@@ -69,7 +61,7 @@ impl PointEvaluator {
         let slots = sized(&mut self.slots, tape, 0.0);
         run_tape!(
             slots,
-            &mut self.runs,
+            &mut self.moves.plans,
             tape,
             (moved, all),
             double_op(p, params)
@@ -85,7 +77,7 @@ impl PointEvaluator {
         let slots = sized(&mut self.narrow_slots, tape, 0.0);
         run_tape!(
             slots,
-            &mut self.runs,
+            &mut self.moves.plans,
             tape,
             (moved, all),
             single_op(p, params)
