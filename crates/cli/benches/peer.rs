@@ -11,8 +11,9 @@
 //! 2. whole processes, as a user runs them: `fourfold render SCENE --slice C` (certified,
 //!    on the device `render` chooses: the CPU twin for a slice this size on most machines)
 //!    against this bench re-run as a program that JIT-compiles, renders with fidget and
-//!    writes a PNG, taken in turn with it, the median of RUNS of each; the same on the GPU (`--gpu`), its first run with an
-//!    empty pipeline cache (cold), then the median of RUNS (warm); and the median of RUNS
+//!    writes a PNG, the two taken in turn, the median of RUNS of each; the same on the GPU
+//!    (`--gpu`), its first run with an empty pipeline cache (cold), then the median of RUNS
+//!    (warm); and the median of RUNS
 //!    with `--uncertified` (fidget proves nothing either) on the GPU and on the CPU twin.
 //!
 //! fidget sees F(p) over the picture's box, p the point of the slice that the pixel and the

@@ -154,19 +154,15 @@ mod tests {
                 for k in (0..4).filter(|&k| keep & (1 << k) == 0) {
                     bx[k] = Interval::new(lo[k], lo[k] + width[k]);
                 }
-                let mut fresh = [Interval::EMPTY; 5];
-                let mut again = [Interval::EMPTY; 5];
-                IntervalEvaluator::new().eval_into(&f.tape_all, &bx, &[0.5], &mut fresh);
+                let (mut fresh, mut again) = ([Interval::EMPTY; 5], [Interval::EMPTY; 5]);
+                let mut new = IntervalEvaluator::new();
+                new.eval_into(&f.tape_all, &bx, &[0.5], &mut fresh);
                 kept.eval_into(&f.tape_all, &bx, &[0.5], &mut again);
                 let bits = |v: [Interval; 5]| v.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
                 prop_assert_eq!(bits(fresh), bits(again));
                 prop_assert_eq!(
                     kept.continuous_on_last_box(&f.tape_all),
-                    {
-                        let mut e = IntervalEvaluator::new();
-                        e.eval_into(&f.tape_all, &bx, &[0.5], &mut fresh);
-                        e.continuous_on_last_box(&f.tape_all)
-                    }
+                    new.continuous_on_last_box(&f.tape_all)
                 );
             }
         }

@@ -61,13 +61,16 @@ pub fn single_precision_error(
                 // ãb̃ − ab = (ã − a)·b̃ + a·(b̃ − b).
                 let ((va, ea), (vb, eb)) = (at(a), at(b));
                 let v = va.mul(vb);
-                (v, rounded(v, ea * (size(vb) + eb) + size(va) * eb))
+                (
+                    v,
+                    rounded(v, ea * (vb.magnitude() + eb) + va.magnitude() * eb),
+                )
             }
             Op::Square(a) => {
                 // ã² − a² = (ã − a)·(ã + a).
                 let (va, ea) = at(a);
                 let v = va.square();
-                (v, rounded(v, ea * (2.0 * size(va) + ea)))
+                (v, rounded(v, ea * (2.0 * va.magnitude() + ea)))
             }
             Op::Powi(a, k) if k > 0 => {
                 // The mean value theorem: |ã^k − a^k| ≤ k·max(|ã|, |a|)^(k−1)·|ã − a|; then
@@ -75,14 +78,14 @@ pub fn single_precision_error(
                 // most, counted twice over; then its narrowing to f32.
                 let (va, ea) = at(a);
                 let v = va.powi(k);
-                let carried = f64::from(k) * (size(va) + ea).powi(k - 1) * ea;
-                let products = (size(v) + carried) * f64::from(k) * f64::EPSILON;
+                let carried = f64::from(k) * (va.magnitude() + ea).powi(k - 1) * ea;
+                let products = (v.magnitude() + carried) * f64::from(k) * f64::EPSILON;
                 (v, rounded(v, carried + products))
             }
             Op::Powi(..) | Op::Unary(..) | Op::Binary(..) => return None,
         };
         // (Also false for NaN, and for an empty enclosure, whose size is not finite.)
-        let in_range = size(value) + error < f64::from(f32::MAX) / 2.0;
+        let in_range = value.magnitude() + error < f64::from(f32::MAX) / 2.0;
         if !in_range {
             return None;
         }
@@ -92,15 +95,10 @@ pub fn single_precision_error(
     Some(error * (1.0 + MARGIN))
 }
 
-/// The largest magnitude in `v`.
-fn size(v: Interval) -> f64 {
-    v.lo().abs().max(v.hi().abs())
-}
-
 /// The distance from the exact values in `v` of a result computed `carried` away from
 /// them, once rounded to f32 (relative, on at most |v| + carried) and flushed.
 fn rounded(v: Interval, carried: f64) -> f64 {
-    carried + UNIT * (size(v) + carried) + FLUSHED
+    carried + UNIT * (v.magnitude() + carried) + FLUSHED
 }
 
 /// How far `c` moves when narrowed to f32 (None: out of f32's range).

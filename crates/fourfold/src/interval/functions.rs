@@ -50,7 +50,7 @@ impl Interval {
         let mut lo = lib_down(clo.min(chi));
         let mut hi = lib_up(clo.max(chi));
         // PI and TAU are rounded; testing a slightly wider interval keeps the test sound.
-        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        let slack = 4.0 * f64::EPSILON * self.magnitude() + 1e-300;
         if contains_multiple(self.lo - slack, self.hi + slack, 0.0, TAU) {
             hi = 1.0;
         }
@@ -79,7 +79,7 @@ impl Interval {
         let (slo, shi) = (self.lo.sin(), self.hi.sin());
         let mut lo = lib_down(slo.min(shi));
         let mut hi = lib_up(slo.max(shi));
-        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        let slack = 4.0 * f64::EPSILON * self.magnitude() + 1e-300;
         if contains_multiple(self.lo - slack, self.hi + slack, FRAC_PI_2, TAU) {
             hi = 1.0;
         }
@@ -96,7 +96,7 @@ impl Interval {
         if !(self.hi - self.lo < PI) {
             return Self::ENTIRE;
         }
-        let slack = 4.0 * f64::EPSILON * self.lo.abs().max(self.hi.abs()) + 1e-300;
+        let slack = 4.0 * f64::EPSILON * self.magnitude() + 1e-300;
         if contains_multiple(self.lo - slack, self.hi + slack, FRAC_PI_2, PI) {
             return Self::ENTIRE;
         }

@@ -78,6 +78,12 @@ impl Interval {
         }
     }
 
+    /// The largest |v| of v in the interval (+∞ for an empty one, whose ends are not
+    /// finite).
+    pub fn magnitude(self) -> f64 {
+        self.lo.abs().max(self.hi.abs())
+    }
+
     pub fn midpoint(self) -> f64 {
         0.5 * self.lo + 0.5 * self.hi
     }

@@ -58,7 +58,7 @@ impl SliceFrame {
             let v = (0..3).fold(Interval::point(self.origin[i]), |acc, j| {
                 acc.add(Interval::point(self.axes[j][i]).mul(b[j]))
             });
-            let slack = 1e-14 * v.lo().abs().max(v.hi().abs()) + f64::MIN_POSITIVE;
+            let slack = 1e-14 * v.magnitude() + f64::MIN_POSITIVE;
             Interval::new(v.lo() - slack, v.hi() + slack)
         })
     }

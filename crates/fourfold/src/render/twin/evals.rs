@@ -122,9 +122,9 @@ impl Evaluators {
 
     /// ∇F at each of `points` into `out`, in f32 as `Pixel::f_grad` has it: [`LANES`] at
     /// a time by ∇F's own tape where it is arithmetic alone (lanes of it vectorize; the same
-    /// values, from the same instructions, without F's), else point by point (a library function runs lane by lane anyway, and the point evaluator does
-    /// not run again what reads only coordinates that did not move, most of it along a
-    /// slice's rays).
+    /// values, from the same instructions, without F's), else point by point (a library
+    /// function runs lane by lane anyway, and the point evaluator does not run again what
+    /// reads only coordinates that did not move, most of it along a slice's rays).
     pub(super) fn gradients(
         &mut self,
         formula: &CompiledFormula,

@@ -31,7 +31,10 @@ pub(super) fn bowl_above_zero(
     cl: f64,
 ) -> bool {
     let q = 0.25 * (b.lo() + b.hi());
-    let w = magnitude(b.mul(Interval::point(0.5)).sub(Interval::point(q)));
+    let w = b
+        .mul(Interval::point(0.5))
+        .sub(Interval::point(q))
+        .magnitude();
     let p = Interval::point(al).sub(Interval::point(w)).lo();
     let r = Interval::point(cl).sub(Interval::point(w)).lo();
     let (p, qi, r) = (Interval::point(p), Interval::point(q), Interval::point(r));
@@ -45,11 +48,6 @@ pub(super) fn bowl_above_zero(
         .add(p.mul(g2.square()));
     // (As the shader: a − num / (2 det) > 0 as 2·a·det > num.)
     2.0 * a.mul(det).lo() > num.hi()
-}
-
-/// The largest |v| of v in `a`.
-pub(super) fn magnitude(a: Interval) -> f64 {
-    a.lo().abs().max(a.hi().abs())
 }
 
 #[cfg(test)]

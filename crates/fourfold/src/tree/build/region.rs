@@ -37,7 +37,7 @@ impl Region {
     /// Whether `bx` may meet the region: the range of (p − origin)·normal over the box, in
     /// f64 rounded to nearest and then widened by far more than its roundings (a few units
     /// of 2^-53 of its terms), so a box that meets it is never left out. (Outward rounding
-    /// at each step cost a tenth of a one-off slice's tree.)
+    /// at each step cost a sixth of a one-off slice's tree.)
     pub fn meets(&self, bx: &Box4) -> bool {
         if bx.iter().any(|x| x.is_empty()) {
             return false;

@@ -149,7 +149,7 @@ pub(super) fn box_slope(
     }
     std::array::from_fn(|k| {
         let g = out[k + 1];
-        let m = g.lo().abs().max(g.hi().abs());
+        let m = g.magnitude();
         if g.is_empty() || !m.is_finite() {
             f32::INFINITY
         } else {

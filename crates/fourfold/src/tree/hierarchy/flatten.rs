@@ -247,7 +247,7 @@ impl FlatGeometry {
         let scale = tree
             .domain
             .iter()
-            .map(|a| a.lo().abs().max(a.hi().abs()))
+            .map(|a| a.magnitude())
             .fold(0.0, f64::max);
         Self {
             lo,

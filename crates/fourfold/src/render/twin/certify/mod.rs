@@ -17,7 +17,7 @@ use crate::render::view::{FLAG_CONTINUOUS, FLAG_SLICE, Uniforms};
 mod plane;
 mod sampled;
 
-use super::forms::{bowl_above_zero, half_second_order, magnitude};
+use super::forms::{bowl_above_zero, half_second_order};
 use super::shading::V4;
 use plane::{dot, inside, within};
 use sampled::SampledSigns;
@@ -119,8 +119,8 @@ impl<'a> Certifier<'a> {
                 continue;
             };
             let mut signs = [0; 2];
+            let sampled = self.sampled.as_ref().zip(change.samples);
             for (end, p) in change.ends.into_iter().enumerate() {
-                let sampled = self.sampled.as_ref().zip(change.samples);
                 signs[end] = sampled.map_or(0, |(s, samples)| s.sign((o, p), samples[end]));
                 if signs[end] != 0 {
                     continue;
@@ -259,7 +259,7 @@ impl<'a> Certifier<'a> {
         };
         let form = b.bounded_form();
         // As the shader: cells are cut down to where the plane may meet the box.
-        let reach = magnitude(s).max(magnitude(t));
+        let reach = s.magnitude().max(t.magnitude());
         let global = u.control.flags & FLAG_CONTINUOUS != 0;
         let mut stack: Vec<Cell> = Vec::with_capacity(CERT_STACK);
         stack.push((s, t));
@@ -328,7 +328,7 @@ impl<'a> Certifier<'a> {
                         .map(|(h, form)| (fc, h, form));
                     slope =
                         [g1.midpoint(), g2.midpoint()].map(|g| if g.is_finite() { g } else { 0.0 });
-                    let most = [magnitude(g1), magnitude(g2)];
+                    let most = [g1.magnitude(), g2.magnitude()];
                     if most.iter().all(|&m| m < f64::from(IV_LARGE)) && most[0] + most[1] > 0.0 {
                         smear = most;
                     }

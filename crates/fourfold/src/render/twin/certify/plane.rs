@@ -4,10 +4,9 @@
 //! `shrink_cell`, `cell_point`), in f64 intervals.
 
 use crate::eval::{Box4, Interval};
-use crate::render::view::{FLAG_SLAB, FLAG_SLICE};
+use crate::render::view::{FLAG_SLAB, FLAG_SLICE, Uniforms};
 
 use super::super::bundle::span_within;
-use super::super::forms::magnitude;
 use super::{Cell, Certifier, SearchBox};
 
 impl Certifier<'_> {
@@ -28,7 +27,7 @@ impl Certifier<'_> {
         let rel: Box4 = std::array::from_fn(|i| bx[i].sub(Interval::point(f64::from(o[i]))));
         let (s, t) = (dot(&rel, u.n1), dot(&rel, u.n2));
         // n1 and n2 are orthonormal only to f32's rounding (as the shader, generously).
-        let m = 1e-5 * (magnitude(s) + magnitude(t)) + 1e-30;
+        let m = 1e-5 * (s.magnitude() + t.magnitude()) + 1e-30;
         let widen = |a: Interval| a.add(Interval::new(-m, m));
         let (s, mut t) = (widen(s), widen(t));
         let (offset, half) = (
@@ -115,8 +114,7 @@ impl Certifier<'_> {
 
     /// The domain, as the frame has it (f32 bounds).
     pub(super) fn domain(&self) -> Box4 {
-        let u = self.u;
-        std::array::from_fn(|i| Interval::new(f64::from(u.domain_lo[i]), f64::from(u.domain_hi[i])))
+        domain_of(self.u)
     }
 
     /// [`Self::plane_box`] of the one point (s, t) = `p`, bit for bit, with no ends to
@@ -186,6 +184,11 @@ fn narrow(
         r = (r.0.max(a.min(b)), r.1.min(a.max(b)));
     }
     r
+}
+
+/// The frame's domain (its f32 bounds) in f64.
+pub(super) fn domain_of(u: &Uniforms) -> Box4 {
+    std::array::from_fn(|i| Interval::new(f64::from(u.domain_lo[i]), f64::from(u.domain_hi[i])))
 }
 
 /// Whether box `x` lies within box `b`.

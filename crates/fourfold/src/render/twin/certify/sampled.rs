@@ -1,15 +1,16 @@
 //! F's sign at a bracket's end from the march's own sample there, with no evaluation: where
 //! the sample's f32 value is farther from 0 than F at the end can lie from it. That is at
 //! most the single-precision evaluators' error over the domain (`eval::rounding`) plus F's
-//! slope times the distance from the sample's f32 point to the end's box (the end is the
-//! plane's exact point, the sample the march's rounded one). Most ends of a polynomial's
-//! brackets are a march step from M, far beyond both; the rest are left to balls.
+//! slope times the distance from the sample's f32 point to the end (the end is the plane's
+//! exact point, the sample the march's rounded one). Most ends of a polynomial's brackets
+//! are a march step from M, far beyond both; the rest are left to balls.
 
-use crate::eval::{Box4, Interval, IntervalEvaluator, single_precision_error};
+use crate::eval::{Interval, IntervalEvaluator, single_precision_error};
 use crate::formula::CompiledFormula;
 use crate::render::view::Uniforms;
 
 use super::super::shading::V4;
+use super::plane::domain_of;
 
 /// What proves signs from samples, for one frame's formula, parameters, domain and plane.
 #[derive(Debug, Clone)]
@@ -34,17 +35,12 @@ impl SampledSigns {
     /// None where the single-precision error has no bound (a library function), or F's
     /// slopes over the domain none.
     pub(super) fn new(formula: &CompiledFormula, params: &[f64], u: &Uniforms) -> Option<Self> {
-        let domain: Box4 = std::array::from_fn(|k| {
-            Interval::new(f64::from(u.domain_lo[k]), f64::from(u.domain_hi[k]))
-        });
+        let domain = domain_of(u);
         let error = single_precision_error(&formula.tape_f, 0, &domain, params)?;
         // (F and ∇F: the tape's first five outputs.)
         let mut all = [Interval::EMPTY; 5];
         IntervalEvaluator::new().eval_into(&formula.tape_all, &domain, params, &mut all);
-        let slopes: [f64; 4] = std::array::from_fn(|k| {
-            let g = all[k + 1];
-            g.lo().abs().max(g.hi().abs())
-        });
+        let slopes: [f64; 4] = std::array::from_fn(|k| all[k + 1].magnitude());
         slopes.iter().all(|g| g.is_finite()).then(|| Self {
             error,
             slopes,
