@@ -13,7 +13,7 @@ use crate::render::view::Uniforms;
 use crate::tree::Hierarchy;
 
 use super::evals::{Deferred, Evaluators};
-use super::march::March;
+use super::march::{March, Stretch};
 use super::pixel::{Marched, hits_kept, stop_at};
 use super::section::Band;
 use super::shading::{add, scale};
@@ -44,7 +44,7 @@ pub(super) fn lanes() -> Vec<Lane> {
 pub(super) struct Work<'w> {
     pub(super) lanes: &'w mut [Lane],
     pub(super) evals: &'w mut Evaluators,
-    pub(super) one_signed: &'w [(f32, f32)],
+    pub(super) one_signed: &'w [Stretch],
     pub(super) walk: (&'w Option<Band>, &'w [Kept]),
     pub(super) tile: (&'w mut Vec<(f32, u32)>, &'w mut Vec<Deferred>),
 }

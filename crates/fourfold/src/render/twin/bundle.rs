@@ -12,6 +12,7 @@ use crate::render::view::Uniforms;
 
 use std::ops::Range;
 
+use super::march::Stretch;
 use super::shading::{V4, origins, slice_reach};
 
 /// The tile's lines: each pixel's slice line from its start (the rays' origin) along n1;
@@ -163,7 +164,7 @@ impl<'a> RootFree<'a> {
         bundle: &Bundle,
         (lo, hi): (V4, V4),
         depth: u32,
-        out: &mut Vec<(f32, f32)>,
+        out: &mut Vec<Stretch>,
     ) {
         out.clear();
         let sides = bundle.widened(lo, hi);
@@ -183,17 +184,25 @@ impl<'a> RootFree<'a> {
         sides: [(f64, f64); 4],
         (first, last): (f64, f64),
         depth: u32,
-        out: &mut Vec<(f32, f32)>,
+        out: &mut Vec<Stretch>,
     ) {
         let Some(x) = bundle.segment((first, last), sides) else {
             return;
         };
         let f = self.eval.eval(&self.formula.tape_f, &x, self.params);
         if !f.contains_zero() && self.eval.continuous_on_last_box(&self.formula.tape_f) {
-            let (a, b) = (first as f32, last as f32);
+            let (from, to) = (first as f32, last as f32);
+            let sign = match f {
+                f if f.lo() > 0.0 => 1.0,
+                f if f.hi() < 0.0 => -1.0,
+                _ => f32::NAN,
+            };
             match out.last_mut() {
-                Some(prev) if prev.1 >= a => prev.1 = b,
-                _ => out.push((a, b)),
+                Some(prev) if prev.to >= from => {
+                    prev.to = to;
+                    prev.sign = if prev.sign == sign { sign } else { f32::NAN };
+                }
+                _ => out.push(Stretch { from, to, sign }),
             }
         } else if depth > 0 {
             let middle = 0.5 * (first + last);
@@ -307,8 +316,8 @@ mod tests {
             let (lo, hi) = (c.map(|v| v - half), c.map(|v| v + half));
             let mut stretches = Vec::new();
             free.one_signed(&bundle, (lo, hi), 6, &mut stretches);
-            prop_assert!(stretches.windows(2).all(|w| w[0].1 < w[1].0));
-            for &(from, to) in &stretches {
+            prop_assert!(stretches.windows(2).all(|w| w[0].to < w[1].from));
+            for &Stretch { from, to, sign } in &stretches {
                 prop_assert!(from < to);
                 for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.3, 0.7)] {
                     let o = slice.start(slice.origin([corner[0] + i * side, corner[1] + j * side]));
@@ -319,6 +328,7 @@ mod tests {
                         .map(|p| f(p) > 0.0)
                         .collect();
                     prop_assert!(signs.windows(2).all(|w| w[0] == w[1]), "{from}..{to}");
+                    prop_assert!(signs.iter().all(|&s| s == (sign > 0.0)), "{from}..{to}: {sign}");
                 }
             }
         }
@@ -348,7 +358,7 @@ mod tests {
         let mut stretches = Vec::new();
         let sides = ([-0.5, -0.5, -1.5, -0.5], [0.5, 0.5, 1.5, 0.5]);
         free.one_signed(&bundle, sides, 8, &mut stretches);
-        let covered = |t: f32| stretches.iter().any(|&(a, b)| a <= t && t <= b);
+        let covered = |t: f32| stretches.iter().any(|s| s.from <= t && t <= s.to);
         assert!(!covered(1.06) && !covered(2.94), "{stretches:?}");
         for t in [0.51, 0.8, 1.0, 1.12, 2.0, 2.88, 3.0, 3.49] {
             assert!(covered(t), "{t}: {stretches:?}");

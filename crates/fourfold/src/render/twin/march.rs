@@ -15,6 +15,16 @@ pub(super) struct Skips {
     pub(super) one_signed: (u32, u32),
 }
 
+/// A stretch of a slice's tile's lines, [from, to] as distances along n1 from their
+/// starts, on which F keeps one sign: `sign` (1 or −1; NaN where F is undefined all over
+/// it, or not known).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Stretch {
+    pub(super) from: f32,
+    pub(super) to: f32,
+    pub(super) sign: f32,
+}
+
 /// The march of o + t d over [t0, t1] in `steps` equal steps, stepping over the samples
 /// that cannot change sign (the same sign changes as taking every sample). Ask
 /// [`Self::next`] where the next sample is, hand F and dF/dt there to [`Self::take`].
@@ -93,20 +103,31 @@ impl March {
     /// Where the next sample is (its t), or None where the march is over: past its span,
     /// or at `stop` (the farthest hit where the hits are full, else +∞). `one_signed`
     /// holds the pixel's stretches that [`Skips::one_signed`] ranges over.
-    pub(super) fn next(&mut self, stop: f32, one_signed: &[(f32, f32)]) -> Option<f32> {
-        if !self.started {
-            return Some(self.t0);
-        }
-        let m = self.fa.abs() * self.reach;
-        let m = m.max(zero_ahead(self.fa, self.ga, self.bend) * self.per_t);
+    pub(super) fn next(&mut self, stop: f32, one_signed: &[Stretch]) -> Option<f32> {
         let end = self.one_signed.1;
-        while self.next < end && one_signed[self.next as usize].1 < self.ta {
+        while self.next < end && one_signed[self.next as usize].to < self.ta {
             self.next += 1;
         }
-        let m = match (self.next < end).then(|| one_signed[self.next as usize]) {
-            Some((from, to)) if from <= self.ta => m.max((to - self.ta) * self.per_t),
-            _ => m,
-        };
+        let stretch = (self.next < end)
+            .then(|| one_signed[self.next as usize])
+            .filter(|s| s.from <= self.ta);
+        let mut m = 0.0;
+        if self.started {
+            m = (self.fa.abs() * self.reach)
+                .max(zero_ahead(self.fa, self.ga, self.bend) * self.per_t);
+        } else {
+            // A march that starts in a one-signed stretch knows F's sign there: its first
+            // sample is the one after the stretch (a skip, as from a sample at t0; F there
+            // is not known, only its sign, held by a tiny F of that sign).
+            let Some(s) = stretch.filter(|s| !s.sign.is_nan()) else {
+                return Some(self.t0);
+            };
+            (self.started, self.fa, self.ga, self.fresh) =
+                (true, s.sign * f32::MIN_POSITIVE, 0.0, false);
+        }
+        if let Some(s) = stretch {
+            m = m.max((s.to - self.ta) * self.per_t);
+        }
         if m >= 1.0 {
             self.s += m.min(self.steps as f32) as u32;
             self.ta = self.t0 + (self.s - 1) as f32 * self.dt;
@@ -161,4 +182,50 @@ fn zero_ahead(f: f32, g: f32, (lo, hi): (f32, f32)) -> f32 {
 /// compares them (a product of tiny values underflows to 0).
 pub(super) fn same_side(fa: f32, fb: f32) -> bool {
     !(((fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)) && !(fa == 0.0 && fb == 0.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The samples a march asks for over [0, 1] in 100 steps of F(t) = t − 0.555 (no slope
+    /// or curvature bound), and the sign changes it finds.
+    fn marched(one_signed: &[Stretch]) -> (Vec<f32>, Vec<(f32, f32)>) {
+        let skips = Skips {
+            steps: 100,
+            slope: f32::INFINITY,
+            bend: (f32::NEG_INFINITY, f32::INFINITY),
+            one_signed: (0, one_signed.len() as u32),
+        };
+        let mut march = March::new([0.0; 4], [1.0, 0.0, 0.0, 0.0], (0.0, 1.0), skips, 0);
+        let (mut asked, mut crossings) = (Vec::new(), Vec::new());
+        while let Some(t) = march.next(f32::INFINITY, one_signed) {
+            asked.push(t);
+            if let Some(c) = march.take(t, [t - 0.555, 1.0]) {
+                crossings.push((c.ta, c.tb));
+            }
+        }
+        (asked, crossings)
+    }
+
+    /// A march that starts in a one-signed stretch of known sign takes no sample before
+    /// its end and finds the same sign change; one of unknown sign starts at its start.
+    #[test]
+    fn a_march_starting_in_a_one_signed_stretch_skips_it() {
+        let (every, crossing) = marched(&[]);
+        assert_eq!(every.len(), 101);
+        assert_eq!(crossing.len(), 1);
+        let stretch = |sign| Stretch {
+            from: 0.0,
+            to: 0.305,
+            sign,
+        };
+        let (asked, found) = marched(&[stretch(-1.0)]);
+        assert!(asked[0] > 0.3 && asked[0] < 0.32, "{asked:?}");
+        assert_eq!(found, crossing);
+        let (asked, found) = marched(&[stretch(f32::NAN)]);
+        assert_eq!(asked[0], 0.0);
+        assert!(asked[1] > 0.3, "{asked:?}");
+        assert_eq!(found, crossing);
+    }
 }

@@ -11,7 +11,7 @@ use crate::tree::Curvature;
 
 use super::certify::SignChange;
 use super::evals::{Deferred, Evaluators};
-use super::march::{Crossing, March, Skips, same_side};
+use super::march::{Crossing, March, Skips, Stretch, same_side};
 use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
 
@@ -51,7 +51,7 @@ pub(super) struct Pixel<'a, 'e> {
     pub(super) closest: ([f32; 2], f32),
     /// A slice's stretches of the line, in its tile's boxes, on which F keeps one sign
     /// (each [`Marched`] box says which are its; empty where there are none).
-    pub(super) one_signed: &'a [(f32, f32)],
+    pub(super) one_signed: &'a [Stretch],
     /// The closest samples of the spans the rays marched, the nearest [`SEEK_STARTS`] by
     /// |F| over |∇F|, nearest first (+∞: none): where the search between the rays starts
     /// (the shader's `starts`).
@@ -79,7 +79,7 @@ impl<'a, 'e> Pixel<'a, 'e> {
     pub(super) fn new(
         (u, formula, params): (&'a Uniforms, &'a CompiledFormula, &'a [f64]),
         (eval, hits): (&'e mut Evaluators, &'e mut Vec<(f32, u32)>),
-        one_signed: &'a [(f32, f32)],
+        one_signed: &'a [Stretch],
         plane: V4,
         (seed, offset): (u32, f32),
     ) -> Self {

@@ -14,6 +14,7 @@ use super::abreast::{self, Lane, Work};
 use super::bundle::{Bundle, RootFree};
 use super::certify::{Certifier, SearchBox};
 use super::evals::{AxisSlope, Deferred, Evaluators};
+use super::march::Stretch;
 use super::pixel::{AIMED, Marched, hits_kept, insert_hit};
 use super::section::Band;
 use super::shading::{V4, add, scale, shade, slice_reach, undecided_color, unorm8};
@@ -127,8 +128,8 @@ pub(super) struct Scratch<'a> {
     pub(super) root_free: RootFree<'a>,
     /// A slice's tile's stretches of its lines on which F keeps one sign, box after box
     /// (each kept box's range of them in `kept[0]`), and one box's.
-    pub(super) one_signed: Vec<(f32, f32)>,
-    pub(super) stretches: Vec<(f32, f32)>,
+    pub(super) one_signed: Vec<Stretch>,
+    pub(super) stretches: Vec<Stretch>,
     evals: Evaluators,
     /// A slice's pixels' lanes, and whether its pixels are marched side by side in them
     /// (see `abreast`; always but in a test).

@@ -7,6 +7,7 @@ use crate::render::view::Uniforms;
 
 use super::certify::SignChange;
 use super::evals::{Deferred, Evaluators};
+use super::march::Stretch;
 use super::pixel::Pixel;
 use super::shading::{V4, origins, pcg, stratified_offset};
 
@@ -46,7 +47,7 @@ impl Start {
         &self,
         (u, formula, params): (&'a Uniforms, &'a CompiledFormula, &'a [f64]),
         (eval, hits): (&'e mut Evaluators, &'e mut Vec<(f32, u32)>),
-        one_signed: &'a [(f32, f32)],
+        one_signed: &'a [Stretch],
     ) -> Pixel<'a, 'e> {
         let rays = (self.seed, self.offset);
         Pixel::new(
