@@ -3,6 +3,7 @@
 //! mark, a channel's byte), the hashes that place rays, and vector arithmetic in f32 as the
 //! GPU does it.
 
+use crate::ops::powi;
 use crate::render::view::{
     FLAG_BORDER, FLAG_HATCH, FLAG_HIDDEN, FLAG_LIGHTING, FLAG_MARK, FLAG_SILHOUETTE, FLAG_SLICE,
     Uniforms,
@@ -70,7 +71,7 @@ pub(super) fn shade(u: &Uniforms, p: V4, d: V4, g: V4) -> [f32; 3] {
 /// fraction of the time), else by f32's power.
 fn highlight(facing: f32, shininess: f32) -> f32 {
     if shininess.fract() == 0.0 && (1.0..=64.0).contains(&shininess) {
-        f64::from(facing).powi(shininess as i32) as f32
+        powi(f64::from(facing), shininess as i32) as f32
     } else {
         facing.powf(shininess)
     }
