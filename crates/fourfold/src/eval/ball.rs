@@ -105,8 +105,13 @@ fn run(ops: &[Op], slots: &mut [Balls], boxes: &[Box4], params: &[f64]) {
             Op::Sub(a, b) => add(out, at(a), at(b), -1.0),
             Op::Mul(a, b) => mul(out, at(a), at(b)),
             Op::Neg(a) => {
+                // (A loop, not `array::map`: a call the AVX2 build could not inline.)
                 let [m, r] = at(a);
-                *out = [m.map(|v| -v), *r];
+                let mut negated = [0.0; LANES];
+                for l in 0..LANES {
+                    negated[l] = -m[l];
+                }
+                *out = [negated, *r];
             }
             Op::Square(a) => mul(out, at(a), at(a)),
             Op::Powi(a, k) if k > 0 => *out = power(at(a), k.unsigned_abs()),

@@ -130,10 +130,13 @@ fn run(
 }
 
 /// x^k in every lane for k ≥ 1, narrowed: the products `ops::powi` takes, in its order,
-/// in f64.
+/// in f64. (Loops, not `array::map`: a call the AVX2 build could not inline.)
 #[inline(always)]
 fn powers(a: &[f32; LANES], k: u32) -> [f32; LANES] {
-    let mut base: [f64; LANES] = a.map(f64::from);
+    let mut base = [0.0f64; LANES];
+    for l in 0..LANES {
+        base[l] = f64::from(a[l]);
+    }
     let mut product = [1.0f64; LANES];
     let mut rest = k;
     loop {
@@ -150,7 +153,11 @@ fn powers(a: &[f32; LANES], k: u32) -> [f32; LANES] {
             base[l] *= base[l];
         }
     }
-    product.map(narrow)
+    let mut out = [0.0f32; LANES];
+    for l in 0..LANES {
+        out[l] = narrow(product[l]);
+    }
+    out
 }
 
 #[inline(always)]
