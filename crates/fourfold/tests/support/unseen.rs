@@ -2,15 +2,19 @@
 //! tube around a helix, sqrt and ln of arguments that turn negative inside the domain,
 //! kinks of abs and max, saddles, trigonometric lattices, parameters), for the certified
 //! tests, the tree's and the certified bench (each includes this file with `#[path]`).
+//! FOURFOLD_UNSEEN_DIR names another folder of scene files to take instead: scenes of your
+//! own, to check the certified pixels' soundness and decisiveness on.
 
 use fourfold::scene::Scene;
 
 /// The scenes by name, in name order.
 pub fn unseen_scenes() -> Vec<(String, Scene)> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen");
-    let mut paths: Vec<_> = std::fs::read_dir(dir)
-        .expect("tests/data/unseen")
+    let dir = std::env::var("FOURFOLD_UNSEEN_DIR")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen").into());
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("the unseen scenes' folder {dir}: {e}"))
         .map(|e| e.expect("a file").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     paths.sort();
     paths
@@ -21,7 +25,8 @@ pub fn unseen_scenes() -> Vec<(String, Scene)> {
                 .expect("a name")
                 .to_string_lossy()
                 .into_owned();
-            (name, Scene::load(p).expect("the unseen scenes parse"))
+            let scene = Scene::load(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            (name, scene)
         })
         .collect()
 }
