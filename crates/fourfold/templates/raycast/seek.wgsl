@@ -206,6 +206,8 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
     var i = 0u;
     // (Tested at the end: see "The pixel's work".)
     loop {
+        // (Whether this step goes along a floor found before.)
+        let on_floor = any(crease != vec2<f32>(0.0));
         // F's gradient in the plane, along the valley's floor if on one, and along the side
         // if the step would leave through it.
         let g = vec2<f32>(dot(fa.g, u.n1), dot(fa.g, u.n2));
@@ -238,6 +240,7 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
             // again at b) zigzags: so the point where the tangents to F at a and b meet (a
             // kink's place, or near a smooth floor) is tried too, and kept if it is nearer 0.
             let taken = b - a;
+            let fb_step = fgb.f;
             let gb = vec2<f32>(dot(fgb.g, u.n1), dot(fgb.g, u.n2));
             let sa = dot(g, taken);
             let sb = dot(gb, taken);
@@ -264,13 +267,15 @@ fn seek_from(tr: ptr<function, Tracer>, start: vec2<f32>, lo: vec4<f32>, hi: vec
                 a = b;
                 fa = fgb;
                 gain = SEEK_REACH;
-            } else if (any(crease != vec2<f32>(0.0))) {
+            } else if (on_floor) {
                 // Along the floor took |F| up: the gradient's own step again.
                 crease = vec2<f32>(0.0);
             } else {
-                // Nothing nearer 0: a shorter step, to where the parabola through F(a), its
-                // slope and F(b) is nearest 0.
-                let bend = fgb.f - fa.f - sa;
+                // Nothing nearer 0, even where the tangents meet: a shorter step, to where
+                // the parabola through F(a), its slope and F(b) is nearest 0, and not along
+                // that floor (the same step again would find the same).
+                crease = vec2<f32>(0.0);
+                let bend = fb_step - fa.f - sa;
                 gain = gain * select(0.5, clamp(-sa / (2.0 * bend), 0.05, 0.95), bend * fa.f > 0.0) * length(taken) / len;
             }
         }

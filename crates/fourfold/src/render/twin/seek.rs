@@ -202,6 +202,8 @@ impl Pixel<'_, '_> {
         let mut evals = 0;
         while evals < SEEK_EVALS {
             evals += 1;
+            // (Whether this step goes along a floor found before.)
+            let on_floor = crease != [0.0; 2];
             // ∇F in the plane, along the valley's floor if on one, and along the side if the
             // step would leave through it.
             let g = [dot(ga, self.u.n1), dot(ga, self.u.n2)];
@@ -239,7 +241,7 @@ impl Pixel<'_, '_> {
                 break;
             }
             // Across a valley's floor: the point where the tangents at a and b meet, too.
-            let taken = [b[0] - a[0], b[1] - a[1]];
+            let (taken, fb_step) = ([b[0] - a[0], b[1] - a[1]], fb);
             let gb2 = [dot(gb, self.u.n1), dot(gb, self.u.n2)];
             let sa = dot2(g, taken);
             let sb = dot2(gb2, taken);
@@ -271,12 +273,15 @@ impl Pixel<'_, '_> {
                 }
                 (a, fa, ga) = (b, fb, gb);
                 gain = SEEK_REACH;
-            } else if crease != [0.0; 2] {
+            } else if on_floor {
                 // Along the floor took |F| up: the gradient's own step again.
                 crease = [0.0; 2];
             } else {
-                // Nothing nearer 0: a shorter step (the parabola's point nearest 0).
-                let bend = fb - fa - sa;
+                // Nothing nearer 0, even where the tangents meet: a shorter step (the
+                // parabola's point nearest 0, through F at a, its slope and F at b), not
+                // along that floor (the same step again would find the same).
+                crease = [0.0; 2];
+                let bend = fb_step - fa - sa;
                 let best = if bend * fa > 0.0 {
                     (-sa / (2.0 * bend)).clamp(0.05, 0.95)
                 } else {
