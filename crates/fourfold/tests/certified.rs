@@ -17,7 +17,7 @@ use fourfold::render::{Gpu, Prepared, Uniforms};
 use fourfold::scene::{DEFAULT_CERT_BUDGET, Scene};
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
-use unseen::unseen_scenes;
+use unseen::{hard_scenes, unseen_scenes};
 
 fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
@@ -201,7 +201,7 @@ fn no_pixel_where_m_is_is_empty_and_every_hit_is_real() {
 fn unseen_scenes_are_sound_and_decided() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, (96, 1), 50, Tree::ForPicture);
+        assert_sound_and_decided(&gpu, &name, &scene, (96, 1), 50, Tree::ForPicture, DECIDED);
     }
 }
 
@@ -211,9 +211,26 @@ fn unseen_scenes_are_sound_and_decided() {
 fn unseen_scenes_are_sound_and_decided_at_512() {
     let gpu = gpu();
     for (name, scene) in unseen_scenes() {
-        assert_sound_and_decided(&gpu, &name, &scene, (512, 8), 50, Tree::ForPicture);
+        assert_sound_and_decided(&gpu, &name, &scene, (512, 8), 50, Tree::ForPicture, DECIDED);
     }
 }
+
+/// The hard unseen scenes (tests/data/unseen-hard: a jump of sign(x), the cusps of
+/// Σ sqrt|xᵢ|, a tube of radius 0.02 about a surface), on which issue 34's 0.5% is not met
+/// on the GPU (docs/benchmarks.md, "Twelve more unseen scenes"): sound all the same, at 96²
+/// and 512², on the GPU and the CPU twin (their undecided shares printed, not bounded).
+#[test]
+fn hard_scenes_are_sound() {
+    let gpu = gpu();
+    for (name, scene) in hard_scenes() {
+        for size in [(96, 1), (512, 8)] {
+            assert_sound_and_decided(&gpu, &name, &scene, size, 50, Tree::ForPicture, 1.0);
+        }
+    }
+}
+
+/// Issue 34's bound on the undecided share of the covered pixels.
+const DECIDED: f64 = 0.005;
 
 /// The unseen scenes' slices, which `render --slice` draws on the CPU twin when small, at
 /// 96² and at two places, from the tree `render` builds within the slice's hyperplane and
@@ -232,19 +249,19 @@ fn unseen_slices_are_sound_and_decided() {
             sliced.view.slice = Some(c);
             let name = format!("{name}, slice {c}, {tree:?}");
             // (A slice of a thin tube covers a few pixels only.)
-            assert_sound_and_decided(&gpu, &name, &sliced, (96, 1), 10, tree);
+            assert_sound_and_decided(&gpu, &name, &sliced, (96, 1), 10, tree, DECIDED);
         }
         let mut slab = scene.clone();
         slab.view.slab = Some([0.1, 0.2]);
         let name = format!("{name}, slab 0.1 ± 0.2");
-        assert_sound_and_decided(&gpu, &name, &slab, (96, 1), 10, Tree::ForPicture);
+        assert_sound_and_decided(&gpu, &name, &slab, (96, 1), 10, Tree::ForPicture, DECIDED);
     }
 }
 
 /// Certifies `scene` at `side`² on the GPU and the twin: no EMPTY pixel whose plane a dense
 /// look finds F taking both signs on (every pixel within two of a covered one, finely; of
-/// the others one in `stride`² per axis), at most 0.5% of the covered pixels undecided, and
-/// more than `least_hits` hits (the scene shows something).
+/// the others one in `stride`² per axis), at most `most_undecided` of the covered pixels
+/// undecided, and more than `least_hits` hits (the scene shows something).
 fn assert_sound_and_decided(
     gpu: &Gpu,
     name: &str,
@@ -252,6 +269,7 @@ fn assert_sound_and_decided(
     (side, stride): (u32, u32),
     least_hits: usize,
     tree: Tree,
+    most_undecided: f64,
 ) {
     let (u, verdicts) = certified_pictures(gpu, scene, side, DEFAULT_CERT_BUDGET, tree);
     let formula = CompiledFormula::compile(&scene.formula).unwrap();
@@ -294,9 +312,10 @@ fn assert_sound_and_decided(
         );
         assert!(hit > least_hits, "{name}, {device}: only {hit} hit pixels");
         assert!(
-            share <= 0.005,
-            "{name}, {device}, {side}²: {:.2}% of the covered pixels undecided (at most 0.5%)",
-            100.0 * share
+            share <= most_undecided,
+            "{name}, {device}, {side}²: {:.2}% of the covered pixels undecided (at most {}%)",
+            100.0 * share,
+            100.0 * most_undecided
         );
     }
 }

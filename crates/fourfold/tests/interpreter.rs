@@ -31,7 +31,7 @@ fn gpu() -> Gpu {
     Gpu::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
 }
 
-/// Every scene drawn: the examples, the unseen scenes and the invented formulas in the
+/// Every scene drawn: the examples, the unseen scenes (hard ones too) and the invented formulas in the
 /// unit glome's domain, plain, with few levels and rays (a test of the shader, not the tree).
 fn scenes() -> Vec<(String, Scene)> {
     let glome = example_scenes()
@@ -50,6 +50,7 @@ fn scenes() -> Vec<(String, Scene)> {
         .into_iter()
         .map(|(name, scene)| (name.to_string(), scene))
         .chain(unseen::unseen_scenes())
+        .chain(unseen::hard_scenes())
         .chain(invented)
         .map(|(name, mut scene)| {
             scene.tree.max_level = scene.tree.max_level.min(5);

@@ -142,7 +142,7 @@ fn the_mean_value_form_discards_what_the_natural_extension_cannot_and_keeps_m() 
 }
 
 /// The leaves where F only touches 0 (one-signed over the box and a sliver around it):
-/// none where F changes sign across all of M, the unseen scenes among them, and none where
+/// none where F changes sign across all of M, the unseen scenes (hard ones too) among them, and none where
 /// M lies on the boxes' faces (x = 0 on a grid through 0, whose boxes are [0, h] and
 /// [−h, 0]); about half of x·y²'s (it crosses 0 along x = 0, touches it along y = 0), all of
 /// a square's.
@@ -154,6 +154,7 @@ fn leaves_where_f_only_touches_zero_are_counted() {
         node_budget: 2_000_000,
     };
     let mut scenes = unseen::unseen_scenes();
+    scenes.extend(unseen::hard_scenes());
     for formula in ["x", "x*y", "x^3", "x*|x|", "x + y", "x*y - z*w", "sin(x)"] {
         scenes.push((formula.to_string(), Scene::from_formula(formula)));
     }

@@ -3,16 +3,30 @@
 //! kinks of abs and max, saddles, trigonometric lattices, parameters), for the certified
 //! tests, the tree's and the certified bench (each includes this file with `#[path]`).
 //! FOURFOLD_UNSEEN_DIR names another folder of scene files to take instead: scenes of your
-//! own, to check the certified pixels' soundness and decisiveness on.
+//! own, to check the certified pixels' soundness and decisiveness on. The hard ones
+//! (tests/data/unseen-hard) are those on which a bound of issue 34 is not met
+//! (docs/benchmarks.md, "Twelve more unseen scenes"): a jump, cusps, a very thin tube.
 
 use fourfold::scene::Scene;
 
-/// The scenes by name, in name order.
+/// The unseen scenes by name, in name order.
 pub fn unseen_scenes() -> Vec<(String, Scene)> {
     let dir = std::env::var("FOURFOLD_UNSEEN_DIR")
         .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/unseen").into());
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("the unseen scenes' folder {dir}: {e}"))
+    scenes_in(&dir)
+}
+
+/// The hard unseen scenes by name, in name order.
+pub fn hard_scenes() -> Vec<(String, Scene)> {
+    scenes_in(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/unseen-hard"
+    ))
+}
+
+fn scenes_in(dir: &str) -> Vec<(String, Scene)> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("the scenes' folder {dir}: {e}"))
         .map(|e| e.expect("a file").path())
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
