@@ -219,6 +219,8 @@ fn unseen_scenes_are_sound_and_decided_at_512() {
 /// Σ sqrt|xᵢ|, a tube of radius 0.02 about a surface), on which issue 34's 0.5% is not met
 /// on the GPU (docs/benchmarks.md, "Twelve more unseen scenes"): sound all the same, at 96²
 /// and 512², on the GPU and the CPU twin (their undecided shares printed, not bounded).
+/// (Across the jump F takes both signs without a zero, which the dense look counts as M:
+/// stricter than soundness there.)
 #[test]
 fn hard_scenes_are_sound() {
     let gpu = gpu();
