@@ -4,7 +4,8 @@
 //! lanes whose coordinates it reads moved), where a pixel alone takes them one by one
 //! through the point evaluator. A pixel's march asks for each sample only after the one before
 //! (where it goes next depends on F there), so the pixels' side by side are what can be
-//! evaluated together. The samples, the sign changes and the hits are the same as one
+//! evaluated together; so is F at the near end of a sign change whose sample a skip left
+//! out, in the next round. The samples, the sign changes and the hits are the same as one
 //! pixel at a time: the lanes' values are the point evaluator's, bit for bit.
 
 use crate::eval::LANES;
@@ -13,7 +14,7 @@ use crate::render::view::Uniforms;
 use crate::tree::Hierarchy;
 
 use super::evals::{Deferred, Evaluators};
-use super::march::{March, Stretch};
+use super::march::{Crossing, March, Stretch};
 use super::pixel::{Marched, hits_kept, stop_at};
 use super::section::Band;
 use super::shading::{add, scale};
@@ -21,13 +22,16 @@ use super::traced::{PlaneBracket, Start, Traced};
 use super::walk::{Kept, boxes_of};
 
 /// A lane: the pixel it marches (None: idle), that pixel's boxes and the next of them to
-/// march, the march under way, and the pixel's hits, roots left for later and bracket.
+/// march, the march under way and a sign change of it waiting for F at its near end (which
+/// a skip left unsampled: the lane's next point), and the pixel's hits, roots left for
+/// later and bracket.
 #[derive(Default)]
 pub(super) struct Lane {
     start: Option<Start>,
     boxes: Vec<Marched>,
     next_box: usize,
     march: Option<March>,
+    waiting: Option<Crossing>,
     hits: Vec<(f32, u32)>,
     deferred: Vec<Deferred>,
     bracket: PlaneBracket,
@@ -87,9 +91,20 @@ pub(super) fn trace_pixels(
         for (&(l, t), &[f, slope]) in asked[..n].iter().zip(&values) {
             let lane = &mut work.lanes[l];
             let march = lane.march.as_mut().expect("a lane that asked marches");
-            let sample = [f, if march.bent { slope } else { 0.0 }];
-            let Some(crossing) = march.take(t, sample) else {
-                continue;
+            let (crossing, f_ta) = match lane.waiting.take() {
+                // (F at the near end of the sign change that waited for it.)
+                Some(crossing) => (crossing, f),
+                None => {
+                    let sample = [f, if march.bent { slope } else { 0.0 }];
+                    let Some(crossing) = march.take(t, sample) else {
+                        continue;
+                    };
+                    if !crossing.fresh {
+                        lane.waiting = Some(crossing);
+                        continue;
+                    }
+                    (crossing, crossing.fa)
+                }
             };
             let march = *march;
             let start = lane.start.expect("a lane that marches has a pixel");
@@ -97,14 +112,14 @@ pub(super) fn trace_pixels(
             let mut pixel = start.pixel(context, (work.evals, &mut lane.hits), work.one_signed);
             let deferred = defers.then_some(&mut lane.deferred);
             (pixel.bracket, pixel.deferred) = (lane.bracket, deferred);
-            pixel.cross(&march, crossing);
+            pixel.cross(&march, crossing, f_ta);
             lane.bracket = pixel.bracket;
         }
     }
 }
 
-/// Where lane `l`'s next sample is (t along its march), after moving it on as far as it
-/// takes: to its pixel's next box where its march is over, to the next of `pixels` (its
+/// Where lane `l`'s next sample is (t along its march): the near end of a sign change
+/// waiting for F there, else after moving the march on as far as it takes: to its pixel's next box where its march is over, to the next of `pixels` (its
 /// last one traced into `traced`) where its boxes are; None where no pixel is left.
 fn next_sample(
     l: usize,
@@ -116,6 +131,9 @@ fn next_sample(
     let u = context.0;
     let k_max = hits_kept(u);
     let lane = &mut work.lanes[l];
+    if let Some(crossing) = &lane.waiting {
+        return Some(crossing.ta);
+    }
     loop {
         if let Some(march) = lane.march.as_mut() {
             let stop = stop_at(&lane.hits, k_max);

@@ -284,7 +284,8 @@ impl Pixel<'_, '_> {
         while let Some(t) = march.next(self.stop(), self.one_signed) {
             let sample = self.sample(add(o, scale(d, t)), t, d, along, bent);
             if let Some(crossing) = march.take(t, sample) {
-                self.cross(&march, crossing);
+                let f_ta = self.f_at_start(&march, &crossing);
+                self.cross(&march, crossing, f_ta);
             }
         }
         if self.keeps_closest() {
@@ -297,13 +298,22 @@ impl Pixel<'_, '_> {
         stop_at(self.hits, self.k_max)
     }
 
-    /// A sign change `march` found: the pixel's bracket, if it has none and is certified,
-    /// and the root, found now or left for later (see [`Self::deferred`]), as a hit.
-    pub(super) fn cross(&mut self, march: &March, c: Crossing) {
+    /// F at the near end of the sign change `c` that `march` found: the root's steps need
+    /// its value, of which a skip kept the sign only.
+    fn f_at_start(&mut self, march: &March, c: &Crossing) -> f32 {
+        if c.fresh {
+            c.fa
+        } else {
+            self.f(add(march.o, scale(march.d, c.ta)))
+        }
+    }
+
+    /// A sign change `march` found, F at its near end being `f_ta` (see
+    /// [`Self::f_at_start`]): the pixel's bracket, if it has none and is certified, and the
+    /// root, found now or left for later (see [`Self::deferred`]), as a hit.
+    pub(super) fn cross(&mut self, march: &March, c: Crossing, f_ta: f32) {
         let (o, d, ray) = (march.o, march.d, march.ray);
         let (pa, pb) = (add(o, scale(d, c.ta)), add(o, scale(d, c.tb)));
-        // The root's steps need F's value at ta, of which a skip kept the sign only.
-        let f_ta = if c.fresh { c.fa } else { self.f(pa) };
         if self.u.control.flags & FLAG_CERTIFIED != 0 && self.bracket.is_none() {
             let at = |p: V4| {
                 let p = sub(p, self.plane);
