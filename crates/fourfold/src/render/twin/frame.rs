@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use crate::formula::CompiledFormula;
 use crate::render::verdict::Verdict;
-use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms};
+use crate::render::view::{FLAG_CERTIFIED, FLAG_SLICE, Uniforms, slope_along};
 use crate::tree::Hierarchy;
 
 use super::bundle::Bundle;
@@ -16,7 +16,7 @@ use super::evals::AxisSlope;
 use super::section::Band;
 use super::shading::{add, origins, slice_reach, sub, unorm8};
 use super::tile::{Scratch, TILE, draw_tile};
-use super::walk::{Tile, steps_of, tile_nodes};
+use super::walk::{Along, Tile, steps_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
 /// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).
@@ -130,13 +130,19 @@ fn tile_around(u: &Uniforms, (columns, rows): (Range<u32>, Range<u32>), rays: bo
 
 /// The stretches of a slice's tile's lines on which F keeps one sign, in each box of the
 /// rays' hierarchy that the tile's walk kept: halved until a stretch is about 4 of the box's
-/// steps long, as the march could not skip a shorter one by much.
+/// steps long, as the march could not skip a shorter one by much; and each box's bounds
+/// along the lines.
 fn one_signed_stretches(h: &Hierarchy, u: &Uniforms, bundle: &Bundle, scratch: &mut Scratch) {
+    let n1 = u.n1.map(f64::from);
     for kept in scratch.kept[0].iter_mut() {
         let node = &h.nodes[kept.node()];
         if !node.is_marched() {
             continue;
         }
+        kept.along = Some(Along {
+            slope: slope_along(h.slope(kept.node()), n1),
+            bend: h.curvature(kept.node()).along(n1),
+        });
         let half = u.levels[node.level() as usize].half;
         let depth = (steps_of(h, u, kept.node()) / 4).max(1).ilog2();
         let sides = (sub(node.center, half), add(node.center, half));

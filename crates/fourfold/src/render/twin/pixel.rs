@@ -14,6 +14,7 @@ use super::evals::{Deferred, Evaluators};
 use super::march::{Crossing, March, Skips, Stretch, same_side};
 use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
+use super::walk::Along;
 
 /// The ray index of a hit along the ray aimed through a certified root (the shader's
 /// `AIMED`).
@@ -68,8 +69,10 @@ pub(super) struct Marched {
     pub(super) curvature: Curvature,
     /// Its node in the hierarchy walked (None: brute force's domain).
     pub(super) node: Option<usize>,
-    /// The range of the pixel's [`Pixel::one_signed`] stretches that lie in this box.
+    /// The range of the pixel's [`Pixel::one_signed`] stretches that lie in this box, and
+    /// for a slice its bounds along the rays, worked out for its tile.
     pub(super) one_signed: (u32, u32),
+    pub(super) along: Option<Along>,
 }
 
 impl<'a, 'e> Pixel<'a, 'e> {
@@ -368,6 +371,7 @@ impl Pixel<'_, '_> {
             slope,
             curvature,
             one_signed,
+            along,
             ..
         } = *b;
         let d = self.direction(k);
@@ -382,10 +386,17 @@ impl Pixel<'_, '_> {
         if self.u.control.flags & FLAG_SLAB != 0 {
             (t0, t1) = clip_to_slab(self.u, (t0, t1), self.plane_dir(k)[1]);
         }
+        let (slope, bend) = match along {
+            Some(a) if self.slice() => (a.slope, a.bend),
+            _ => (
+                slope_along(slope, d.map(f64::from)),
+                curvature.along(d.map(f64::from)),
+            ),
+        };
         let skips = Skips {
             steps,
-            slope: slope_along(slope, d.map(f64::from)),
-            bend: curvature.along(d.map(f64::from)),
+            slope,
+            bend,
             one_signed,
         };
         (t0 < t1 && t0 < self.stop()).then(|| March::new(o, d, (t0, t1), skips, k))

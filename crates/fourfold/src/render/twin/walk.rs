@@ -13,12 +13,22 @@ use super::section::Band;
 use super::shading::{V4, add, dot, sub};
 
 /// A node the tile's walk kept, the index in the list past its subtree, and for a marched
-/// box of a slice the range of the tile's one-signed stretches in it (see `frame`).
+/// box of a slice the range of the tile's one-signed stretches in it and its bounds along
+/// the slice's rays (see `frame`).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Kept {
     node: u32,
     skip: u32,
     pub(super) one_signed: (u32, u32),
+    pub(super) along: Option<Along>,
+}
+
+/// A box's bounds on |dF/dt| and on d²F/dt² along a slice's rays, o + t n1 (the same for
+/// all of them: worked out once per tile, not once per pixel).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Along {
+    pub(super) slope: f32,
+    pub(super) bend: (f32, f32),
 }
 
 impl Kept {
@@ -65,6 +75,7 @@ pub(super) fn tile_nodes(
             node: i as u32,
             skip: 0,
             one_signed: (0, 0),
+            along: None,
         });
         open.push(kept, node.skip as usize);
         // (A marched box is walked whole: its subtree is not.)
@@ -184,6 +195,7 @@ pub(super) fn boxes_of(
             curvature: Curvature::NONE,
             node: None,
             one_signed: (0, 0),
+            along: None,
         });
         return;
     }
@@ -193,6 +205,7 @@ pub(super) fn boxes_of(
             node: i,
             skip,
             one_signed,
+            along,
         } = kept[e];
         let i = i as usize;
         let node = &h.nodes[i];
@@ -212,6 +225,7 @@ pub(super) fn boxes_of(
                 curvature: h.curvature(i),
                 node: Some(i),
                 one_signed,
+                along,
             });
             e = skip as usize;
             continue;
