@@ -7,7 +7,7 @@
 //!    and, in brackets, the GPU's pass alone, best of FOURFOLD_BENCH_RUNS (default 3) after a
 //!    warm-up frame (which compiles the pipeline);
 //! 2. for every example scene with its own settings, and the scenes of
-//!    tests/data/unseen, the verdicts of a certified frame at SIZE² and the default budget:
+//!    tests/data/unseen and unseen-hard, the verdicts of a certified frame at SIZE² and the default budget:
 //!    the share of undecided pixels among those that may show M (hit or undecided); and the
 //!    plain frame's time (after a warm-up frame) and recall: the share of the proved hits
 //!    that a single plain frame (the scene's rays, 16 by default) draws as background.
@@ -142,7 +142,10 @@ fn main() {
         .iter()
         .map(|(name, _)| (name.to_string(), example(name)));
     let pass = |g: Option<f64>| g.map_or(String::new(), |g| format!(" [{g:.0}]"));
-    for (name, mut scene) in examples.chain(unseen::unseen_scenes()) {
+    let unseen = unseen::unseen_scenes()
+        .into_iter()
+        .chain(unseen::hard_scenes());
+    for (name, mut scene) in examples.chain(unseen) {
         scene.render.certified = true;
         let cert = time_frames(&gpu, &scene, size, 1);
         scene.render.certified = false;
