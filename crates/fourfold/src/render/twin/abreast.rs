@@ -119,8 +119,9 @@ pub(super) fn trace_pixels(
 }
 
 /// Where lane `l`'s next sample is (t along its march): the near end of a sign change
-/// waiting for F there, else after moving the march on as far as it takes: to its pixel's next box where its march is over, to the next of `pixels` (its
-/// last one traced into `traced`) where its boxes are; None where no pixel is left.
+/// waiting for F there, else after moving the march on as far as it takes: to its
+/// pixel's next box where its march is over, to the next of `pixels` (its last one traced
+/// into `traced`) where its boxes are; None where no pixel is left.
 fn next_sample(
     l: usize,
     (h, context): (&Hierarchy, (&Uniforms, &CompiledFormula, &[f64])),

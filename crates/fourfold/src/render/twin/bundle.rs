@@ -192,15 +192,13 @@ impl<'a> RootFree<'a> {
         let f = self.eval.eval(&self.formula.tape_f, &x, self.params);
         if !f.contains_zero() && self.eval.continuous_on_last_box(&self.formula.tape_f) {
             let (from, to) = (first as f32, last as f32);
-            let sign = match f {
-                f if f.lo() > 0.0 => 1.0,
-                f if f.hi() < 0.0 => -1.0,
-                _ => f32::NAN,
-            };
+            // (F is continuous on the box: its enclosure is finite, and clear of 0.)
+            let sign = if f.lo() > 0.0 { 1.0 } else { -1.0 };
             match out.last_mut() {
+                // (Only pieces that meet are joined: both enclose F where they meet.)
                 Some(prev) if prev.to >= from => {
+                    debug_assert_eq!(prev.sign, sign, "pieces that meet, of one sign");
                     prev.to = to;
-                    prev.sign = if prev.sign == sign { sign } else { f32::NAN };
                 }
                 _ => out.push(Stretch { from, to, sign }),
             }

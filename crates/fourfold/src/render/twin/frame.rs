@@ -13,10 +13,11 @@ use crate::tree::Hierarchy;
 
 use super::bundle::Bundle;
 use super::evals::AxisSlope;
+use super::march::Along;
 use super::section::Band;
 use super::shading::{add, origins, slice_reach, sub, unorm8};
 use super::tile::{Scratch, TILE, draw_tile};
-use super::walk::{Along, Tile, steps_of, tile_nodes};
+use super::walk::{Tile, steps_of, tile_nodes};
 
 /// Renders like the GPU would, returning tightly packed RGBA8 rows (alpha as the shader's:
 /// 255, or with `FLAG_CERTIFIED` the pixel's `Verdict::alpha`).

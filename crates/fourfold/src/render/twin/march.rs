@@ -15,9 +15,16 @@ pub(super) struct Skips {
     pub(super) one_signed: (u32, u32),
 }
 
+/// A box's bounds on |dF/dt| and on d²F/dt² along a slice's rays, o + t n1 (the same for
+/// all of them: worked out once per tile, not once per pixel).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Along {
+    pub(super) slope: f32,
+    pub(super) bend: (f32, f32),
+}
+
 /// A stretch of a slice's tile's lines, [from, to] as distances along n1 from their
-/// starts, on which F keeps one sign: `sign` (1 or −1; NaN where F is undefined all over
-/// it, or not known).
+/// starts, on which F keeps one sign: `sign` (1 or −1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Stretch {
     pub(super) from: f32,
@@ -119,7 +126,7 @@ impl March {
             // A march that starts in a one-signed stretch knows F's sign there: its first
             // sample is the one after the stretch (a skip, as from a sample at t0; F there
             // is not known, only its sign, held by a tiny F of that sign).
-            let Some(s) = stretch.filter(|s| !s.sign.is_nan()) else {
+            let Some(s) = stretch else {
                 return Some(self.t0);
             };
             (self.started, self.fa, self.ga, self.fresh) =
@@ -208,8 +215,8 @@ mod tests {
         (asked, crossings)
     }
 
-    /// A march that starts in a one-signed stretch of known sign takes no sample before
-    /// its end and finds the same sign change; one of unknown sign starts at its start.
+    /// A march that starts in a one-signed stretch takes no sample before its end and finds
+    /// the same sign change; one that starts before it, its first at its start.
     #[test]
     fn a_march_starting_in_a_one_signed_stretch_skips_it() {
         let (every, crossing) = marched(&[]);
@@ -223,9 +230,19 @@ mod tests {
         let (asked, found) = marched(&[stretch(-1.0)]);
         assert!(asked[0] > 0.3 && asked[0] < 0.32, "{asked:?}");
         assert_eq!(found, crossing);
-        let (asked, found) = marched(&[stretch(f32::NAN)]);
+        // (From the first sample in it, at 0.11, to its end.)
+        let later = Stretch {
+            from: 0.105,
+            to: 0.305,
+            sign: -1.0,
+        };
+        let (asked, found) = marched(&[later]);
         assert_eq!(asked[0], 0.0);
-        assert!(asked[1] > 0.3, "{asked:?}");
+        assert!(
+            asked.iter().all(|t| !(0.115..=0.3).contains(t)),
+            "{asked:?}"
+        );
+        assert!(asked.len() + 15 < every.len(), "{asked:?}");
         assert_eq!(found, crossing);
     }
 }

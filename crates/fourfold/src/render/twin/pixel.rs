@@ -11,10 +11,9 @@ use crate::tree::Curvature;
 
 use super::certify::SignChange;
 use super::evals::{Deferred, Evaluators};
-use super::march::{Crossing, March, Skips, Stretch, same_side};
+use super::march::{Along, Crossing, March, Skips, Stretch, same_side};
 use super::root::{self, RootSearch};
 use super::shading::{V4, add, clip_to_slab, dot, rand01, scale, slope, sub};
-use super::walk::Along;
 
 /// The ray index of a hit along the ray aimed through a certified root (the shader's
 /// `AIMED`).

@@ -8,6 +8,7 @@
 use crate::render::view::{Uniforms, march_steps};
 use crate::tree::{Curvature, Hierarchy};
 
+use super::march::Along;
 use super::pixel::Marched;
 use super::section::Band;
 use super::shading::{V4, add, dot, sub};
@@ -21,14 +22,6 @@ pub(super) struct Kept {
     skip: u32,
     pub(super) one_signed: (u32, u32),
     pub(super) along: Option<Along>,
-}
-
-/// A box's bounds on |dF/dt| and on d²F/dt² along a slice's rays, o + t n1 (the same for
-/// all of them: worked out once per tile, not once per pixel).
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Along {
-    pub(super) slope: f32,
-    pub(super) bend: (f32, f32),
 }
 
 impl Kept {
