@@ -13,8 +13,8 @@
 //!    against this bench re-run as a program that JIT-compiles, renders with fidget and
 //!    writes a PNG, the two taken in turn, the median of RUNS of each; the same on the GPU
 //!    (`--gpu`), its first run with an empty pipeline cache (cold), then the median of RUNS
-//!    (warm); and the median of RUNS
-//!    with `--uncertified` (fidget proves nothing either) on the GPU and on the CPU twin.
+//!    (warm); and the median of RUNS with `--uncertified` (fidget proves nothing either) on
+//!    the GPU and on the CPU twin.
 //!
 //! fidget sees F(p) over the picture's box, p the point of the slice that the pixel and the
 //! depth stand for, intersected with the scene's domain (fourfold marches only within it).

@@ -4,7 +4,7 @@
 use crate::expr::{BinaryOp, UnaryOp};
 
 use super::plan::{Moves, run_tape};
-use super::tape::{Op, PrefixKey, Tape, sized};
+use super::tape::{Op, Tape, sized};
 use crate::interval::Interval;
 
 /// A box of R⁴: one interval per axis (x, y, z, w).
@@ -17,8 +17,8 @@ pub type Box4 = [Interval; 4];
 #[derive(Debug, Clone, Default)]
 pub struct IntervalEvaluator {
     slots: Vec<Interval>,
-    prefix: PrefixKey,
-    /// The box the slots hold the values over, and what each set of moved coordinates runs.
+    /// The tape, parameters and box the slots hold the values of, and what each set of
+    /// moved coordinates runs.
     moves: Moves<[u64; 2]>,
 }
 
@@ -29,9 +29,8 @@ impl IntervalEvaluator {
 
     /// Evaluates every output of `tape` over `bx`, writing them into `out`.
     pub fn eval_into(&mut self, tape: &Tape, bx: &Box4, params: &[f64], out: &mut [Interval]) {
-        let stale = self.prefix.stale(tape, params);
         let bits = bx.map(|x| [x.lo().to_bits(), x.hi().to_bits()]);
-        let moved = self.moves.since(bits, stale);
+        let (moved, stale) = self.moves.since(tape, params, bits);
         let slots = sized(&mut self.slots, tape, Interval::EMPTY);
         run_tape!(
             slots,

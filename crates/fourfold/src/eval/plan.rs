@@ -4,26 +4,30 @@
 //! lines), that is most of a tape: the point evaluator's samples, the interval evaluator's
 //! pieces of a tile's lines.
 
-use super::tape::{Op, Tape, moved};
+use super::tape::{Op, PrefixKey, Tape, moved};
 
-/// What an evaluator keeps between calls to run again only what moved: its last point's
-/// or box's coordinates, as bits (None: its slots hold no values), and its plans.
+/// What an evaluator keeps between calls to run again only what moved: the tape and
+/// parameters its slots hold values of, its last point's or box's coordinates, as bits
+/// (None: its slots hold no values), and its plans.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Moves<B> {
+    prefix: PrefixKey,
     last: Option<[B; 4]>,
     pub(crate) plans: Plans,
 }
 
 impl<B: PartialEq> Moves<B> {
-    /// The coordinates that moved since the last call (bit k: x_k), now at `bits`; all
-    /// where `stale` (another tape or parameters: the slots hold nothing of theirs).
-    pub(crate) fn since(&mut self, bits: [B; 4], stale: bool) -> u8 {
+    /// For `tape` and `params` at `bits`: the coordinates that moved since the last call
+    /// (bit k: x_k), and whether all must run (another tape or parameters: the slots hold
+    /// nothing of theirs), as `run_tape!` takes them.
+    pub(crate) fn since(&mut self, tape: &Tape, params: &[f64], bits: [B; 4]) -> (u8, bool) {
+        let stale = self.prefix.stale(tape, params);
         if stale {
             self.plans.clear();
         }
         let moved = moved(self.last.take().filter(|_| !stale), &bits);
         self.last = Some(bits);
-        moved
+        (moved, stale)
     }
 }
 

@@ -8,7 +8,7 @@
 use crate::ops::powi;
 
 use super::plan::{Moves, run_tape};
-use super::tape::{Op, PrefixKey, Tape, sized};
+use super::tape::{Op, Tape, sized};
 
 /// Reusable evaluator; holds its slot storage so repeated calls do not allocate. Its slots
 /// keep their values from one call to the next: an instruction that reads none of the
@@ -19,8 +19,8 @@ pub struct PointEvaluator {
     slots: Vec<f64>,
     /// The slots of an evaluation in f32 (`single`).
     narrow_slots: Vec<f32>,
-    prefix: PrefixKey,
-    /// The point the slots hold the values at, and what each set of moved coordinates runs.
+    /// The tape, parameters and point the slots hold the values of, and what each set of
+    /// moved coordinates runs.
     moves: Moves<u64>,
     /// Round every operation's result to f32, as the GPU computes.
     single: bool,
@@ -48,16 +48,8 @@ impl PointEvaluator {
         }
     }
 
-    /// The instructions to run for `p`: those reading a coordinate in the returned bits
-    /// (bit k: x_k changed since the last call), or, where the second is true, all (another
-    /// tape or parameters: the slots hold nothing of theirs).
-    fn moved(&mut self, tape: &Tape, p: [f64; 4], params: &[f64]) -> (u8, bool) {
-        let stale = self.prefix.stale(tape, params);
-        (self.moves.since(p.map(f64::to_bits), stale), stale)
-    }
-
     fn run_double(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        let (moved, all) = self.moved(tape, p, params);
+        let (moved, all) = self.moves.since(tape, params, p.map(f64::to_bits));
         let slots = sized(&mut self.slots, tape, 0.0);
         run_tape!(
             slots,
@@ -73,7 +65,7 @@ impl PointEvaluator {
 
     /// As [`Self::run_double`] with each result rounded to f32 (see the module's note).
     fn run_single(&mut self, tape: &Tape, p: [f64; 4], params: &[f64], out: &mut [f64]) {
-        let (moved, all) = self.moved(tape, p, params);
+        let (moved, all) = self.moves.since(tape, params, p.map(f64::to_bits));
         let slots = sized(&mut self.narrow_slots, tape, 0.0);
         run_tape!(
             slots,
